@@ -1,0 +1,87 @@
+#pragma once
+// The fake Oden com channel: a bidirectional link between one Player and one Streamer, with
+// independent, injectable impairments per direction that can be changed at any moment.
+// Deterministic: every random draw comes from the link's own seeded generator.
+#include <cstdint>
+#include <functional>
+#include <random>
+#include <string>
+
+#include "ocp/executor.hpp"
+#include "ocp/link_messages.hpp"
+
+namespace ocp {
+
+struct Impairments {
+  Micros delay{0};                   // fixed one-way delay
+  enum class JitterKind { none, uniform, normal };
+  JitterKind jitter_kind = JitterKind::none;
+  Micros jitter{0};                  // uniform: ±jitter; normal: standard deviation
+  double loss_probability = 0.0;     // independent random loss, 0..1
+  // Gilbert–Elliott burst loss: two-state Markov chain (good/bad), evaluated per message.
+  bool burst_loss = false;
+  double good_to_bad_probability = 0.0;
+  double bad_to_good_probability = 1.0;
+  double loss_in_good = 0.0;
+  double loss_in_bad = 1.0;
+  double bandwidth_bits_per_second = 0.0;  // 0 = unlimited; otherwise FIFO serialisation queue
+  std::size_t queue_limit_bytes = 0;       // 0 = unlimited; tail-drop beyond it
+  double duplicate_probability = 0.0;
+  double reorder_probability = 0.0;        // a reordered message gets `reorder_extra_delay`
+  Micros reorder_extra_delay{0};
+  bool down = false;                       // outage: everything sent while down is lost
+};
+
+struct DirectionCounters {
+  std::uint64_t sent = 0;
+  std::uint64_t delivered = 0;
+  std::uint64_t dropped = 0;       // random, burst, outage or queue-limit loss
+  std::uint64_t duplicated = 0;
+  std::uint64_t bytes_sent = 0;
+  std::uint64_t bytes_delivered = 0;
+  std::size_t queue_depth_bytes = 0;   // bytes waiting for bandwidth
+  std::size_t in_flight = 0;           // scheduled but not yet delivered
+};
+
+// One direction of a link.
+class LinkDirection {
+ public:
+  using Receiver = std::function<void(LinkMessage&&)>;
+  LinkDirection(Executor& executor, std::uint64_t seed);
+  void set_receiver(Receiver receiver);
+  void set_impairments(const Impairments& impairments);
+  const Impairments& impairments() const { return impairments_; }
+  // Schedules delivery (or drops) according to the current impairments.
+  void send(LinkMessage message);
+  // Outage for `duration` starting now.
+  void outage_for(Micros duration);
+  const DirectionCounters& counters() const { return counters_; }
+
+ private:
+  Executor& executor_;
+  std::mt19937_64 random_;
+  Impairments impairments_;
+  Receiver receiver_;
+  DirectionCounters counters_;
+  bool in_bad_state_ = false;
+  SimTime link_free_at_{};  // when the bandwidth-limited serialiser is next idle
+  SimTime last_delivery_at_{};  // keeps FIFO order unless reordering is requested
+};
+
+// A Player ⇄ Streamer link.
+class ComChannel {
+ public:
+  ComChannel(Executor& executor, std::uint64_t seed, std::string name = "link");
+  LinkDirection& to_streamer() { return to_streamer_; }
+  LinkDirection& to_player() { return to_player_; }
+  const std::string& name() const { return name_; }
+  // Sets the same impairments on both directions.
+  void set_impairments(const Impairments& impairments);
+
+ private:
+  std::string name_;
+  LinkDirection to_streamer_;
+  LinkDirection to_player_;
+};
+
+}  // namespace ocp

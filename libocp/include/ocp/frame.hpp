@@ -1,0 +1,65 @@
+#pragma once
+// Length-prefixed framing shared by both TCP APIs (SPEC §2):
+//   uint32 little-endian payload length, then that many bytes of UTF-8 JSON.
+//
+// FrameDecoder is push-based (like Beast's basic_parser): call `put` with whatever bytes
+// arrived; it consumes some of them and reports at most one event per call. Call `put`
+// again with the unconsumed rest until it reports need_more. Inbound frames longer than the
+// limit are drained (exactly `length` bytes are skipped) and reported, not treated as errors.
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "ocp/error.hpp"
+
+namespace ocp {
+
+inline constexpr std::size_t max_payload_bytes = 16384;  // 16 KiB
+inline constexpr std::size_t frame_header_bytes = 4;
+
+struct FrameEvent {
+  enum class Kind {
+    need_more,          // every given byte was consumed; no complete event yet
+    frame,              // `payload` holds one complete payload
+    oversized_dropped,  // a frame of `declared_length` bytes (> limit) was fully drained
+  };
+  Kind kind = Kind::need_more;
+  // For `frame`: valid until the next call to put() or reset(). Points either into the
+  // caller's input (zero-copy when a frame arrives whole) or into the decoder's buffer.
+  std::string_view payload;
+  std::uint32_t declared_length = 0;
+};
+
+class FrameDecoder {
+ public:
+  explicit FrameDecoder(std::size_t payload_limit_bytes = max_payload_bytes);
+
+  // Consumes bytes from `input` until one event completes or input runs out.
+  // Returns the number of bytes consumed; `event` says what happened.
+  std::size_t put(std::string_view input, FrameEvent& event);
+
+  // Call at end of stream. Ok between frames; truncated_frame (with how many bytes of which
+  // part were missing) when the stream ended inside a header, payload or drained frame.
+  Status finish() const;
+
+  bool mid_frame() const;
+  void reset();
+
+ private:
+  enum class State { header, payload, drain };
+  std::size_t payload_limit_bytes_;
+  State state_ = State::header;
+  char header_[frame_header_bytes] = {};
+  std::size_t header_filled_ = 0;
+  std::uint32_t length_ = 0;
+  std::size_t remaining_ = 0;  // payload or drain bytes still expected
+  std::string buffer_;         // partial payload, only when a frame arrives in pieces
+};
+
+// Appends one frame (header + payload) to `out`. Fails with frame_too_large, leaving `out`
+// untouched, when the payload exceeds `payload_limit_bytes`.
+Status append_frame(std::string_view payload, std::string& out,
+                    std::size_t payload_limit_bytes = max_payload_bytes);
+
+}  // namespace ocp

@@ -1,0 +1,35 @@
+#pragma once
+// The one JSON codec (RapidJSON). Decoders validate types and required fields and report the
+// first problem with its JSON path ("telemetry.fault: expected boolean"); unknown fields are
+// ignored; u64/u32 fields never pass through a double; user data is kept as raw JSON text.
+// Decoders never throw and never abort, whatever the input.
+//
+// Encoders write compact JSON into `out` (cleared first) so callers can reuse one buffer.
+#include <string>
+#include <string_view>
+
+#include "ocp/error.hpp"
+#include "ocp/messages.hpp"
+
+namespace ocp {
+
+// Nesting limit for any decoded document (user data included); deeper → ProtocolError::too_deep.
+inline constexpr int max_json_depth = 64;
+
+Result<OcpControlMessage> decode_control_message(std::string_view json);
+Result<VehicleResponseMessage> decode_vehicle_response(std::string_view json);
+Result<VehicleOcpShared> decode_vehicle_ocp_shared(std::string_view json);
+Result<ClientOcpShared> decode_client_ocp_shared(std::string_view json);
+
+void encode_control_message(const OcpControlMessage& message, std::string& out);
+void encode_vehicle_response(const VehicleResponseMessage& message, std::string& out);
+void encode_vehicle_ocp_shared(const VehicleOcpShared& message, std::string& out);
+void encode_client_ocp_shared(const ClientOcpShared& message, std::string& out);
+
+// Controller on its own (used by feedback's last_input / last_remote_input and by tools).
+void encode_controller(const Controller& controller, std::string& out);
+
+// Checks that `text` is exactly one well-formed JSON value (for user data built by hand).
+Status validate_raw_json(std::string_view text);
+
+}  // namespace ocp

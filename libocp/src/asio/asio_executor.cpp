@@ -1,0 +1,3 @@
+#include "ocp/asio_executor.hpp"
+
+// Implementation pending (issue #2, runtime helper).
