@@ -1,11 +1,15 @@
 #pragma once
 // Real-time executor on a boost::asio::io_context: now() is steady_clock time since
-// construction; call_at arms a steady_timer at the absolute deadline.
+// construction; call_at queues the task at its absolute deadline and one steady_timer is
+// armed for the earliest one.
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <chrono>
+#include <map>
 #include <memory>
+#include <optional>
 #include <unordered_map>
+#include <utility>
 
 #include "ocp/executor.hpp"
 
@@ -25,10 +29,23 @@ class AsioExecutor final : public Executor {
   std::chrono::steady_clock::time_point to_steady(SimTime t) const { return origin_ + t; }
 
  private:
+  // One steady_timer armed for the earliest deadline of an ordered queue, rather than one
+  // timer per task: Asio does not promise FIFO order for equal expiry times, we do.
+  // Key = (deadline, id); ids grow monotonically, so they double as the scheduling order.
+  using QueueKey = std::pair<SimTime, TimerId>;
+  void arm();
+  void run_due();
+
   boost::asio::io_context& io_;
   std::chrono::steady_clock::time_point origin_;
   TimerId next_id_ = 1;
-  std::unordered_map<TimerId, std::unique_ptr<boost::asio::steady_timer>> timers_;
+  std::map<QueueKey, Task> queue_;
+  std::unordered_map<TimerId, SimTime> deadline_by_id_;
+  boost::asio::steady_timer timer_;
+  std::optional<SimTime> armed_for_;
+  std::uint64_t wait_generation_ = 0;
+  // Shared with pending wait handlers so they do nothing once this executor is gone.
+  std::shared_ptr<bool> alive_;
 };
 
 }  // namespace ocp

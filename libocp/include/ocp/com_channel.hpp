@@ -1,9 +1,12 @@
 #pragma once
 // The fake Oden com channel: a bidirectional link between one Player and one Streamer, with
 // independent, injectable impairments per direction that can be changed at any moment.
-// Deterministic: every random draw comes from the link's own seeded generator.
+// Deterministic: every random draw comes from the link's own seeded generator
+// (std::mt19937_64, whose output the standard fixes; the distributions are our own code, so
+// the same seed gives the same run with any standard library).
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <random>
 #include <string>
 
@@ -48,6 +51,11 @@ class LinkDirection {
  public:
   using Receiver = std::function<void(LinkMessage&&)>;
   LinkDirection(Executor& executor, std::uint64_t seed);
+  // Pending deliveries hold a liveness token, not the direction: destroying it with messages
+  // in flight is safe (they are dropped). Not copyable, since in-flight deliveries refer to it.
+  ~LinkDirection();
+  LinkDirection(const LinkDirection&) = delete;
+  LinkDirection& operator=(const LinkDirection&) = delete;
   void set_receiver(Receiver receiver);
   void set_impairments(const Impairments& impairments);
   const Impairments& impairments() const { return impairments_; }
@@ -55,17 +63,27 @@ class LinkDirection {
   void send(LinkMessage message);
   // Outage for `duration` starting now.
   void outage_for(Micros duration);
-  const DirectionCounters& counters() const { return counters_; }
+  // Counters as of now (queue depth is computed from the serialiser's backlog).
+  const DirectionCounters& counters() const;
 
  private:
+  bool is_down() const;
+  bool lost_in_transit();
+  Micros jitter_sample();
+  double uniform_unit();  // [0, 1) from 53 random bits
+  std::size_t backlog_bytes(SimTime now) const;
+  void schedule_delivery(SimTime deliver_at, LinkMessage message, std::size_t size_bytes);
+
   Executor& executor_;
   std::mt19937_64 random_;
   Impairments impairments_;
   Receiver receiver_;
-  DirectionCounters counters_;
+  mutable DirectionCounters counters_;
   bool in_bad_state_ = false;
   SimTime link_free_at_{};  // when the bandwidth-limited serialiser is next idle
   SimTime last_delivery_at_{};  // keeps FIFO order unless reordering is requested
+  SimTime outage_until_{};      // outage_for(): down while now < outage_until_
+  std::shared_ptr<bool> alive_ = std::make_shared<bool>(true);
 };
 
 // A Player ⇄ Streamer link.

@@ -51,6 +51,7 @@ class PeriodicTimer {
 
  private:
   void arm();
+  void fire();
   Executor& executor_;
   Micros period_;
   TickHandler on_tick_;

@@ -55,6 +55,7 @@ class FrameDecoder {
   std::uint32_t length_ = 0;
   std::size_t remaining_ = 0;  // payload or drain bytes still expected
   std::string buffer_;         // partial payload, only when a frame arrives in pieces
+  bool buffer_delivered_ = false;  // buffer_ holds the last delivered payload: clear on next put
 };
 
 // Appends one frame (header + payload) to `out`. Fails with frame_too_large, leaving `out`

@@ -5,6 +5,17 @@
 // Decoders never throw and never abort, whatever the input.
 //
 // Encoders write compact JSON into `out` (cleared first) so callers can reuse one buffer.
+//
+// Decisions (tested in tests/libocp/json_codec_*_test.cpp):
+// * Integers (ack_time, ack_time_mac, the *_returned pair, feedback counters) must be written
+//   as JSON integers: "123.0", "1e5", "-0" and "-1" are out_of_range, like 2^64 or 2^32 for
+//   a u32. telemetry.latency alone accepts any whole non-negative number ("42.0" → 42).
+// * Duplicate keys: every occurrence is validated, the last one wins.
+// * null counts as absent for optional fields. User data keeps its exact source bytes and may
+//   be any JSON value. Strings must be valid UTF-8; NaN/Infinity literals, numbers beyond
+//   the double range (RapidJSON refuses them) and embedded NUL bytes are malformed_json.
+// * Encoders replace invalid UTF-8 in strings by U+FFFD, write non-finite doubles as null
+//   (decoders then reject them) and an empty RawJson as null.
 #include <string>
 #include <string_view>
 

@@ -2,8 +2,6 @@
 // Deterministic discrete-event executor: a min-heap of (deadline, sequence). Time only moves
 // when an event runs. Same inputs → same order of events, byte for byte.
 #include <cstddef>
-#include <queue>
-#include <unordered_set>
 #include <vector>
 
 #include "ocp/executor.hpp"
@@ -32,24 +30,37 @@ class VirtualExecutor final : public Executor {
   SimTime next_deadline() const;
 
  private:
+  // Tasks live in a slot vector indexed by the low half of the TimerId; the high half is the
+  // slot's generation, so a stale id (already run or cancelled) never matches a reused slot.
+  // The heap holds only (deadline, sequence, slot, generation): a cancelled entry stays in it
+  // until it reaches the front or a compaction, and is recognised by its generation.
+  struct Slot {
+    Task task;
+    std::uint32_t generation = 1;
+  };
   struct Entry {
     SimTime deadline;
     std::uint64_t sequence;
-    TimerId id;
-    // Later deadline (then later sequence) has lower priority.
-    bool operator<(const Entry& other) const {
-      return deadline != other.deadline ? deadline > other.deadline : sequence > other.sequence;
-    }
+    std::uint32_t slot;
+    std::uint32_t generation;
   };
-  void drop_cancelled_front();
+  // Heap order: the earliest deadline, then the lowest sequence, is at the front.
+  static bool later(const Entry& left, const Entry& right) {
+    return left.deadline != right.deadline ? left.deadline > right.deadline
+                                           : left.sequence > right.sequence;
+  }
+  bool is_live(const Entry& entry) const { return slots_[entry.slot].generation == entry.generation; }
+  void drop_cancelled_front() const;
+  void release_slot(std::uint32_t slot);
+  void compact_if_mostly_cancelled();
 
   SimTime now_;
   std::uint64_t next_sequence_ = 0;
-  TimerId next_id_ = 1;
   std::uint64_t events_run_ = 0;
-  std::priority_queue<Entry> queue_;
-  std::vector<Task> tasks_by_slot_;        // implementation detail; see .cpp
-  std::unordered_set<TimerId> cancelled_;
+  std::size_t live_count_ = 0;
+  mutable std::vector<Entry> heap_;
+  std::vector<Slot> slots_;
+  std::vector<std::uint32_t> free_slots_;
 };
 
 }  // namespace ocp

@@ -1,0 +1,202 @@
+// Loopback benchmarks of the vehicle-side TCP front (issue #5), real time, real sockets:
+//   * echo round trip: a control frame leaving the Streamer → the response carrying its pair
+//     arriving back (immediate-echo client = the reference VehicleClient on its own thread);
+//   * tick lateness of a 100 Hz PeriodicTimer on the AsioExecutor, idle and beside a running
+//     Streamer with a connected vehicle;
+//   * CPU per connected vehicle at 100 Hz (getrusage(RUSAGE_THREAD) of the Streamer thread with
+//     and without a vehicle, and of the client's thread).
+// Each benchmark runs once for a fixed wall-clock window and reports percentiles as counters.
+// Results: docs/benchmarks.md ("Loopback").
+#include <benchmark/benchmark.h>
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <atomic>
+#include <boost/asio/io_context.hpp>
+#include <chrono>
+#include <cstdint>
+#include <thread>
+#include <unordered_map>
+#include <vector>
+
+#include "ocp/asio_executor.hpp"
+#include "streamer_app/streamer_simulation.hpp"
+#include "vehicle_client/tcp_runner.hpp"
+
+namespace ocp {
+namespace {
+
+constexpr std::chrono::seconds measure_window{5};
+constexpr std::chrono::seconds warm_up{1};
+
+double thread_cpu_seconds() {
+  rusage usage{};
+  getrusage(RUSAGE_THREAD, &usage);
+  return static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+         static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec) / 1e6;
+}
+
+double percentile(std::vector<double> values, double fraction) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const auto index = static_cast<std::size_t>(fraction * static_cast<double>(values.size() - 1));
+  return values[index];
+}
+
+// The reference vehicle client on its own thread and io_context, as a separate process would be.
+class ClientThread {
+ public:
+  explicit ClientThread(std::uint16_t port) {
+    thread_ = std::thread([this, port] {
+      boost::asio::io_context io;
+      AsioExecutor executor(io);
+      VehicleClient client(executor, VehicleClientConfig{}, Logger(executor, "vehicle", {}));
+      TcpRunnerConfig config;
+      config.server.port = port;
+      TcpRunner runner(executor, client, config, Logger(executor, "vehicle:tcp", {}));
+      runner.start();
+      const double cpu_start = thread_cpu_seconds();
+      const auto wall_start = std::chrono::steady_clock::now();
+      while (!stop_) io.run_for(std::chrono::milliseconds(50));
+      cpu_seconds_ = thread_cpu_seconds() - cpu_start;
+      wall_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+      runner.stop();
+    });
+  }
+  ~ClientThread() { join(); }
+  void join() {
+    stop_ = true;
+    if (thread_.joinable()) thread_.join();
+  }
+  double cpu_percent() const { return wall_seconds_ > 0 ? 100.0 * cpu_seconds_ / wall_seconds_ : 0.0; }
+
+ private:
+  std::thread thread_;
+  std::atomic<bool> stop_{false};
+  double cpu_seconds_ = 0.0;
+  double wall_seconds_ = 0.0;
+};
+
+// Control frame sent (by ack_time) → the first response that carries that pair.
+class RoundTripProbe : public StreamerObserver {
+ public:
+  explicit RoundTripProbe(const Executor& executor) : executor_(executor) {}
+  void on_control_sent(const OcpControlMessage& message) override {
+    sent_at_[message.ack.ack_time] = executor_.now();
+  }
+  void on_vehicle_response(const VehicleResponseMessage& response) override {
+    const auto found = sent_at_.find(response.ack.ack_time);
+    if (found == sent_at_.end()) return;   // keep-alive repeat of a pair already counted
+    if (recording_) round_trips_us_.push_back(static_cast<double>((executor_.now() - found->second).count()));
+    sent_at_.erase(found);
+  }
+  void start_recording() {
+    recording_ = true;
+    round_trips_us_.clear();
+  }
+  const std::vector<double>& round_trips_us() const { return round_trips_us_; }
+
+ private:
+  const Executor& executor_;
+  std::unordered_map<std::uint64_t, SimTime> sent_at_;
+  std::vector<double> round_trips_us_;
+  bool recording_ = false;
+};
+
+// Lateness of every tick of a 100 Hz PeriodicTimer.
+class TickProbe {
+ public:
+  explicit TickProbe(Executor& executor)
+      : executor_(executor), timer_(executor, Micros{10'000}, [this](SimTime deadline) {
+          lateness_us_.push_back(static_cast<double>((executor_.now() - deadline).count()));
+        }) {}
+  void start() {
+    lateness_us_.clear();
+    timer_.start(executor_.now() + Micros{10'000});
+  }
+  void stop() { timer_.stop(); }
+  const std::vector<double>& lateness_us() const { return lateness_us_; }
+
+ private:
+  Executor& executor_;
+  PeriodicTimer timer_;
+  std::vector<double> lateness_us_;
+};
+
+void report_percentiles(benchmark::State& state, const std::string& prefix, const std::vector<double>& values) {
+  state.counters[prefix + "p50_us"] = percentile(values, 0.50);
+  state.counters[prefix + "p90_us"] = percentile(values, 0.90);
+  state.counters[prefix + "p99_us"] = percentile(values, 0.99);
+  state.counters[prefix + "max_us"] = values.empty() ? 0.0 : *std::max_element(values.begin(), values.end());
+  state.counters[prefix + "samples"] = static_cast<double>(values.size());
+}
+
+void BM_LoopbackEchoRoundTrip(benchmark::State& state) {
+  for (auto _ : state) {
+    boost::asio::io_context io;
+    AsioExecutor executor(io);
+    StreamerSimOptions options;
+    options.plugin_params.tcp_port = 0;
+    StreamerSimulation simulation(executor, options, {});
+    if (!simulation.start().ok()) {
+      state.SkipWithError("cannot start the streamer");
+      return;
+    }
+    RoundTripProbe probe(executor);
+    simulation.streamer().set_observer(&probe);
+    TickProbe ticks(executor);
+    ClientThread client(simulation.port());
+    io.run_for(warm_up);
+    probe.start_recording();
+    ticks.start();
+    const double cpu_start = thread_cpu_seconds();
+    io.run_for(measure_window);
+    const double streamer_cpu = thread_cpu_seconds() - cpu_start;
+    ticks.stop();
+    client.join();
+    report_percentiles(state, "echo_", probe.round_trips_us());
+    report_percentiles(state, "tick_late_", ticks.lateness_us());
+    state.counters["streamer_thread_cpu_pct"] = 100.0 * streamer_cpu / static_cast<double>(measure_window.count());
+    state.counters["client_thread_cpu_pct"] = client.cpu_percent();
+    state.counters["control_frames"] = static_cast<double>(simulation.streamer().stats().control_frames_sent);
+    simulation.streamer().set_observer(nullptr);
+  }
+}
+BENCHMARK(BM_LoopbackEchoRoundTrip)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
+
+// The same Streamer world without a vehicle: the baseline the per-vehicle CPU is measured from.
+void BM_StreamerWithoutVehicle(benchmark::State& state) {
+  for (auto _ : state) {
+    boost::asio::io_context io;
+    AsioExecutor executor(io);
+    StreamerSimOptions options;
+    options.plugin_params.tcp_port = 0;
+    StreamerSimulation simulation(executor, options, {});
+    if (!simulation.start().ok()) {
+      state.SkipWithError("cannot start the streamer");
+      return;
+    }
+    io.run_for(warm_up);
+    const double cpu_start = thread_cpu_seconds();
+    io.run_for(measure_window);
+    state.counters["streamer_thread_cpu_pct"] =
+        100.0 * (thread_cpu_seconds() - cpu_start) / static_cast<double>(measure_window.count());
+  }
+}
+BENCHMARK(BM_StreamerWithoutVehicle)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
+
+void BM_TickLatenessIdle100Hz(benchmark::State& state) {
+  for (auto _ : state) {
+    boost::asio::io_context io;
+    AsioExecutor executor(io);
+    TickProbe ticks(executor);
+    ticks.start();
+    io.run_for(measure_window);
+    ticks.stop();
+    report_percentiles(state, "tick_late_", ticks.lateness_us());
+  }
+}
+BENCHMARK(BM_TickLatenessIdle100Hz)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
+
+}  // namespace
+}  // namespace ocp

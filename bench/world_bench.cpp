@@ -1,0 +1,104 @@
+// Virtual-time world speed (issue #3 "Performance"): one simulated hour of a one-vehicle world
+// — 100 Hz control, two 30 fps cameras, 40 ms link delay with jitter each way, the reference
+// vehicle client in-process over a pipe — must take at most 2 s of wall time with flat memory.
+//
+//   build-*/bench/world_bench --benchmark_filter=OneHour
+//
+// Counters: events run by the executor (and per CPU second), resident memory after 1 minute
+// and after the full run (flat memory ⇒ equal within noise), control frames and responses.
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <cstring>
+#include <string>
+
+#include "ocp/virtual_executor.hpp"
+#include "scenario/world.hpp"
+
+namespace {
+
+using namespace ocp;
+
+// Current resident set size in KiB (Linux /proc/self/status VmRSS); 0 when unavailable.
+long resident_kib() {
+  std::FILE* status = std::fopen("/proc/self/status", "r");
+  if (status == nullptr) return 0;
+  char line[256];
+  long kib = 0;
+  while (std::fgets(line, sizeof line, status) != nullptr) {
+    if (std::strncmp(line, "VmRSS:", 6) == 0) {
+      kib = std::strtol(line + 6, nullptr, 10);
+      break;
+    }
+  }
+  std::fclose(status);
+  return kib;
+}
+
+WorldConfig bench_config() {
+  WorldConfig config;
+  config.seed = 7;
+  config.deterministic_keys = true;
+  VehicleSpec vehicle;
+  vehicle.name = "truck-1";
+  vehicle.streamer.cameras = {CameraConfig{"front", 30.0}, CameraConfig{"rear", 30.0}};
+  Impairments link;
+  link.delay = Millis{40};
+  link.jitter_kind = Impairments::JitterKind::uniform;
+  link.jitter = Millis{5};
+  vehicle.to_streamer = link;
+  vehicle.to_player = link;
+  config.vehicles.push_back(vehicle);
+  return config;
+}
+
+void run_world(benchmark::State& state, Micros simulated) {
+  for (auto _ : state) {
+    state.PauseTiming();
+    const long rss_before = resident_kib();
+    VirtualExecutor executor;
+    World world(executor, bench_config(), make_null_sink());
+    if (!world.start()) {
+      state.SkipWithError("world did not start");
+      return;
+    }
+    // The operator drives: a slow steering wave with some throttle.
+    Waveform waveform;
+    waveform.base.axes.right_trigger = 0.2;
+    waveform.waves.push_back(SineWave{GamepadAxis::left_x, 0.5, Micros{8'000'000}, 0.0});
+    world.player().gamepad().set_waveform(waveform);
+    state.ResumeTiming();
+
+    const Micros first_part = std::min<Micros>(simulated, Micros{60'000'000});
+    executor.run_for(first_part);
+    state.PauseTiming();
+    const long rss_after_first_minute = resident_kib();
+    state.ResumeTiming();
+    executor.run_for(simulated - first_part);
+
+    state.PauseTiming();
+    const long rss_after = resident_kib();
+    StreamerCore& streamer = world.streamer("truck-1");
+    state.counters["events"] = static_cast<double>(executor.events_run());
+    state.counters["events_per_second"] =
+        benchmark::Counter(static_cast<double>(executor.events_run()), benchmark::Counter::kIsRate);
+    state.counters["control_frames"] = static_cast<double>(streamer.stats().control_frames_sent);
+    state.counters["vehicle_responses"] = static_cast<double>(streamer.stats().vehicle_responses_received);
+    state.counters["video_frames"] = static_cast<double>(streamer.stats().video_frames_sent);
+    state.counters["rss_start_kib"] = static_cast<double>(rss_before);
+    state.counters["rss_1min_kib"] = static_cast<double>(rss_after_first_minute);
+    state.counters["rss_end_kib"] = static_cast<double>(rss_after);
+    state.counters["faults_at_end"] = static_cast<double>(streamer.faults().to_vector().size());
+    world.stop();
+    state.ResumeTiming();
+  }
+}
+
+void BM_WorldOneHour(benchmark::State& state) { run_world(state, Micros{3'600'000'000}); }
+BENCHMARK(BM_WorldOneHour)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+// Short run for profiling (valgrind --tool=callgrind … --benchmark_filter=OneMinute).
+void BM_WorldOneMinute(benchmark::State& state) { run_world(state, Micros{60'000'000}); }
+BENCHMARK(BM_WorldOneMinute)->Unit(benchmark::kMillisecond);
+
+}  // namespace

@@ -1,0 +1,168 @@
+#include "ocp/tcp_stream.hpp"
+
+#include <array>
+#include <boost/asio/write.hpp>
+#include <string>
+
+namespace ocp {
+namespace {
+
+namespace asio = boost::asio;
+using boost::system::error_code;
+
+std::string describe_close(const error_code& error) {
+  if (error == asio::error::eof) {
+    return "connection closed by peer";
+  }
+  if (error == asio::error::connection_reset || error == asio::error::broken_pipe) {
+    return "connection reset";
+  }
+  return "transport error: " + error.message();
+}
+
+// Reads run continuously once handlers are set; writes are coalesced into one buffer while
+// a write is in flight, so there is at most one async_write at a time and order is kept.
+// Every pending operation holds a shared_ptr to the stream, so it outlives them.
+class TcpStream final : public ByteStream, public std::enable_shared_from_this<TcpStream> {
+ public:
+  explicit TcpStream(asio::ip::tcp::socket socket) : socket_(std::move(socket)) {
+    error_code error;
+    const auto remote = socket_.remote_endpoint(error);
+    peer_name_ = error ? std::string("unknown") : remote.address().to_string() + ":" + std::to_string(remote.port());
+  }
+
+  void set_handlers(ByteStreamHandlers handlers) override {
+    // Shared so a handler may replace the handlers while it runs without destroying itself.
+    handlers_ = std::make_shared<const ByteStreamHandlers>(std::move(handlers));
+    if (!reading_ && open_) {
+      reading_ = true;
+      read_next();
+    }
+  }
+
+  void write(std::string_view bytes) override {
+    if (!open_ || bytes.empty()) {
+      return;
+    }
+    pending_.append(bytes);
+    if (!writing_) {
+      write_pending();
+    }
+  }
+
+  void close() override {
+    if (!open_) {
+      return;
+    }
+    open_ = false;
+    // Bytes already accepted by write() still go out; the socket closes once they have.
+    if (!writing_) {
+      shut_down();
+    }
+  }
+
+  bool is_open() const override { return open_; }
+  std::string peer_name() const override { return peer_name_; }
+
+  void set_no_delay(bool enabled) override {
+    error_code ignored;
+    socket_.set_option(asio::ip::tcp::no_delay(enabled), ignored);
+  }
+
+ private:
+  void read_next() {
+    socket_.async_read_some(asio::buffer(read_buffer_),
+                            [self = shared_from_this()](const error_code& error, std::size_t size) {
+                              self->on_read(error, size);
+                            });
+  }
+
+  void on_read(const error_code& error, std::size_t size) {
+    if (!open_) {
+      return;  // closed locally: nothing more is delivered or reported
+    }
+    if (error) {
+      report_close(error);
+      return;
+    }
+    const auto handlers = handlers_;
+    if (handlers->on_bytes) {
+      handlers->on_bytes(std::string_view(read_buffer_.data(), size));
+    }
+    if (open_) {
+      read_next();
+    }
+  }
+
+  void write_pending() {
+    writing_ = true;
+    in_flight_.swap(pending_);
+    pending_.clear();
+    asio::async_write(socket_, asio::buffer(in_flight_),
+                      [self = shared_from_this()](const error_code& error, std::size_t) { self->on_written(error); });
+  }
+
+  void on_written(const error_code& error) {
+    writing_ = false;
+    in_flight_.clear();
+    if (error) {
+      pending_.clear();
+      if (open_) {
+        report_close(error);
+      } else {
+        shut_down();
+      }
+      return;
+    }
+    if (!pending_.empty()) {
+      write_pending();
+    } else if (!open_) {
+      shut_down();
+    }
+  }
+
+  void report_close(const error_code& error) {
+    open_ = false;
+    pending_.clear();
+    if (!writing_) {
+      shut_down();
+    }
+    const auto handlers = handlers_;
+    if (handlers->on_closed) {
+      handlers->on_closed(describe_close(error));
+    }
+  }
+
+  void shut_down() {
+    if (shut_down_) {
+      return;
+    }
+    shut_down_ = true;
+    error_code ignored;
+    socket_.shutdown(asio::ip::tcp::socket::shutdown_both, ignored);
+    socket_.close(ignored);
+  }
+
+  static constexpr std::size_t read_buffer_bytes = 64 * 1024;
+
+  asio::ip::tcp::socket socket_;
+  std::string peer_name_;
+  std::shared_ptr<const ByteStreamHandlers> handlers_ = std::make_shared<const ByteStreamHandlers>();
+  std::array<char, read_buffer_bytes> read_buffer_{};
+  std::string in_flight_;
+  std::string pending_;
+  bool reading_ = false;
+  bool writing_ = false;
+  bool open_ = true;
+  bool shut_down_ = false;
+};
+
+}  // namespace
+
+std::shared_ptr<ByteStream> make_tcp_stream(boost::asio::ip::tcp::socket socket) {
+  auto stream = std::make_shared<TcpStream>(std::move(socket));
+  stream->set_no_delay(true);
+  return stream;
+}
+
+}  // namespace ocp

@@ -1,0 +1,171 @@
+#include "ocp/com_channel.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace ocp {
+namespace {
+
+// SplitMix64: derives well-separated seeds for the two directions from one link seed.
+std::uint64_t mix_seed(std::uint64_t value) {
+  value += 0x9e3779b97f4a7c15ULL;
+  value = (value ^ (value >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  value = (value ^ (value >> 27)) * 0x94d049bb133111ebULL;
+  return value ^ (value >> 31);
+}
+
+constexpr double micros_per_second = 1e6;
+constexpr double bits_per_byte = 8.0;
+
+}  // namespace
+
+LinkDirection::LinkDirection(Executor& executor, std::uint64_t seed) : executor_(executor), random_(seed) {}
+
+LinkDirection::~LinkDirection() { *alive_ = false; }
+
+void LinkDirection::set_receiver(Receiver receiver) { receiver_ = std::move(receiver); }
+
+void LinkDirection::set_impairments(const Impairments& impairments) { impairments_ = impairments; }
+
+void LinkDirection::outage_for(Micros duration) {
+  outage_until_ = std::max(outage_until_, executor_.now() + duration);
+}
+
+bool LinkDirection::is_down() const { return impairments_.down || executor_.now() < outage_until_; }
+
+double LinkDirection::uniform_unit() {
+  constexpr int mantissa_bits = 53;
+  return static_cast<double>(random_() >> (64 - mantissa_bits)) * 0x1.0p-53;
+}
+
+Micros LinkDirection::jitter_sample() {
+  const auto spread = impairments_.jitter.count();
+  if (spread <= 0) {
+    return Micros{0};
+  }
+  switch (impairments_.jitter_kind) {
+    case Impairments::JitterKind::none:
+      return Micros{0};
+    case Impairments::JitterKind::uniform: {
+      // Uniform integer in [-spread, +spread].
+      const auto choices = static_cast<double>(2 * spread + 1);
+      const auto offset = static_cast<std::int64_t>(uniform_unit() * choices);
+      return Micros{std::min(offset, 2 * spread) - spread};
+    }
+    case Impairments::JitterKind::normal: {
+      // Box–Muller; 1 - u keeps the logarithm's argument in (0, 1].
+      const double radius = std::sqrt(-2.0 * std::log(1.0 - uniform_unit()));
+      const double angle = 2.0 * std::numbers::pi * uniform_unit();
+      return Micros{std::llround(radius * std::cos(angle) * static_cast<double>(spread))};
+    }
+  }
+  return Micros{0};
+}
+
+bool LinkDirection::lost_in_transit() {
+  if (impairments_.burst_loss) {
+    // Gilbert–Elliott: move the two-state chain one step, then lose with that state's rate.
+    const double transition = uniform_unit();
+    if (in_bad_state_) {
+      in_bad_state_ = transition >= impairments_.bad_to_good_probability;
+    } else {
+      in_bad_state_ = transition < impairments_.good_to_bad_probability;
+    }
+    const double loss = in_bad_state_ ? impairments_.loss_in_bad : impairments_.loss_in_good;
+    if (loss > 0.0 && uniform_unit() < loss) {
+      return true;
+    }
+  }
+  return impairments_.loss_probability > 0.0 && uniform_unit() < impairments_.loss_probability;
+}
+
+std::size_t LinkDirection::backlog_bytes(SimTime now) const {
+  if (impairments_.bandwidth_bits_per_second <= 0.0 || link_free_at_ <= now) {
+    return 0;
+  }
+  const double backlog_seconds = static_cast<double>((link_free_at_ - now).count()) / micros_per_second;
+  return static_cast<std::size_t>(
+      std::ceil(backlog_seconds * impairments_.bandwidth_bits_per_second / bits_per_byte - 1e-9));
+}
+
+const DirectionCounters& LinkDirection::counters() const {
+  counters_.queue_depth_bytes = backlog_bytes(executor_.now());
+  return counters_;
+}
+
+void LinkDirection::send(LinkMessage message) {
+  const SimTime now = executor_.now();
+  const std::size_t size_bytes = wire_size_bytes(message);
+  ++counters_.sent;
+  counters_.bytes_sent += size_bytes;
+  if (is_down()) {
+    ++counters_.dropped;
+    return;
+  }
+
+  // Serialisation: a FIFO queue drained at the bandwidth cap, tail-dropping beyond its limit.
+  // The queue holds every byte not yet on the wire, including the message being sent.
+  SimTime on_wire_at = now;
+  if (impairments_.bandwidth_bits_per_second > 0.0) {
+    if (impairments_.queue_limit_bytes > 0 &&
+        backlog_bytes(now) + size_bytes > impairments_.queue_limit_bytes) {
+      ++counters_.dropped;
+      return;
+    }
+    const double transmit_micros = static_cast<double>(size_bytes) * bits_per_byte * micros_per_second /
+                                   impairments_.bandwidth_bits_per_second;
+    const SimTime start = std::max(now, link_free_at_);
+    link_free_at_ = start + Micros{static_cast<std::int64_t>(std::ceil(transmit_micros - 1e-9))};
+    on_wire_at = link_free_at_;
+  }
+
+  // Loss happens in transit, after the message used its share of the bandwidth.
+  if (lost_in_transit()) {
+    ++counters_.dropped;
+    return;
+  }
+
+  const Micros delay = std::max(Micros{0}, impairments_.delay + jitter_sample());
+  SimTime deliver_at = on_wire_at + delay;
+  const bool reordered = impairments_.reorder_probability > 0.0 && uniform_unit() < impairments_.reorder_probability;
+  if (reordered) {
+    // Held back without holding back the others: later messages may overtake it.
+    deliver_at += impairments_.reorder_extra_delay;
+  } else {
+    // Jitter alone never reorders: a message is not delivered before its predecessor.
+    deliver_at = std::max(deliver_at, last_delivery_at_);
+    last_delivery_at_ = deliver_at;
+  }
+
+  if (impairments_.duplicate_probability > 0.0 && uniform_unit() < impairments_.duplicate_probability) {
+    ++counters_.duplicated;
+    schedule_delivery(deliver_at, message, size_bytes);
+  }
+  schedule_delivery(deliver_at, std::move(message), size_bytes);
+}
+
+void LinkDirection::schedule_delivery(SimTime deliver_at, LinkMessage message, std::size_t size_bytes) {
+  ++counters_.in_flight;
+  executor_.call_at(deliver_at, [this, alive = alive_, message = std::move(message), size_bytes]() mutable {
+    if (!*alive) {
+      return;
+    }
+    --counters_.in_flight;
+    ++counters_.delivered;
+    counters_.bytes_delivered += size_bytes;
+    if (receiver_) {
+      receiver_(std::move(message));
+    }
+  });
+}
+
+ComChannel::ComChannel(Executor& executor, std::uint64_t seed, std::string name)
+    : name_(std::move(name)), to_streamer_(executor, mix_seed(seed)), to_player_(executor, mix_seed(~seed)) {}
+
+void ComChannel::set_impairments(const Impairments& impairments) {
+  to_streamer_.set_impairments(impairments);
+  to_player_.set_impairments(impairments);
+}
+
+}  // namespace ocp

@@ -1,0 +1,181 @@
+#include "json_codec_reader.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <limits>
+
+namespace ocp::json_detail {
+namespace {
+
+constexpr std::size_t max_echoed_chars = 32;  // peer text quoted in an error detail
+
+std::string quote_number(std::string_view text) {
+  if (text.size() <= max_echoed_chars) return std::string(text);
+  return std::string(text.substr(0, max_echoed_chars)) + "...";
+}
+
+bool is_plain_integer(std::string_view text) {
+  return text.find_first_of(".eE-") == std::string_view::npos;
+}
+
+// Digits only (the tokenizer already checked the JSON number grammar).
+bool parse_digits(std::string_view text, std::uint64_t& out) {
+  std::uint64_t value = 0;
+  for (const char c : text) {
+    const auto digit = static_cast<std::uint64_t>(c - '0');
+    if (value > (std::numeric_limits<std::uint64_t>::max() - digit) / 10) return false;
+    value = value * 10 + digit;
+  }
+  out = value;
+  return true;
+}
+
+// from_chars reports both overflow and underflow as out of range; JSON's grammar and
+// RapidJSON's exponent limit leave underflow only for negative exponents or a zero integral
+// part, where the closest double is a signed zero.
+bool parse_double(std::string_view text, double& out) {
+  const char* first = text.data();
+  const char* last = text.data() + text.size();
+  const auto [end, error] = std::from_chars(first, last, out);
+  if (error == std::errc() && end == last) return std::isfinite(out);
+  if (error != std::errc::result_out_of_range) return false;
+  const bool negative = text.front() == '-';
+  const std::string_view magnitude = negative ? text.substr(1) : text;
+  const bool underflow = magnitude.find("e-") != std::string_view::npos ||
+                         magnitude.find("E-") != std::string_view::npos ||
+                         magnitude.front() == '0';
+  if (!underflow) return false;
+  out = negative ? -0.0 : 0.0;
+  return true;
+}
+
+}  // namespace
+
+bool Decoder::fail(ProtocolError code, std::string_view message) {
+  code_ = code;
+  message_.assign(message);
+  path_reversed_.clear();
+  return false;
+}
+
+bool Decoder::fail_missing(std::string_view field) {
+  fail(ProtocolError::missing_field, "required field missing");
+  return in_field(field, false);
+}
+
+bool Decoder::in_field(std::string_view field, bool ok) {
+  if (!ok) path_reversed_.emplace_back(field);
+  return ok;
+}
+
+bool Decoder::in_element(std::size_t position, bool ok) {
+  if (!ok) {
+    // Built piecewise: GCC 12 warns falsely (-Wrestrict) on "[" + std::string + "]".
+    std::string segment(1, '[');
+    segment += std::to_string(position);
+    segment += ']';
+    path_reversed_.push_back(std::move(segment));
+  }
+  return ok;
+}
+
+Error Decoder::take_error() const {
+  std::string detail;
+  for (auto segment = path_reversed_.rbegin(); segment != path_reversed_.rend(); ++segment) {
+    if (!detail.empty() && segment->front() != '[') detail += '.';
+    detail += *segment;
+  }
+  if (detail.empty()) detail = "(top level)";
+  detail += ": ";
+  detail += message_;
+  return Error{make_error_code(code_), std::move(detail)};
+}
+
+bool Decoder::expect_object(std::size_t index) {
+  if (kind(index) == TokenKind::object_begin) return true;
+  return fail(ProtocolError::wrong_type, "expected object");
+}
+
+bool Decoder::read_bool(std::size_t index, bool& out) {
+  switch (kind(index)) {
+    case TokenKind::true_value: out = true; return true;
+    case TokenKind::false_value: out = false; return true;
+    default: return fail(ProtocolError::wrong_type, "expected boolean");
+  }
+}
+
+bool Decoder::read_u64(std::size_t index, std::uint64_t& out) {
+  constexpr std::string_view expected = "expected unsigned 64-bit integer";
+  if (kind(index) != TokenKind::number) return fail(ProtocolError::wrong_type, expected);
+  const std::string_view text = tape_.text_of(tape_.tokens[index]);
+  if (is_plain_integer(text) && parse_digits(text, out)) return true;
+  return fail(ProtocolError::out_of_range,
+              std::string(expected) + ", got " + quote_number(text));
+}
+
+bool Decoder::read_u32(std::size_t index, std::uint32_t& out) {
+  constexpr std::string_view expected = "expected unsigned 32-bit integer";
+  if (kind(index) != TokenKind::number) return fail(ProtocolError::wrong_type, expected);
+  const std::string_view text = tape_.text_of(tape_.tokens[index]);
+  std::uint64_t wide = 0;
+  if (is_plain_integer(text) && parse_digits(text, wide) &&
+      wide <= std::numeric_limits<std::uint32_t>::max()) {
+    out = static_cast<std::uint32_t>(wide);
+    return true;
+  }
+  return fail(ProtocolError::out_of_range,
+              std::string(expected) + ", got " + quote_number(text));
+}
+
+bool Decoder::read_integral(std::size_t index, std::uint64_t& out) {
+  constexpr std::string_view expected = "expected non-negative integer";
+  if (kind(index) != TokenKind::number) return fail(ProtocolError::wrong_type, expected);
+  const std::string_view text = tape_.text_of(tape_.tokens[index]);
+  if (is_plain_integer(text)) {
+    if (parse_digits(text, out)) return true;
+  } else {
+    // 2^64 as a double; every whole double below it converts exactly.
+    constexpr double u64_limit = 18446744073709551616.0;
+    double value = 0.0;
+    if (parse_double(text, value) && value >= 0.0 && value < u64_limit &&
+        std::floor(value) == value) {
+      out = static_cast<std::uint64_t>(value);
+      return true;
+    }
+  }
+  return fail(ProtocolError::out_of_range,
+              std::string(expected) + ", got " + quote_number(text));
+}
+
+bool Decoder::read_double(std::size_t index, double& out) {
+  if (kind(index) != TokenKind::number) return fail(ProtocolError::wrong_type, "expected number");
+  const std::string_view text = tape_.text_of(tape_.tokens[index]);
+  if (parse_double(text, out)) return true;
+  return fail(ProtocolError::out_of_range, "expected finite number, got " + quote_number(text));
+}
+
+bool Decoder::read_string(std::size_t index, std::string& out) {
+  if (kind(index) != TokenKind::string) return fail(ProtocolError::wrong_type, "expected string");
+  out.assign(tape_.text_of(tape_.tokens[index]));
+  return true;
+}
+
+bool Decoder::read_string_array(std::size_t index, std::vector<std::string>& out) {
+  if (kind(index) != TokenKind::array_begin) {
+    return fail(ProtocolError::wrong_type, "expected array of strings");
+  }
+  out.clear();
+  const std::size_t end = tape_.tokens[index].end_index;
+  for (std::size_t position = index + 1; position < end; position = tape_.next(position)) {
+    const std::size_t element = out.size();
+    if (!in_element(element, read_string(position, out.emplace_back()))) return false;
+  }
+  return true;
+}
+
+bool Decoder::read_raw(std::size_t index, RawJson& out) {
+  out.text.assign(tape_.source_of(index));
+  return true;
+}
+
+}  // namespace ocp::json_detail

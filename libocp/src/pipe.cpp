@@ -1,0 +1,165 @@
+#include "ocp/pipe.hpp"
+
+#include <algorithm>
+#include <utility>
+
+namespace ocp {
+namespace {
+
+constexpr const char* closed_by_peer_reason = "closed by peer";
+
+// One end of an in-memory pipe. Ends refer to each other weakly, and every scheduled
+// delivery captures a weak_ptr, so destroying an end with deliveries pending is safe: they
+// are dropped.
+class PipeEnd final : public ByteStream, public std::enable_shared_from_this<PipeEnd> {
+ public:
+  PipeEnd(Executor& executor, Micros one_way_delay, std::size_t max_chunk_bytes, std::string peer_name)
+      : executor_(executor),
+        one_way_delay_(one_way_delay),
+        max_chunk_bytes_(max_chunk_bytes),
+        peer_name_(std::move(peer_name)) {}
+
+  ~PipeEnd() override { notify_peer_of_close(); }
+
+  void connect(const std::shared_ptr<PipeEnd>& peer) { peer_ = peer; }
+
+  void set_handlers(ByteStreamHandlers handlers) override {
+    // Shared so a handler may replace the handlers while it runs without destroying itself.
+    handlers_ = std::make_shared<const ByteStreamHandlers>(std::move(handlers));
+    if (reading_) {
+      return;
+    }
+    reading_ = true;
+    // Whatever arrived before reading started is handed over from the executor, not from
+    // inside set_handlers, so the caller never sees callbacks re-entering its setup code.
+    if (!buffered_.empty() || peer_closed_) {
+      executor_.post([weak = weak_from_this()] {
+        if (auto self = weak.lock()) {
+          self->flush_buffered();
+        }
+      });
+    }
+  }
+
+  void write(std::string_view bytes) override {
+    if (!open_ || bytes.empty()) {
+      return;
+    }
+    executor_.call_after(one_way_delay_, [peer = peer_, data = std::string(bytes)] {
+      if (auto end = peer.lock()) {
+        end->receive(data);
+      }
+    });
+  }
+
+  void close() override {
+    if (!open_) {
+      return;
+    }
+    open_ = false;
+    notify_peer_of_close();
+  }
+
+  bool is_open() const override { return open_; }
+  std::string peer_name() const override { return peer_name_; }
+
+ private:
+  void notify_peer_of_close() {
+    if (peer_notified_) {
+      return;
+    }
+    peer_notified_ = true;
+    // Same delay as data and scheduled after it, so every byte written before close
+    // arrives before the close does.
+    executor_.call_after(one_way_delay_, [peer = peer_] {
+      if (auto end = peer.lock()) {
+        end->receive_close();
+      }
+    });
+  }
+
+  void receive(const std::string& data) {
+    if (!open_) {
+      return;  // closed locally: nothing more is delivered
+    }
+    if (!reading_ || !buffered_.empty()) {
+      buffered_ += data;
+      return;
+    }
+    deliver(data);
+  }
+
+  void receive_close() {
+    if (peer_closed_) {
+      return;
+    }
+    peer_closed_ = true;
+    if (!reading_ || !buffered_.empty()) {
+      return;  // reported after the buffered bytes, once reading starts
+    }
+    report_close();
+  }
+
+  void flush_buffered() {
+    std::string data = std::move(buffered_);
+    buffered_.clear();
+    if (!data.empty() && open_) {
+      deliver(data);
+    }
+    if (peer_closed_) {
+      report_close();
+    }
+  }
+
+  void deliver(std::string_view data) {
+    // Hold ourselves: a handler may drop the last external reference to this end.
+    const auto keep_alive = shared_from_this();
+    const std::size_t chunk = max_chunk_bytes_ == 0 ? data.size() : max_chunk_bytes_;
+    for (std::size_t offset = 0; offset < data.size() && open_; offset += chunk) {
+      const auto handlers = handlers_;
+      if (handlers->on_bytes) {
+        handlers->on_bytes(data.substr(offset, std::min(chunk, data.size() - offset)));
+      }
+    }
+  }
+
+  void report_close() {
+    if (!open_ || close_reported_) {
+      return;  // a local close() is never reported back
+    }
+    close_reported_ = true;
+    open_ = false;
+    peer_notified_ = true;  // the peer is gone already; nothing to tell it
+    const auto keep_alive = shared_from_this();
+    const auto handlers = handlers_;
+    if (handlers->on_closed) {
+      handlers->on_closed(closed_by_peer_reason);
+    }
+  }
+
+  Executor& executor_;
+  Micros one_way_delay_;
+  std::size_t max_chunk_bytes_;
+  std::string peer_name_;
+  std::weak_ptr<PipeEnd> peer_;
+  std::shared_ptr<const ByteStreamHandlers> handlers_ = std::make_shared<const ByteStreamHandlers>();
+  std::string buffered_;
+  bool reading_ = false;
+  bool open_ = true;
+  bool peer_closed_ = false;
+  bool peer_notified_ = false;
+  bool close_reported_ = false;
+};
+
+}  // namespace
+
+PipeEnds make_pipe(Executor& executor, PipeOptions options) {
+  // Each end reports the other end's name as its peer.
+  auto a = std::make_shared<PipeEnd>(executor, options.one_way_delay, options.max_chunk_bytes, options.name_b);
+  auto b = std::make_shared<PipeEnd>(executor, options.one_way_delay, options.max_chunk_bytes, options.name_a);
+  a->connect(b);
+  b->connect(a);
+  return PipeEnds{a, b};
+}
+
+}  // namespace ocp

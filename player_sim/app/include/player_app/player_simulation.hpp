@@ -1,0 +1,64 @@
+#pragma once
+// What `player_sim` runs: a Player whose operator API is a real TCP port, linked through fake
+// com channels to N simulated vehicles (a StreamerCore each, with the reference vehicle
+// client attached in-process), a fleet when N > 1. Real time on an AsioExecutor. Tests build
+// it directly; the executable adds the command line and signals.
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "ocp/asio_executor.hpp"
+#include "ocp/com_channel.hpp"
+#include "ocp/log.hpp"
+#include "ocp/plugin_params.hpp"
+#include "player_app/player_front.hpp"
+#include "scenario/world.hpp"
+#include "sim_common/gamepad_script.hpp"
+
+namespace ocp {
+
+struct PlayerSimOptions {
+  std::vector<std::string> vehicles{"vehicle"};
+  PluginParams plugin_params;            // ocp_player_tcp_port, ocp_tcp_allow_remote, latency_limit
+  std::vector<CameraConfig> cameras;     // per vehicle; empty: the default (front, 30 fps)
+  Impairments link;                      // both directions of every fake com channel
+  std::uint64_t seed = 1;
+  sim::GamepadScript gamepad;            // the operator station's gamepad (default: drive)
+  double frame_rate_hz = 100.0;          // Player frame rate (capped at 100)
+};
+
+class PlayerSimulation {
+ public:
+  PlayerSimulation(AsioExecutor& executor, PlayerSimOptions options, LogSink sink);
+  ~PlayerSimulation();
+  PlayerSimulation(const PlayerSimulation&) = delete;
+  PlayerSimulation& operator=(const PlayerSimulation&) = delete;
+
+  // Listens, then starts the world (so a busy port fails before anything runs). Errors: the
+  // port in use (TcpServer::listen), or a configuration error from World::start.
+  [[nodiscard]] Status start();
+  void stop();
+
+  std::uint16_t port() const { return front_.port(); }
+  std::string address() const { return front_.address(); }
+  World& world() { return world_; }
+  PlayerCore& player() { return world_.player(); }
+
+  // The once-per-second status line; rates are per second since the previous call.
+  std::string status_line();
+
+ private:
+  AsioExecutor& executor_;
+  PlayerSimOptions options_;
+  Logger logger_;
+  World world_;
+  PlayerFront front_;
+  struct Previous {
+    SimTime time{0};
+    std::uint64_t client_frames_sent = 0;
+    std::uint64_t client_messages_received = 0;
+  } previous_;
+};
+
+}  // namespace ocp

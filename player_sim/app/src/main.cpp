@@ -1,0 +1,87 @@
+// player_sim: a Player on 127.0.0.1:4001 (ocp_player_tcp_port) linked to in-process simulated
+// vehicles, for developing operator-side clients and dashboards.
+// Exit codes: 0 normal end, 1 runtime error (port in use), 2 usage error.
+#include <CLI/CLI.hpp>
+#include <iostream>
+#include <set>
+
+#include "player_app/player_simulation.hpp"
+#include "sim_common/common_options.hpp"
+#include "sim_common/console.hpp"
+#include "sim_common/exit_codes.hpp"
+#include "sim_common/gamepad_script.hpp"
+#include "sim_common/real_time_runner.hpp"
+
+int main(int argc, char** argv) {
+  using namespace ocp;
+  CLI::App app{
+      "OCP Player simulator: serves the operator-side TCP API (SPEC §4) on 127.0.0.1:4001,\n"
+      "linked through fake com channels to simulated vehicles (Streamer + reference vehicle\n"
+      "client, in-process). Connect your operator-side client to it.",
+      "player_sim"};
+  sim::CommonOptions common;
+  sim::add_common_options(app, common);
+  std::vector<std::string> vehicles;
+  std::string gamepad_text = "drive";
+  double frame_rate_hz = 100.0;
+  app.add_option("--vehicle", vehicles, "simulated vehicle name (repeatable; several form a fleet; default: vehicle)")
+      ->group("Player");
+  app.add_option("--gamepad", gamepad_text, "operator gamepad: idle, drive, or a recording file")
+      ->capture_default_str()->group("Player");
+  app.add_option("--frame-rate-hz", frame_rate_hz, "Player frame rate (capped at 100)")
+      ->capture_default_str()->check(CLI::Range(1.0, 100.0))->group("Player");
+  if (const auto exit_code = sim::parse_command_line(app, argc, argv, common)) return *exit_code;
+
+  if (vehicles.empty()) vehicles.push_back("vehicle");
+  std::set<std::string> unique;
+  for (const auto& name : vehicles) {
+    if (name.empty() || !unique.insert(name).second) {
+      std::cerr << "player_sim: --vehicle '" << name << "': names must be non-empty and unique\n";
+      return sim::exit_usage_error;
+    }
+  }
+  auto gamepad = sim::parse_gamepad_script(gamepad_text);
+  if (!gamepad) {
+    std::cerr << "player_sim: " << gamepad.error().detail << "\nRun with --help for the options.\n";
+    return sim::exit_usage_error;
+  }
+
+  PlayerSimOptions options;
+  options.vehicles = vehicles;
+  options.plugin_params = common.plugin_params;
+  for (const auto& camera : common.cameras) {
+    CameraConfig config;
+    config.name = camera.name;
+    config.fps = camera.fps;
+    options.cameras.push_back(config);
+  }
+  options.link = common.link_impairments();
+  options.seed = common.seed;
+  options.gamepad = std::move(*gamepad);
+  options.frame_rate_hz = frame_rate_hz;
+
+  const LogSink sink = sim::configure_console(common.log_level);
+  sim::RealTimeRunner runner;   // first: the io_context outlives every socket below
+  const Logger logger(runner.executor(), "player_sim", sink);
+  runner.set_logger(&logger);
+  PlayerSimulation simulation(runner.executor(), options, sink);
+  if (auto status = simulation.start(); !status) {
+    std::cerr << "player_sim: cannot start: " << status.error().detail;
+    if (status.error().code == std::errc::address_in_use) {
+      std::cerr << " (is another player_sim running? pick a port with --plugin-param ocp_player_tcp_port N)";
+    }
+    std::cerr << "\n";
+    return sim::exit_runtime_error;
+  }
+  sim::StatusTicker status(runner.executor(), Millis{1000}, [&] { logger.info("{}", simulation.status_line()); });
+  status.start();
+  runner.set_on_shutdown([&](const std::string&) {
+    status.stop();
+    const PlayerStats& stats = simulation.player().stats();
+    logger.info("summary: {} frames, {} feedback objects to the client, {} client messages, {} clients accepted, {} refused",
+                stats.frames, stats.client_frames_sent, stats.client_messages_received,
+                stats.client_connections_accepted, stats.client_connections_refused);
+    simulation.stop();
+  });
+  return runner.run(common.duration());
+}

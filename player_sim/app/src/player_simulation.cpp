@@ -1,0 +1,94 @@
+#include "player_app/player_simulation.hpp"
+
+#include <fmt/format.h>
+
+#include <utility>
+
+#include "sim_common/console.hpp"
+
+namespace ocp {
+
+namespace {
+
+WorldConfig make_world_config(const PlayerSimOptions& options) {
+  WorldConfig config;
+  config.seed = options.seed;
+  config.player.name = "player";
+  config.player.frame_rate_hz = options.frame_rate_hz;
+  config.player.fleet = options.vehicles.size() > 1;
+  for (const auto& name : options.vehicles) {
+    VehicleSpec vehicle;
+    vehicle.name = name;
+    vehicle.streamer.latency_limit = options.plugin_params.latency_limit;
+    if (!options.cameras.empty()) vehicle.streamer.cameras = options.cameras;
+    vehicle.to_streamer = options.link;
+    vehicle.to_player = options.link;
+    vehicle.in_process_client = true;   // the reference vehicle client, over an in-memory pipe
+    config.vehicles.push_back(std::move(vehicle));
+  }
+  return config;
+}
+
+}  // namespace
+
+PlayerSimulation::PlayerSimulation(AsioExecutor& executor, PlayerSimOptions options, LogSink sink)
+    : executor_(executor),
+      options_(std::move(options)),
+      logger_(executor, "player_sim", sink),
+      world_(executor, make_world_config(options_), sink),
+      front_(executor, world_, Logger(executor, "player:tcp", sink)) {}
+
+PlayerSimulation::~PlayerSimulation() { stop(); }
+
+Status PlayerSimulation::start() {
+  const TcpServerOptions listen_options{options_.plugin_params.ocp_player_tcp_port,
+                                        options_.plugin_params.ocp_tcp_allow_remote};
+  if (auto status = front_.listen(listen_options); !status) return status;
+  if (auto status = world_.start(); !status) {
+    front_.stop();
+    return status;
+  }
+  sim::apply_gamepad_script(world_.player().gamepad(), options_.gamepad, executor_.now());
+  std::string names;
+  for (const auto& name : options_.vehicles) names += (names.empty() ? "" : ", ") + name;
+  logger_.info("simulated vehicles: {} ({}); gamepad '{}', link delay {} ms, jitter ±{} ms, loss {}",
+               names, options_.vehicles.size() > 1 ? "fleet" : "single vehicle",
+               options_.gamepad.description, to_whole_ms(options_.link.delay),
+               to_whole_ms(options_.link.jitter), options_.link.loss_probability);
+  previous_ = Previous{executor_.now(), 0, 0};
+  return Ok{};
+}
+
+void PlayerSimulation::stop() {
+  front_.stop();
+  if (world_.running()) world_.stop();
+}
+
+std::string PlayerSimulation::status_line() {
+  const PlayerCore& core = player();
+  const PlayerStats& stats = core.stats();
+  const SimTime now = executor_.now();
+  const Micros elapsed = now - previous_.time;
+  std::string client = "none";
+  if (core.client_connected()) client = "connected";
+  if (const auto source = core.locked_source()) {
+    client += fmt::format(" (source {}{})", client_source_name(*source),
+                          core.client_data_stopped() ? ", client data STOPPED by a source conflict" : "");
+  }
+  std::string line = fmt::format(
+      "status: operator client {} | feedback out {:.0f}/s ({} total) | client msgs in {:.0f}/s ({} total)",
+      client, sim::per_second(stats.client_frames_sent, previous_.client_frames_sent, elapsed),
+      stats.client_frames_sent,
+      sim::per_second(stats.client_messages_received, previous_.client_messages_received, elapsed),
+      stats.client_messages_received);
+  for (const auto& name : options_.vehicles) {
+    const StreamerCore& streamer = world_.streamer(name);
+    line += fmt::format(" | {}: latency {}, faults {}, operator faults {}", name,
+                        sim::format_latency(streamer.latency_ms()), sim::format_faults(streamer.faults()),
+                        sim::format_faults(core.sender_faults(name)));
+  }
+  previous_ = Previous{now, stats.client_frames_sent, stats.client_messages_received};
+  return line;
+}
+
+}  // namespace ocp

@@ -1,0 +1,100 @@
+// Client data sources (tcp, webview, plugin): locking (SPEC §4.3), applying ClientOcpShared
+// (§4.2), the latency-loop echo (§5 step 6) and the single tcp client connection.
+#include <utility>
+
+#include "player_impl.hpp"
+
+namespace ocp {
+
+void PlayerCore::Impl::on_client_data(ClientSource source, const ClientOcpShared& data) {
+  ++stats.client_messages_received;
+  if (!source_lock.admit(source, logger)) {
+    if (source_lock.conflict_just_happened()) {
+      ++stats.source_conflicts;
+      stop_all_client_data();
+    }
+    ++stats.client_messages_ignored;
+    return;
+  }
+  apply_client_data(source, data);
+}
+
+void PlayerCore::Impl::apply_client_data(ClientSource source, const ClientOcpShared& data) {
+  if (data.active_vehicle) {
+    if (!vehicles.contains(*data.active_vehicle)) {
+      logger.warn("active_vehicle '{}' from {} is not a linked vehicle; no vehicle is active",
+                  *data.active_vehicle, client_source_name(source));
+    }
+    selected_vehicle = data.active_vehicle;
+  }
+  for (const auto& [name, entry] : data.client_user_data) {
+    const auto found = vehicles.find(name);
+    if (found == vehicles.end()) {
+      ++stats.unknown_vehicle_entries;
+      if (warned_unknown_entries.insert(name).second) {
+        logger.warn("client_user_data for unknown vehicle '{}' from {} ignored", name,
+                    client_source_name(source));
+      }
+      continue;
+    }
+    VehicleClientState& state = found->second.client;
+    state.user_data = entry.user_data;
+    state.disable_gamepad = entry.ocp_disable_gamepad.value_or(false);
+    if (source != ClientSource::webview) {
+      // tcp and plugin clients echo the pair themselves: both halves or nothing.
+      state.returned_pair.reset();
+      if (entry.ack_time_returned && entry.ack_time_mac_returned) {
+        state.returned_pair = AckPair{*entry.ack_time_returned, *entry.ack_time_mac_returned};
+      }
+    }
+  }
+  if (source == ClientSource::webview) {
+    // The web view sends no pair: the Player injects the latest one into each of its messages.
+    for (auto& [name, link] : vehicles) link.client.returned_pair = link.latest_sei;
+  }
+}
+
+void PlayerCore::Impl::stop_all_client_data() {
+  // User data and every external echo stop; no fallback to self-echo (see echo_pair).
+  // ocp_disable_gamepad and the selected vehicle keep their values on purpose.
+  for (auto& [name, link] : vehicles) {
+    link.client.user_data.reset();
+    link.client.returned_pair.reset();
+  }
+}
+
+std::optional<AckPair> PlayerCore::Impl::echo_pair(const VehicleLink& link) const {
+  if (source_lock.stopped()) return std::nullopt;
+  if (!source_lock.locked()) return link.latest_sei;  // self-echo
+  return link.client.returned_pair;
+}
+
+void PlayerCore::Impl::accept_client(std::shared_ptr<ByteStream> stream) {
+  if (!stream) return;
+  if (client && client->open()) {
+    ++stats.client_connections_refused;
+    logger.warn("tcp client {} refused: client {} is already connected (one client at a time)",
+                stream->peer_name(), client->peer_name());
+    stream->close();
+    return;
+  }
+  ++stats.client_connections_accepted;
+  logger.info("tcp client {} connected", stream->peer_name());
+  OperatorClientConnection::Callbacks callbacks;
+  callbacks.on_message = [this](ClientOcpShared&& message) {
+    on_client_data(ClientSource::tcp, message);
+  };
+  callbacks.on_closed = [this](const std::string& reason) { on_client_closed(reason); };
+  client = std::make_shared<OperatorClientConnection>(executor, std::move(stream),
+                                                      config.client_read_timeout,
+                                                      logger.child("tcp"), stats, std::move(callbacks));
+  auto keep_alive = client;
+  keep_alive->start();
+}
+
+void PlayerCore::Impl::on_client_closed(const std::string& reason) {
+  last_client_close_reason = reason;
+  client.reset();  // the connection keeps itself alive until its callback returns
+}
+
+}  // namespace ocp

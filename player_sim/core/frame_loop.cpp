@@ -1,0 +1,84 @@
+// The Player frame: one OperatorControl per control vehicle, then the VehicleOcpShared object
+// for every client (SPEC §4.1, §6 operator faults, §7). Also the com-channel pings.
+#include <utility>
+
+#include "player_impl.hpp"
+
+namespace ocp {
+
+SimTime PlayerCore::Impl::measured_since(const VehicleLink& link) const {
+  // A vehicle linked after start is measured from when it was linked.
+  return link.linked_at > started_at ? link.linked_at : started_at;
+}
+
+std::optional<std::string> PlayerCore::Impl::resolve_active_vehicle() const {
+  if (selected_vehicle) {
+    const auto found = vehicles.find(*selected_vehicle);
+    if (found == vehicles.end() || found->second.monitor) return std::nullopt;
+    return selected_vehicle;
+  }
+  // One control vehicle: active_vehicle may be omitted. Several and none selected: none.
+  std::optional<std::string> only;
+  for (const auto& [name, link] : vehicles) {
+    if (link.monitor) continue;
+    if (only) return std::nullopt;
+    only = name;
+  }
+  return only;
+}
+
+void PlayerCore::Impl::on_frame() {
+  const SimTime now = executor.now();
+  ++stats.frames;
+  const std::optional<Controller> sample = gamepad.sample(now);
+  const std::optional<std::string> active = resolve_active_vehicle();
+
+  VehicleOcpShared shared;
+  for (auto& [name, link] : vehicles) {
+    const bool is_active = active && *active == name;
+    SenderFaultInputs inputs;
+    inputs.now = now;
+    inputs.measured_since = measured_since(link);
+    inputs.no_feedback_timeout = config.no_feedback_timeout;
+    inputs.gamepad_plugged = sample.has_value();
+    inputs.is_active = is_active;
+    link.sender_faults = evaluate_sender_faults(link, inputs);
+
+    if (!link.monitor) {
+      OperatorControl control;
+      control.sequence = link.next_control_sequence++;
+      if (!link.client.disable_gamepad) {
+        // Only the active vehicle gets the gamepad; everything else (and an unplugged
+        // gamepad) gets the safe default controller.
+        control.controller = is_active && sample ? *sample : Controller::safe_default();
+      }
+      if (!source_lock.stopped()) control.client_user_data = link.client.user_data;
+      control.returned_ack = echo_pair(link);
+      control.sender_faults = link.sender_faults.to_vector();
+      if (is_active) last_input = control.controller;
+      link.to_streamer->send(LinkMessage{std::move(control)});
+      ++stats.control_messages_sent;
+    }
+    shared.vehicle_feedback.emplace(name, build_vehicle_feedback(link, now, measured_since(link)));
+  }
+  shared.last_input = last_input;
+  last_shared = std::move(shared);
+  ++stats.shared_published;
+
+  if (client && client->open()) {
+    auto keep_alive = client;
+    keep_alive->send(last_shared);
+  }
+  for (const SharedListener& listener : shared_listeners) listener(last_shared);
+}
+
+void PlayerCore::Impl::on_ping() {
+  const SimTime now = executor.now();
+  for (auto& [name, link] : vehicles) {
+    if (link.to_streamer == nullptr) continue;
+    link.to_streamer->send(LinkMessage{Ping{link.next_ping_id++, now}});
+    ++stats.pings_sent;
+  }
+}
+
+}  // namespace ocp

@@ -1,0 +1,64 @@
+#pragma once
+// Private state of PlayerCore, shared by the .cpp files that implement it:
+//   player_core.cpp   — lifecycle, vehicles, link messages, getters
+//   frame_loop.cpp    — the per-frame control messages and VehicleOcpShared publication
+//   client_data.cpp   — client data sources, locking, echo, the tcp client connection
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "operator_client_connection.hpp"
+#include "player/player_core.hpp"
+#include "source_lock.hpp"
+#include "vehicle_link.hpp"
+
+namespace ocp {
+
+struct PlayerCore::Impl {
+  Impl(Executor& executor_in, PlayerConfig config_in, Logger logger_in);
+
+  // frame_loop.cpp
+  void on_frame();
+  void on_ping();
+  std::optional<std::string> resolve_active_vehicle() const;
+  SimTime measured_since(const VehicleLink& link) const;
+
+  // client_data.cpp
+  void on_client_data(ClientSource source, const ClientOcpShared& data);
+  void apply_client_data(ClientSource source, const ClientOcpShared& data);
+  void stop_all_client_data();
+  std::optional<AckPair> echo_pair(const VehicleLink& link) const;
+  void accept_client(std::shared_ptr<ByteStream> stream);
+  void on_client_closed(const std::string& reason);
+
+  Executor& executor;
+  PlayerConfig config;
+  Logger logger;
+  Micros frame_period;
+  Gamepad gamepad;
+  PlayerStats stats;
+
+  std::map<std::string, VehicleLink> vehicles;  // name order: deterministic iteration
+  SimTime started_at{0};
+  bool running = false;
+  PeriodicTimer frame_timer;
+  PeriodicTimer ping_timer;
+
+  SourceLock source_lock;
+  std::optional<std::string> selected_vehicle;  // active_vehicle from client data
+  std::optional<Controller> last_input;
+  VehicleOcpShared last_shared;
+  std::vector<SharedListener> shared_listeners;
+
+  // Names already warned about, so a client or link repeating them at 100 Hz logs once.
+  std::set<std::string> warned_unknown_entries;
+  std::set<std::string> warned_unknown_senders;
+
+  std::shared_ptr<OperatorClientConnection> client;
+  std::string last_client_close_reason;
+};
+
+}  // namespace ocp

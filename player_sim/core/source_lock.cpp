@@ -1,0 +1,33 @@
+// Client data source locking (SPEC §4.3).
+#include "source_lock.hpp"
+
+namespace ocp {
+
+std::string_view client_source_name(ClientSource source) {
+  switch (source) {
+    case ClientSource::tcp: return "tcp";
+    case ClientSource::webview: return "webview";
+    case ClientSource::plugin: return "plugin";
+  }
+  return "?";
+}
+
+bool SourceLock::admit(ClientSource source, const Logger& logger) {
+  conflict_just_happened_ = false;
+  if (stopped_) return false;
+  if (!locked_) {
+    locked_ = source;
+    logger.info("client data source locked: {}", client_source_name(source));
+    return true;
+  }
+  if (*locked_ == source) return true;
+  stopped_ = true;
+  conflict_just_happened_ = true;
+  logger.error(
+      "client data source conflict: locked source '{}', conflicting source '{}'; all client "
+      "data (user data and timestamp echo) stopped until restart",
+      client_source_name(*locked_), client_source_name(source));
+  return false;
+}
+
+}  // namespace ocp

@@ -1,0 +1,149 @@
+#pragma once
+// PlayerCore: the operator station (SPEC §4, §5 player part, §6 operator faults, §7, §8).
+//
+// Sans-IO: time comes from the injected Executor, vehicles are reached through LinkDirections
+// (the fake com channel) and the operator TCP client through a ByteStream (pipe or socket —
+// same code). Nothing here reads a clock or opens a socket.
+//
+// Call order:
+//   1. construct; add_vehicle() for each linked Streamer (the caller wires the reverse
+//      direction of each link to handle_link_message(vehicle, …));
+//   2. start(): the frame loop runs at frame_rate_hz (≤ 100 Hz, absolute deadlines), pings
+//      go out every ping_period;
+//   3. inputs at any time: handle_link_message (feedback, video+SEI, pong),
+//      accept_client_connection (tcp source), handle_client_data (webview/plugin sources);
+//   4. outputs every frame: one OperatorControl per non-monitor vehicle, and one
+//      VehicleOcpShared to the tcp client (framed JSON) and to every shared listener;
+//   5. stop(): timers stop, the tcp client is closed.
+//
+// Decisions where the SPEC leaves room:
+//   * controller sent to a vehicle: the gamepad sample when it is the active vehicle and the
+//     gamepad is plugged; the safe default controller when it is not active or the gamepad is
+//     unplugged; nullopt when ocp_disable_gamepad is set for it.
+//   * InputLost is raised on every control (non-monitor) vehicle whose gamepad is not disabled
+//     while the gamepad is unplugged. Monitor links only carry NoFeedbackMessage.
+//   * A client_user_data entry is that vehicle's complete client state: it replaces the
+//     previous entry (an absent user_data means none, an absent pair means no echo, an absent
+//     ocp_disable_gamepad means false). Vehicles without an entry keep their state. An absent
+//     active_vehicle leaves the selection unchanged.
+//   * After a source conflict (§4.3) user data and every external echo stop (returned_ack is
+//     nullopt, no self-echo); active_vehicle and ocp_disable_gamepad keep their last values so
+//     gamepad input is never routed somewhere the operator did not choose.
+//   * Web view echo: the pair injected is the latest SEI pair when each web view message
+//     arrives; it is echoed until the next web view message (a silent web view goes stale).
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "ocp/byte_stream.hpp"
+#include "ocp/com_channel.hpp"
+#include "ocp/error.hpp"
+#include "ocp/executor.hpp"
+#include "ocp/faults.hpp"
+#include "ocp/link_messages.hpp"
+#include "ocp/log.hpp"
+#include "ocp/messages.hpp"
+#include "player/gamepad.hpp"
+
+namespace ocp {
+
+enum class ClientSource { tcp, webview, plugin };
+std::string_view client_source_name(ClientSource source);  // "tcp" | "webview" | "plugin"
+
+inline constexpr double max_player_frame_rate_hz = 100.0;
+
+struct PlayerConfig {
+  std::string name = "player";
+  double frame_rate_hz = 100.0;          // control messages at this rate, capped at 100 Hz
+  Micros no_feedback_timeout{1'000'000};
+  Micros ping_period{100'000};
+  bool fleet = false;                    // without a fleet exactly one Streamer may be linked
+  Micros client_read_timeout{2'000'000}; // :4001 client silence → close (SPEC §4.2 same rules as §2); 0 = off
+};
+
+// The frame period actually used: 1 s / min(frame_rate_hz, 100), rounded to whole µs.
+Micros player_frame_period(const PlayerConfig& config);
+
+struct PlayerStats {
+  std::uint64_t frames = 0;
+  std::uint64_t control_messages_sent = 0;
+  std::uint64_t pings_sent = 0;
+  std::uint64_t pongs_received = 0;
+  std::uint64_t feedback_received = 0;
+  std::uint64_t video_frames_received = 0;
+  std::uint64_t shared_published = 0;           // VehicleOcpShared objects built
+  std::uint64_t client_messages_received = 0;   // decoded ClientOcpShared, all sources
+  std::uint64_t client_messages_ignored = 0;    // dropped because client data is stopped
+  std::uint64_t client_oversized_frames = 0;    // drained inbound frames on :4001
+  std::uint64_t client_connections_accepted = 0;
+  std::uint64_t client_connections_refused = 0; // second client while one is active
+  std::uint64_t client_connections_closed = 0;  // closed by us or by the peer
+  std::uint64_t client_frames_sent = 0;
+  std::uint64_t client_frames_too_large = 0;    // VehicleOcpShared over 16 KiB, not sent
+  std::uint64_t source_conflicts = 0;
+  std::uint64_t unknown_vehicle_entries = 0;
+};
+
+class PlayerCore {
+ public:
+  PlayerCore(Executor& executor, PlayerConfig config, Logger logger);
+  ~PlayerCore();
+  PlayerCore(const PlayerCore&) = delete;
+  PlayerCore& operator=(const PlayerCore&) = delete;
+
+  void start();
+  void stop();
+  bool running() const;
+
+  // Links a Streamer. `to_streamer` must outlive the PlayerCore (or stop()). A monitor link
+  // receives feedback and video but is sent no OperatorControl. Without config.fleet a second
+  // vehicle is a configuration error; duplicate names are errors too.
+  [[nodiscard]] Status add_vehicle(const std::string& name, LinkDirection* to_streamer,
+                                   bool monitor = false);
+  // Everything arriving from that vehicle's Streamer (feedback, video frames, pongs).
+  void handle_link_message(const std::string& vehicle, LinkMessage&& message);
+
+  // The `tcp` source: a connected :4001 client (a TCP socket or an in-memory pipe end).
+  void accept_client_connection(std::shared_ptr<ByteStream> stream);
+  // The `webview` and `plugin` sources (tcp goes through the stream). Passing tcp here is
+  // accepted too and treated as the tcp source.
+  void handle_client_data(ClientSource source, const ClientOcpShared& data);
+
+  // Selects the active vehicle from the station itself (a scenario or the operator UI), as
+  // active_vehicle in client data would, without counting as client data: no source locks.
+  // nullopt clears the selection (one control vehicle is then active again, several none).
+  void select_vehicle(std::optional<std::string> vehicle);
+
+  using SharedListener = std::function<void(const VehicleOcpShared&)>;
+  // Web view / plugin consumers: called every frame with the object of SPEC §4.1.
+  void add_shared_listener(SharedListener listener);
+
+  Gamepad& gamepad();
+  const Gamepad& gamepad() const;
+
+  // Getters (for fronts, scenarios and tests).
+  const PlayerConfig& config() const;
+  std::vector<std::string> vehicles() const;       // in name order
+  FaultSet sender_faults(const std::string& vehicle) const;   // as sent in the last frame
+  const VehicleOcpShared& last_shared() const;
+  std::optional<ClientSource> locked_source() const;
+  bool client_data_stopped() const;     // source-locking conflict happened
+  // The vehicle that receives gamepad input now (SPEC §7): the selected active_vehicle, or
+  // the only control vehicle when none was selected; nullopt when no vehicle is active.
+  std::optional<std::string> active_vehicle() const;
+  std::optional<AckPair> latest_sei(const std::string& vehicle) const;
+  bool client_connected() const;        // a tcp client is attached
+  const std::string& last_client_close_reason() const;
+  const PlayerStats& stats() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace ocp

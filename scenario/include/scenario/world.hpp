@@ -1,0 +1,127 @@
+#pragma once
+// World: assembles one Player, one Streamer per vehicle, one fake com channel per vehicle and
+// (optionally) an in-process reference vehicle client per vehicle, all on one injected
+// Executor. The same World runs in virtual time (VirtualExecutor; see virtual_world.hpp) and in
+// real time (AsioExecutor; the simulator executables attach external TCP clients instead).
+//
+//   World world(executor, config, sink);
+//   if (auto status = world.start(); !status) { … status.error().message() … }
+//   … drive the executor; change impairments via world.link(name); stall cameras via
+//     world.streamer(name); script the gamepad via world.player().gamepad() …
+//   world.stop();
+//
+// Wiring per vehicle (names as in the code):
+//   PlayerCore ──OperatorControl, Ping──► ComChannel::to_streamer ──► StreamerCore::handle_link_message
+//   StreamerCore ──StreamerFeedback, VideoFrame, Pong──► ComChannel::to_player ──► PlayerCore::handle_link_message
+//   StreamerCore ◄══ pipe (ByteStream, framed JSON) ══► VehicleClient      (in_process_client)
+//
+// Determinism (ARCHITECTURE.md property 3): each component gets its own generator seed derived
+// from WorldConfig::seed and a stable component name (see seeds.hpp), so adding a vehicle never
+// changes the random draws of another. With deterministic_keys the Streamers' MAC keys are
+// derived from the seed as well (virtual-time runs); otherwise each Streamer draws a CSPRNG key.
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "ocp/byte_stream.hpp"
+#include "ocp/com_channel.hpp"
+#include "ocp/error.hpp"
+#include "ocp/executor.hpp"
+#include "ocp/log.hpp"
+#include "player/player_core.hpp"
+#include "streamer/streamer_core.hpp"
+#include "vehicle_client/vehicle_client.hpp"
+
+namespace ocp {
+
+class StreamTap;
+
+struct VehicleSpec {
+  std::string name;
+  StreamerConfig streamer;                  // streamer.name is set to `name`
+  Impairments to_streamer, to_player;       // com-channel impairments per direction
+  bool monitor = false;                     // watch-only link (no control from the Player)
+  bool in_process_client = true;            // attach the reference VehicleClient over a pipe
+  VehicleClientConfig client;
+};
+
+struct WorldConfig {
+  std::uint64_t seed = 1;
+  PlayerConfig player;
+  std::vector<VehicleSpec> vehicles;
+  // Derive each Streamer's MAC key from `seed` when its StreamerConfig::mac_key is unset.
+  // For virtual-time runs (reproducible traces). Real-time runs leave it false: CSPRNG keys.
+  bool deterministic_keys = false;
+  // Delay before an in-process vehicle client reconnects (through a new pipe) after its
+  // connection dropped. Same as the TCP runner's first backoff.
+  Micros reconnect_backoff{100'000};
+  // One-way delay of the in-process vehicle pipes (a local TCP hop is a few µs; 0 is exact).
+  Micros vehicle_pipe_delay{0};
+  // Decode what each in-process vehicle client receives (StreamTap), for tests that check
+  // what reached the vehicle. Costs one extra decode per control frame; off by default.
+  bool tap_vehicle_streams = false;
+};
+
+class World {
+ public:
+  World(Executor& executor, WorldConfig config, LogSink sink);
+  ~World();
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
+
+  // Builds links, cores and in-process clients and starts them. Configuration errors (empty
+  // or duplicate vehicle names, two vehicles without PlayerConfig::fleet, no vehicle, bad
+  // client config) → error, and nothing is left running. Calling start() twice is an error.
+  [[nodiscard]] Status start();
+  // Called inside start() after every core is built and before any of them starts (so the
+  // very first events are seen): install observers here. Only one hook; set before start().
+  void set_on_built(std::function<void(World&)> hook);
+
+  // Stops every timer and closes every connection. Safe to call twice; the destructor calls it.
+  void stop();
+  bool running() const;
+
+  Executor& executor() const;
+  const WorldConfig& config() const;
+  std::vector<std::string> vehicles() const;   // in configuration order
+
+  PlayerCore& player();
+  // The named vehicle's parts. An unknown name is a programming error (asserts, then aborts).
+  StreamerCore& streamer(std::string_view vehicle);
+  ComChannel& link(std::string_view vehicle);
+  VehicleClient* vehicle_client(std::string_view vehicle);   // nullptr when not in-process
+  // What the in-process client received (nullptr unless tap_vehicle_streams and in-process).
+  const StreamTap* vehicle_tap(std::string_view vehicle) const;
+
+  // An external vehicle client (TCP socket, or a test's raw pipe end) for that vehicle's
+  // Streamer. With an in-process client also attached, the Streamer refuses the second one.
+  void accept_vehicle_connection(std::string_view vehicle, std::shared_ptr<ByteStream> stream);
+  // Drops the in-process client's connection as a broken stream would: the Streamer sees the
+  // peer close, the client is detached and reconnects through a new pipe after
+  // reconnect_backoff. No-op for a vehicle without an in-process client.
+  void drop_vehicle_connection(std::string_view vehicle);
+  // In-process client connections made so far (1 after start, +1 per reconnect).
+  std::uint64_t vehicle_connections(std::string_view vehicle) const;
+
+ private:
+  struct Vehicle;
+  Vehicle& find(std::string_view vehicle) const;
+  void connect_in_process_client(Vehicle& vehicle);
+  void schedule_reconnect(Vehicle& vehicle);
+
+  Executor& executor_;
+  WorldConfig config_;
+  LogSink sink_;
+  Logger logger_;
+  std::unique_ptr<PlayerCore> player_;
+  std::vector<std::unique_ptr<Vehicle>> vehicles_;
+  std::function<void(World&)> on_built_;
+  bool started_ = false;
+  bool running_ = false;
+};
+
+}  // namespace ocp

@@ -1,0 +1,214 @@
+#include "scenario/world.hpp"
+
+#include <cstdio>
+#include <cstdlib>
+#include <set>
+#include <utility>
+#include <variant>
+
+#include "ocp/pipe.hpp"
+#include "scenario/seeds.hpp"
+#include "scenario/stream_tap.hpp"
+
+namespace ocp {
+
+struct World::Vehicle {
+  VehicleSpec spec;
+  std::unique_ptr<ComChannel> link;
+  std::unique_ptr<StreamerCore> streamer;
+  std::unique_ptr<VehicleClient> client;
+  std::unique_ptr<StreamTap> tap;
+  std::uint64_t connections = 0;
+  Executor::TimerId reconnect_timer = 0;
+};
+
+World::World(Executor& executor, WorldConfig config, LogSink sink)
+    : executor_(executor),
+      config_(std::move(config)),
+      sink_(std::move(sink)),
+      logger_(executor, "world", sink_),
+      player_(std::make_unique<PlayerCore>(executor, config_.player,
+                                           Logger(executor, config_.player.name, sink_))) {}
+
+World::~World() { stop(); }
+
+namespace {
+
+Error configuration_error(std::string detail) {
+  return Error{std::make_error_code(std::errc::invalid_argument), std::move(detail)};
+}
+
+}  // namespace
+
+Status World::start() {
+  if (started_) {
+    return configuration_error("world already started");
+  }
+  started_ = true;
+  if (config_.vehicles.empty()) {
+    return configuration_error("a world needs at least one vehicle");
+  }
+  std::set<std::string, std::less<>> names;
+  for (const VehicleSpec& spec : config_.vehicles) {
+    if (spec.name.empty()) {
+      return configuration_error("a vehicle has an empty name");
+    }
+    if (!names.insert(spec.name).second) {
+      return configuration_error("vehicle name '" + spec.name + "' is used twice");
+    }
+    if (spec.in_process_client) {
+      if (auto problem = validate(spec.client)) {
+        return configuration_error("vehicle '" + spec.name + "': client: " + *problem);
+      }
+    }
+  }
+
+  // Build every part before starting any, so a configuration error leaves nothing running.
+  for (const VehicleSpec& spec : config_.vehicles) {
+    auto vehicle = std::make_unique<Vehicle>();
+    vehicle->spec = spec;
+    StreamerConfig streamer_config = spec.streamer;
+    streamer_config.name = spec.name;
+    if (config_.deterministic_keys && !streamer_config.mac_key) {
+      streamer_config.mac_key = derive_mac_key(config_.seed, spec.name);
+    }
+    vehicle->link = std::make_unique<ComChannel>(
+        executor_, derive_seed(config_.seed, "link:" + spec.name), "link:" + spec.name);
+    vehicle->link->to_streamer().set_impairments(spec.to_streamer);
+    vehicle->link->to_player().set_impairments(spec.to_player);
+    vehicle->streamer = std::make_unique<StreamerCore>(
+        executor_, streamer_config, Logger(executor_, "streamer:" + spec.name, sink_));
+    vehicle->streamer->set_link(&vehicle->link->to_player());
+
+    Status linked = player_->add_vehicle(spec.name, &vehicle->link->to_streamer(), spec.monitor);
+    if (!linked) {
+      vehicles_.clear();
+      return linked;
+    }
+    if (spec.in_process_client) {
+      vehicle->client = std::make_unique<VehicleClient>(
+          executor_, spec.client, Logger(executor_, "vehicle-client:" + spec.name, sink_));
+      if (config_.tap_vehicle_streams) {
+        vehicle->tap = std::make_unique<StreamTap>(executor_);
+      }
+    }
+    vehicles_.push_back(std::move(vehicle));
+  }
+
+  // Wire the link receivers. Messages still in flight after stop() are dropped here.
+  for (auto& vehicle : vehicles_) {
+    StreamerCore* streamer = vehicle->streamer.get();
+    vehicle->link->to_streamer().set_receiver([this, streamer](LinkMessage&& message) {
+      if (running_) streamer->handle_link_message(std::move(message));
+    });
+    const std::string name = vehicle->spec.name;
+    vehicle->link->to_player().set_receiver([this, name](LinkMessage&& message) {
+      if (running_) player_->handle_link_message(name, std::move(message));
+    });
+    if (vehicle->client) {
+      Vehicle* raw = vehicle.get();
+      vehicle->client->set_on_disconnected([this, raw](const std::string& reason) {
+        logger_.info("{}: in-process vehicle client disconnected ({}); reconnecting in {} ms",
+                     raw->spec.name, reason, to_whole_ms(config_.reconnect_backoff));
+        schedule_reconnect(*raw);
+      });
+    }
+  }
+
+  if (on_built_) on_built_(*this);
+  running_ = true;
+  for (auto& vehicle : vehicles_) vehicle->streamer->start();
+  player_->start();
+  for (auto& vehicle : vehicles_) {
+    if (vehicle->client) connect_in_process_client(*vehicle);
+  }
+  logger_.info("started: {} vehicle(s), seed {}", vehicles_.size(), config_.seed);
+  return Ok{};
+}
+
+void World::stop() {
+  if (!running_) return;
+  running_ = false;
+  for (auto& vehicle : vehicles_) {
+    if (vehicle->reconnect_timer != 0) {
+      executor_.cancel(vehicle->reconnect_timer);
+      vehicle->reconnect_timer = 0;
+    }
+    if (vehicle->client) vehicle->client->detach();
+  }
+  player_->stop();
+  for (auto& vehicle : vehicles_) vehicle->streamer->stop();
+  logger_.info("stopped");
+}
+
+void World::set_on_built(std::function<void(World&)> hook) { on_built_ = std::move(hook); }
+
+bool World::running() const { return running_; }
+Executor& World::executor() const { return executor_; }
+const WorldConfig& World::config() const { return config_; }
+
+std::vector<std::string> World::vehicles() const {
+  std::vector<std::string> names;
+  names.reserve(vehicles_.size());
+  for (const auto& vehicle : vehicles_) names.push_back(vehicle->spec.name);
+  return names;
+}
+
+PlayerCore& World::player() { return *player_; }
+
+World::Vehicle& World::find(std::string_view name) const {
+  for (const auto& vehicle : vehicles_) {
+    if (vehicle->spec.name == name) return *vehicle;
+  }
+  // Asking for a vehicle the world was not built with is a bug in the caller.
+  std::fprintf(stderr, "World: no vehicle named '%.*s' (was start() called?)\n",
+               static_cast<int>(name.size()), name.data());
+  std::abort();
+}
+
+StreamerCore& World::streamer(std::string_view vehicle) { return *find(vehicle).streamer; }
+ComChannel& World::link(std::string_view vehicle) { return *find(vehicle).link; }
+VehicleClient* World::vehicle_client(std::string_view vehicle) { return find(vehicle).client.get(); }
+const StreamTap* World::vehicle_tap(std::string_view vehicle) const { return find(vehicle).tap.get(); }
+
+std::uint64_t World::vehicle_connections(std::string_view vehicle) const {
+  return find(vehicle).connections;
+}
+
+void World::accept_vehicle_connection(std::string_view vehicle, std::shared_ptr<ByteStream> stream) {
+  find(vehicle).streamer->accept_vehicle_connection(std::move(stream));
+}
+
+void World::drop_vehicle_connection(std::string_view name) {
+  Vehicle& vehicle = find(name);
+  if (!vehicle.client || !running_) return;
+  logger_.info("{}: dropping the in-process vehicle connection", name);
+  // detach() closes the client's end locally: the Streamer sees the peer close; the client
+  // gets no callback, so the reconnect is scheduled here.
+  vehicle.client->detach();
+  schedule_reconnect(vehicle);
+}
+
+void World::connect_in_process_client(Vehicle& vehicle) {
+  PipeOptions options;
+  options.one_way_delay = config_.vehicle_pipe_delay;
+  options.name_a = "pipe:vehicle-client:" + vehicle.spec.name;
+  options.name_b = "pipe:streamer:" + vehicle.spec.name;
+  PipeEnds ends = make_pipe(executor_, options);
+  ++vehicle.connections;
+  vehicle.streamer->accept_vehicle_connection(std::move(ends.b));
+  std::shared_ptr<ByteStream> client_end = std::move(ends.a);
+  if (vehicle.tap) client_end = vehicle.tap->wrap(std::move(client_end));
+  vehicle.client->attach(std::move(client_end));
+}
+
+void World::schedule_reconnect(Vehicle& vehicle) {
+  if (!running_ || vehicle.reconnect_timer != 0) return;
+  Vehicle* raw = &vehicle;
+  vehicle.reconnect_timer = executor_.call_after(config_.reconnect_backoff, [this, raw] {
+    raw->reconnect_timer = 0;
+    if (running_) connect_in_process_client(*raw);
+  });
+}
+
+}  // namespace ocp

@@ -1,0 +1,65 @@
+#pragma once
+// Command-line option groups both simulator executables share:
+//   --plugin-param NAME VALUE   (repeatable; the product's settings, SPEC §9)
+//   --link-delay-ms, --link-jitter-ms, --link-loss   (the fake com channel, both directions)
+//   --seed, --log-level, --camera NAME[:FPS] (repeatable), --duration-s
+//
+//   CLI::App app{"…"};
+//   sim::CommonOptions options;
+//   sim::add_common_options(app, options);
+//   app.add_option(…);                                       // the executable's own options
+//   if (auto exit_code = sim::parse_command_line(app, argc, argv, options)) return *exit_code;
+#include <CLI/CLI.hpp>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ocp/com_channel.hpp"
+#include "ocp/error.hpp"
+#include "ocp/log.hpp"
+#include "ocp/plugin_params.hpp"
+
+namespace ocp::sim {
+
+struct CameraOption {
+  std::string name;
+  double fps = 30.0;
+};
+
+struct CommonOptions {
+  // As typed: one group per --plugin-param occurrence (NAME VALUE, or NAME alone for
+  // ocp_tcp_allow_remote, whose presence is what counts).
+  std::vector<std::vector<std::string>> plugin_param_groups;
+  double link_delay_ms = 20.0;       // one-way
+  double link_jitter_ms = 0.0;       // uniform ±
+  double link_loss = 0.0;            // probability 0..1 per message
+  std::uint64_t seed = 1;
+  std::string log_level_text = "info";
+  std::vector<std::string> camera_texts;   // NAME or NAME:FPS
+  double duration_s = 0.0;           // 0 = run until SIGINT/SIGTERM
+
+  // Filled by parse_command_line from the texts above.
+  PluginParams plugin_params;
+  LogLevel log_level = LogLevel::info;
+  std::vector<CameraOption> cameras;       // empty when no --camera was given
+
+  Impairments link_impairments() const;    // delay / jitter / loss, for both directions
+  std::optional<Micros> duration() const;  // nullopt = run until a signal
+};
+
+void add_common_options(CLI::App& app, CommonOptions& options);
+
+// Checks and converts what CLI11 cannot: plugin parameters, log level, cameras, ranges.
+[[nodiscard]] Status finish_common_options(CommonOptions& options);
+
+// "front" → {front, 30}; "rear:15" → {rear, 15}.
+[[nodiscard]] Result<CameraOption> parse_camera(const std::string& text);
+
+// Parses and validates. nullopt: go on and run. Otherwise the process should exit with the
+// returned code: 0 after --help, 2 after a usage error (already printed to stderr, with a
+// hint to run --help).
+[[nodiscard]] std::optional<int> parse_command_line(CLI::App& app, int argc, const char* const* argv,
+                                                    CommonOptions& options);
+
+}  // namespace ocp::sim

@@ -1,0 +1,38 @@
+#pragma once
+// Console output of the simulator executables: one line per log record, stamped with the
+// executor's time ("[    1.234567] INFO  streamer: …"), nothing else (no second timestamp
+// from spdlog), and a once-per-second status line.
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "ocp/executor.hpp"
+#include "ocp/faults.hpp"
+#include "ocp/log.hpp"
+
+namespace ocp::sim {
+
+// Configures spdlog for plain lines on stdout and returns the sink to hand to loggers.
+LogSink configure_console(LogLevel minimum);
+
+// Calls `report` every `period` (absolute deadlines) starting one period from start().
+class StatusTicker {
+ public:
+  StatusTicker(Executor& executor, Micros period, std::function<void()> report);
+  void start();
+  void stop();
+
+ private:
+  Executor& executor_;
+  PeriodicTimer timer_;
+  std::function<void()> report_;
+};
+
+// Formatting shared by status lines: "42 ms" or "n/a"; "none" or "HighLatency,InvalidMac".
+std::string format_latency(const std::optional<std::uint64_t>& latency_ms);
+std::string format_faults(const FaultSet& faults);
+// Events per second between two counter readings `elapsed` apart (0 when elapsed is 0).
+double per_second(std::uint64_t count_now, std::uint64_t count_before, Micros elapsed);
+
+}  // namespace ocp::sim

@@ -1,0 +1,141 @@
+#include "sim_common/common_options.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <iostream>
+
+#include "sim_common/exit_codes.hpp"
+
+namespace ocp::sim {
+
+namespace {
+
+Error usage_error(std::string detail) {
+  return Error{std::make_error_code(std::errc::invalid_argument), std::move(detail)};
+}
+
+Micros from_ms(double ms) { return Micros{static_cast<std::int64_t>(std::llround(ms * 1000.0))}; }
+
+}  // namespace
+
+Impairments CommonOptions::link_impairments() const {
+  Impairments impairments;
+  impairments.delay = from_ms(link_delay_ms);
+  if (link_jitter_ms > 0.0) {
+    impairments.jitter_kind = Impairments::JitterKind::uniform;
+    impairments.jitter = from_ms(link_jitter_ms);
+  }
+  impairments.loss_probability = link_loss;
+  return impairments;
+}
+
+std::optional<Micros> CommonOptions::duration() const {
+  if (duration_s <= 0.0) return std::nullopt;
+  return Micros{static_cast<std::int64_t>(std::llround(duration_s * 1e6))};
+}
+
+void add_common_options(CLI::App& app, CommonOptions& options) {
+  std::string names;
+  for (const auto name : plugin_param_names()) names += (names.empty() ? "" : ", ") + std::string(name);
+  app.add_option("--plugin-param", options.plugin_param_groups,
+                 "OCP setting, as for the product (repeatable): " + names +
+                     ". ocp_tcp_allow_remote is enabled by its presence.")
+      ->type_name("NAME VALUE")
+      ->expected(1, 2)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+      ->allow_extra_args(false)
+      ->group("OCP settings");
+
+  auto* link = "Fake com channel (both directions)";
+  app.add_option("--link-delay-ms", options.link_delay_ms, "one-way delay")
+      ->type_name("MS")->capture_default_str()->check(CLI::Range(0.0, 60'000.0))->group(link);
+  app.add_option("--link-jitter-ms", options.link_jitter_ms, "uniform jitter, ± this much")
+      ->type_name("MS")->capture_default_str()->check(CLI::Range(0.0, 60'000.0))->group(link);
+  app.add_option("--link-loss", options.link_loss, "random loss probability per message, 0..1")
+      ->type_name("P")->capture_default_str()->check(CLI::Range(0.0, 1.0))->group(link);
+
+  auto* general = "General";
+  app.add_option("--camera", options.camera_texts,
+                 "simulated camera NAME or NAME:FPS (repeatable; default: front at 30 fps)")
+      ->type_name("NAME[:FPS]")->group(general);
+  app.add_option("--seed", options.seed, "seed for every random choice (link jitter and loss)")
+      ->type_name("N")->capture_default_str()->group(general);
+  app.add_option("--log-level", options.log_level_text, "debug, info, warn or error")
+      ->type_name("LEVEL")->capture_default_str()->group(general);
+  app.add_option("--duration-s", options.duration_s,
+                 "run this many seconds, then exit 0 (default: until SIGINT/SIGTERM)")
+      ->type_name("S")->check(CLI::Range(0.0, 1e7))->group(general);
+}
+
+Result<CameraOption> parse_camera(const std::string& text) {
+  const auto colon = text.find(':');
+  CameraOption camera;
+  camera.name = text.substr(0, colon);
+  if (camera.name.empty()) return usage_error("--camera '" + text + "': empty camera name");
+  if (colon == std::string::npos) return camera;
+  const std::string fps_text = text.substr(colon + 1);
+  double fps = 0.0;
+  const auto [rest, error] = std::from_chars(fps_text.data(), fps_text.data() + fps_text.size(), fps);
+  if (fps_text.empty() || error != std::errc{} || rest != fps_text.data() + fps_text.size() ||
+      !(fps > 0.0 && fps <= 1000.0)) {
+    return usage_error("--camera '" + text + "': expected NAME or NAME:FPS with FPS in (0, 1000]");
+  }
+  camera.fps = fps;
+  return camera;
+}
+
+Status finish_common_options(CommonOptions& options) {
+  PluginParams params;
+  for (const auto& group : options.plugin_param_groups) {
+    if (group.size() == 1 && group[0] == "ocp_tcp_allow_remote") {
+      params.ocp_tcp_allow_remote = true;
+      continue;
+    }
+    if (group.size() != 2) {
+      std::string given;
+      for (const auto& word : group) given += " " + word;
+      return usage_error("--plugin-param expects NAME VALUE, got:" + given);
+    }
+    if (auto status = apply_plugin_param(params, group[0], group[1]); !status) {
+      return usage_error("--plugin-param " + status.error().detail);
+    }
+  }
+  options.plugin_params = params;
+
+  if (!parse_log_level(options.log_level_text, options.log_level)) {
+    return usage_error("--log-level '" + options.log_level_text +
+                       "': expected debug, info, warn or error");
+  }
+  options.cameras.clear();
+  for (const auto& text : options.camera_texts) {
+    auto camera = parse_camera(text);
+    if (!camera) return camera.error();
+    for (const auto& existing : options.cameras) {
+      if (existing.name == camera->name) return usage_error("--camera '" + camera->name + "' given twice");
+    }
+    options.cameras.push_back(std::move(*camera));
+  }
+  return Ok{};
+}
+
+std::optional<int> parse_command_line(CLI::App& app, int argc, const char* const* argv,
+                                      CommonOptions& options) {
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& help) {
+    return app.exit(help);
+  } catch (const CLI::CallForAllHelp& help) {
+    return app.exit(help);
+  } catch (const CLI::ParseError& error) {
+    std::cerr << app.get_name() << ": " << error.what() << "\nRun with --help for the options.\n";
+    return exit_usage_error;
+  }
+  if (auto status = finish_common_options(options); !status) {
+    std::cerr << app.get_name() << ": " << status.error().detail
+              << "\nRun with --help for the options.\n";
+    return exit_usage_error;
+  }
+  return std::nullopt;
+}
+
+}  // namespace ocp::sim

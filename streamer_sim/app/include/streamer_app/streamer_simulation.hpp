@@ -1,0 +1,67 @@
+#pragma once
+// What `streamer_sim` runs: a Streamer whose vehicle API is a real TCP port, and an in-process
+// simulated operator — a PlayerCore with a scripted gamepad and self-echo — behind a fake com
+// channel (World with one vehicle and no in-process vehicle client). Real time on an
+// AsioExecutor. Tests build it directly; the executable adds the command line and signals.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "ocp/asio_executor.hpp"
+#include "ocp/com_channel.hpp"
+#include "ocp/log.hpp"
+#include "ocp/plugin_params.hpp"
+#include "scenario/world.hpp"
+#include "sim_common/gamepad_script.hpp"
+#include "streamer_app/streamer_front.hpp"
+
+namespace ocp {
+
+struct StreamerSimOptions {
+  std::string vehicle = "vehicle";
+  PluginParams plugin_params;            // tcp_port, ocp_tcp_allow_remote, latency_limit
+  std::vector<CameraConfig> cameras;     // empty: the StreamerConfig default (front, 30 fps)
+  Impairments link;                      // both directions of the fake com channel
+  std::uint64_t seed = 1;
+  sim::GamepadScript gamepad;            // the simulated operator's gamepad (default: drive)
+  double operator_frame_rate_hz = 100.0;
+};
+
+class StreamerSimulation {
+ public:
+  StreamerSimulation(AsioExecutor& executor, StreamerSimOptions options, LogSink sink);
+  ~StreamerSimulation();
+  StreamerSimulation(const StreamerSimulation&) = delete;
+  StreamerSimulation& operator=(const StreamerSimulation&) = delete;
+
+  // Listens, then starts the world (so a busy port fails before anything runs). Errors: the
+  // port in use (TcpServer::listen), or a configuration error from World::start.
+  [[nodiscard]] Status start();
+  void stop();
+
+  std::uint16_t port() const { return front_.port(); }
+  std::string address() const { return front_.address(); }
+  World& world() { return world_; }
+  StreamerCore& streamer() { return world_.streamer(options_.vehicle); }
+  PlayerCore& player() { return world_.player(); }
+  StreamerFront& front() { return front_; }
+
+  // The once-per-second status line; rates are per second since the previous call.
+  std::string status_line();
+
+ private:
+  AsioExecutor& executor_;
+  StreamerSimOptions options_;
+  Logger logger_;
+  World world_;
+  StreamerFront front_;
+  struct Previous {
+    SimTime time{0};
+    std::uint64_t control_frames_sent = 0;
+    std::uint64_t vehicle_responses_received = 0;
+    std::uint64_t operator_messages_received = 0;
+  } previous_;
+};
+
+}  // namespace ocp

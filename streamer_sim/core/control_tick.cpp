@@ -1,0 +1,72 @@
+// The control tick (SPEC §3.2, §5, §6): every control_period on absolute deadlines, evaluate
+// the time-driven faults, then — while a vehicle is connected — build one OcpControlMessage
+// with a fresh MAC'd ack pair and write it as one frame. Buffers are reused: no allocation on
+// the steady-state path beyond what user data and camera names need.
+#include "ocp/frame.hpp"
+#include "ocp/json_codec.hpp"
+#include "streamer_state.hpp"
+
+namespace ocp {
+
+void StreamerCore::State::on_control_tick(SimTime /*deadline*/) {
+  ++stats.control_ticks;
+  evaluate_tick_faults();
+  if (!vehicle) return;
+  build_control_message();
+  send_control_message();
+}
+
+void StreamerCore::State::evaluate_tick_faults() {
+  const SimTime now = executor.now();
+  faults.set(FaultId::VehicleNoResponse, vehicle == nullptr);
+  // Measured from start when no operator message ever arrived.
+  faults.set(FaultId::NoControlMessage, now - last_operator_arrival > config.no_control_timeout);
+  // The newest valid pair ages with every tick: a loop that stops turning shows it.
+  const auto latency = latency_loop.latency(now);
+  faults.set(FaultId::HighLatency, latency && *latency > config.latency_limit);
+  cameras.missing_cameras(now, config.camera_drop_timeout, missing_cameras);
+  faults.set(FaultId::CameraLost, !missing_cameras.empty());
+  evaluate_inbox_fault();
+}
+
+void StreamerCore::State::build_control_message() {
+  const FaultSet& active = faults.faults();
+  if (!operator_controller) {
+    outgoing.controller.reset();  // gamepad disabled: null, also during faults
+  } else if (active.any_control_path()) {
+    outgoing.controller = Controller::safe_default();
+  } else {
+    outgoing.controller = operator_controller;
+  }
+  outgoing.telemetry.latency_ms = latency_loop.latency_ms(executor.now()).value_or(0);
+  outgoing.telemetry.fault = !active.empty();
+  outgoing.telemetry.fault_reason = active.fault_reason();
+  outgoing.telemetry.missing_cameras = missing_cameras;
+  outgoing.ack = latency_loop.issue(executor.now());
+  outgoing.client_user_data = operator_user_data;
+}
+
+void StreamerCore::State::send_control_message() {
+  encode_control_message(outgoing, json_buffer);
+  frame_buffer.clear();
+  if (!append_frame(json_buffer, frame_buffer)) {
+    // Only oversized client user data can do this; the vehicle still needs its control.
+    logger.warn("control message of {} bytes exceeds {} bytes: sent without client_user_data",
+                json_buffer.size(), max_payload_bytes);
+    outgoing.client_user_data.reset();
+    ++stats.control_user_data_dropped;
+    encode_control_message(outgoing, json_buffer);
+    frame_buffer.clear();
+    if (!append_frame(json_buffer, frame_buffer)) {
+      logger.error("control message of {} bytes cannot be framed; not sent", json_buffer.size());
+      return;
+    }
+  }
+  vehicle->write(frame_buffer);
+  ++stats.control_frames_sent;
+  control_sent = true;
+  last_sent_controller = outgoing.controller;
+  if (observer != nullptr) observer->on_control_sent(outgoing);
+}
+
+}  // namespace ocp

@@ -1,0 +1,16 @@
+#include "fault_tracker.hpp"
+
+namespace ocp::streamer {
+
+void FaultTracker::set(FaultId id, bool active) {
+  if (faults_.contains(id) == active) return;
+  faults_.set(id, active);
+  if (active) {
+    logger_.warn("fault raised: {} ({})", fault_display(id), fault_identifier(id));
+  } else {
+    logger_.info("fault cleared: {} ({})", fault_display(id), fault_identifier(id));
+  }
+  if (observer_ != nullptr) observer_->on_fault_changed(id, active);
+}
+
+}  // namespace ocp::streamer

@@ -1,0 +1,40 @@
+#include "latency_loop.hpp"
+
+namespace ocp::streamer {
+
+LatencyLoop::LatencyLoop(const MacKey& key, std::uint64_t ack_time_offset)
+    : mac_(key), ack_time_offset_(ack_time_offset) {}
+
+AckPair LatencyLoop::issue(SimTime now) {
+  const auto elapsed_us = static_cast<std::uint64_t>((now - start_time_).count());
+  // Unsigned wrap-around is intended: the offset is opaque, subtraction undoes it exactly.
+  const std::uint64_t ack_time = elapsed_us + ack_time_offset_;
+  return AckPair{ack_time, mac_.compute(ack_time)};
+}
+
+ReturnedPairCheck LatencyLoop::check_returned(const std::optional<AckPair>& returned) {
+  if (!returned) return ReturnedPairCheck::missing;
+  if (!mac_.verify(returned->ack_time, returned->ack_time_mac)) return ReturnedPairCheck::invalid;
+  const std::uint64_t issued_elapsed_us = returned->ack_time - ack_time_offset_;
+  // A reordered older pair must not make the loop look faster than the newest one.
+  if (!newest_valid_elapsed_us_ || issued_elapsed_us > *newest_valid_elapsed_us_) {
+    newest_valid_elapsed_us_ = issued_elapsed_us;
+  }
+  return ReturnedPairCheck::valid;
+}
+
+std::optional<Micros> LatencyLoop::latency(SimTime now) const {
+  if (!newest_valid_elapsed_us_) return std::nullopt;
+  const auto elapsed_us = static_cast<std::uint64_t>((now - start_time_).count());
+  // A valid MAC means we issued it, so it cannot be from the future; guard anyway.
+  if (*newest_valid_elapsed_us_ > elapsed_us) return Micros{0};
+  return Micros{static_cast<std::int64_t>(elapsed_us - *newest_valid_elapsed_us_)};
+}
+
+std::optional<std::uint64_t> LatencyLoop::latency_ms(SimTime now) const {
+  const auto value = latency(now);
+  if (!value) return std::nullopt;
+  return static_cast<std::uint64_t>(to_whole_ms(*value));
+}
+
+}  // namespace ocp::streamer

@@ -1,0 +1,63 @@
+// Messages from the Player (SPEC §5, §6): operator control goes through the control inbox;
+// the control path applies it (controller, user data, sender faults, returned pair).
+#include <variant>
+
+#include "streamer_state.hpp"
+
+namespace ocp {
+
+void StreamerCore::State::handle_link_message(LinkMessage&& message) {
+  if (auto* control = std::get_if<OperatorControl>(&message)) {
+    enqueue_operator_control(std::move(*control));
+  } else if (const auto* ping = std::get_if<Ping>(&message)) {
+    ++stats.pongs_sent;
+    send_to_player(Pong{ping->id, ping->sent_at});
+  } else {
+    // Feedback, video and pongs travel the other way; a mis-wired link is our bug, not a peer's.
+    logger.warn("ignored a link message of kind {} sent to the Streamer", message.index());
+  }
+}
+
+void StreamerCore::State::enqueue_operator_control(OperatorControl&& message) {
+  ++stats.operator_messages_received;
+  if (!inbox.push(std::move(message), executor.now()) && !inbox_overflow_logged) {
+    // Once per backlog episode: the fault already says the control path is behind.
+    inbox_overflow_logged = true;
+    logger.warn("control inbox full ({} messages): dropping the oldest",
+                streamer::ControlInbox::hard_limit_items);
+  }
+  if (!control_thread_stalled) drain_inbox();
+  evaluate_inbox_fault();
+}
+
+void StreamerCore::State::drain_inbox() {
+  while (!inbox.empty()) apply_operator_control(inbox.pop());
+  inbox_overflow_logged = false;
+}
+
+void StreamerCore::State::evaluate_inbox_fault() {
+  faults.set(FaultId::ControlThreadChannelSlow,
+             inbox.slow(executor.now(), config.control_queue_limit, config.control_queue_max_age));
+}
+
+void StreamerCore::State::apply_operator_control(streamer::QueuedControl&& queued) {
+  OperatorControl& message = queued.message;
+  operator_message_seen = true;
+  last_operator_arrival = queued.arrived_at;
+  faults.set(FaultId::NoControlMessage, false);
+
+  // Repeat-last-command: the tick sends whatever was applied last (null stays null).
+  operator_controller = std::move(message.controller);
+  operator_user_data = std::move(message.client_user_data);
+  faults.set(FaultId::OperatorStationHasError, !message.sender_faults.empty());
+
+  const auto check = latency_loop.check_returned(message.returned_ack);
+  if (check != streamer::ReturnedPairCheck::valid) ++stats.invalid_returned_pairs;
+  faults.set(FaultId::InvalidMac, check != streamer::ReturnedPairCheck::valid);
+  if (check == streamer::ReturnedPairCheck::valid) {
+    const auto latency = latency_loop.latency(executor.now());
+    faults.set(FaultId::HighLatency, latency && *latency > config.latency_limit);
+  }
+}
+
+}  // namespace ocp

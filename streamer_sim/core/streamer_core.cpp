@@ -1,0 +1,115 @@
+#include "streamer/streamer_core.hpp"
+
+#include "streamer_state.hpp"
+
+namespace ocp {
+
+StreamerCore::State::State(Executor& executor_in, StreamerConfig config_in, Logger logger_in)
+    : executor(executor_in),
+      config(std::move(config_in)),
+      logger(std::move(logger_in)),
+      faults(logger),
+      latency_loop(config.mac_key ? *config.mac_key : random_mac_key(), config.ack_time_offset),
+      cameras(executor, config.cameras, logger),
+      frame_loop(executor, config.frame_rate_hz, [this](Micros took) { on_frame_iteration(took); }),
+      control_timer(executor, config.control_period,
+                    [this](SimTime deadline) { on_control_tick(deadline); }) {}
+
+void StreamerCore::State::start() {
+  if (started) return;
+  started = true;
+  start_time = executor.now();
+  last_operator_arrival = start_time;
+  latency_loop.start(start_time);
+  logger.info("streamer {} started: control every {} us, frame loop {} Hz, {} camera(s)",
+              config.name, config.control_period.count(), config.frame_rate_hz,
+              config.cameras.size());
+  faults.set(FaultId::VehicleNoResponse, vehicle == nullptr);
+  cameras.start(start_time, [this](VideoFrame&& frame) { send_video_frame(std::move(frame)); });
+  if (!frame_loop.start(start_time)) {
+    logger.error("frame_rate_hz {} is not a positive rate; no feedback will be sent",
+                 config.frame_rate_hz);
+  }
+  if (config.control_period > Micros{0}) {
+    control_timer.start(start_time);
+  } else {
+    logger.error("control_period must be positive; no control messages will be sent");
+  }
+}
+
+void StreamerCore::State::stop() {
+  if (!started) return;
+  started = false;
+  control_timer.stop();
+  frame_loop.stop();
+  cameras.stop();
+  if (vehicle) vehicle->close("streamer stopped");
+  logger.info("streamer {} stopped", config.name);
+}
+
+StreamerCore::StreamerCore(Executor& executor, StreamerConfig config, Logger logger)
+    : state_(std::make_unique<State>(executor, std::move(config), std::move(logger))) {}
+
+StreamerCore::~StreamerCore() {
+  // Drop the connection without reporting: the observer may already be gone.
+  state_->observer = nullptr;
+  state_->faults.set_observer(nullptr);
+  state_->stop();
+}
+
+void StreamerCore::start() { state_->start(); }
+void StreamerCore::stop() { state_->stop(); }
+void StreamerCore::set_link(LinkDirection* to_player) { state_->link = to_player; }
+
+void StreamerCore::handle_link_message(LinkMessage&& message) {
+  state_->handle_link_message(std::move(message));
+}
+
+void StreamerCore::accept_vehicle_connection(std::shared_ptr<ByteStream> stream) {
+  state_->accept_vehicle(std::move(stream));
+}
+
+void StreamerCore::set_camera_stalled(std::string_view camera, bool stalled) {
+  if (!state_->cameras.set_stalled(camera, stalled)) {
+    state_->logger.warn("set_camera_stalled: no camera named '{}'", camera);
+  }
+}
+
+void StreamerCore::inject_frame_loop_stall(Micros duration) {
+  state_->logger.info("frame loop: injecting a stall of {} us into the next iteration",
+                      duration.count());
+  state_->frame_loop.inject_stall(duration);
+}
+
+void StreamerCore::set_control_thread_stalled(bool stalled) {
+  state_->control_thread_stalled = stalled;
+  state_->logger.info("control thread {}", stalled ? "stalled" : "resumed");
+  if (!stalled) state_->drain_inbox();
+  state_->evaluate_inbox_fault();
+}
+
+void StreamerCore::set_observer(StreamerObserver* observer) {
+  state_->observer = observer;
+  state_->faults.set_observer(observer);
+}
+
+const FaultSet& StreamerCore::faults() const { return state_->faults.faults(); }
+
+std::optional<std::uint64_t> StreamerCore::latency_ms() const {
+  return state_->latency_loop.latency_ms(state_->executor.now());
+}
+
+bool StreamerCore::vehicle_connected() const { return state_->vehicle != nullptr; }
+
+std::string StreamerCore::vehicle_peer() const {
+  return state_->vehicle ? state_->vehicle->peer() : std::string();
+}
+
+const StreamerStats& StreamerCore::stats() const { return state_->stats; }
+const StreamerConfig& StreamerCore::config() const { return state_->config; }
+std::optional<AckPair> StreamerCore::latest_echoed_pair() const { return state_->echoed_pair; }
+std::optional<Controller> StreamerCore::last_sent_controller() const {
+  return state_->last_sent_controller;
+}
+
+}  // namespace ocp

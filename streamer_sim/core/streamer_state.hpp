@@ -1,0 +1,96 @@
+#pragma once
+// StreamerCore's private state, shared by the files that implement it by concern:
+//   streamer_core.cpp     — lifecycle and the public getters
+//   vehicle_side.cpp      — accepting / refusing / losing the vehicle connection, responses
+//   operator_side.cpp     — link messages from the Player, the control inbox, returned pairs
+//   control_tick.cpp      — the 10 ms tick: fault evaluation and the OcpControlMessage
+//   feedback.cpp          — frame loop iterations (feedback, StreamerSlow) and video frames
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cameras.hpp"
+#include "control_inbox.hpp"
+#include "fault_tracker.hpp"
+#include "frame_loop.hpp"
+#include "latency_loop.hpp"
+#include "streamer/streamer_core.hpp"
+#include "vehicle_connection.hpp"
+
+namespace ocp {
+
+struct StreamerCore::State {
+  State(Executor& executor, StreamerConfig config, Logger logger);
+
+  // streamer_core.cpp
+  void start();
+  void stop();
+
+  // vehicle_side.cpp
+  void accept_vehicle(std::shared_ptr<ByteStream> stream);
+  void on_vehicle_response(const VehicleResponseMessage& response);
+  void on_vehicle_closed(const std::string& reason);
+
+  // operator_side.cpp
+  void handle_link_message(LinkMessage&& message);
+  void enqueue_operator_control(OperatorControl&& message);
+  void drain_inbox();
+  void apply_operator_control(streamer::QueuedControl&& queued);
+  void evaluate_inbox_fault();
+
+  // control_tick.cpp
+  void on_control_tick(SimTime deadline);
+  void evaluate_tick_faults();
+  void build_control_message();
+  void send_control_message();
+
+  // feedback.cpp
+  void on_frame_iteration(Micros took);
+  void send_feedback();
+  void send_video_frame(VideoFrame&& frame);
+  void send_to_player(LinkMessage&& message);
+
+  Executor& executor;
+  StreamerConfig config;
+  Logger logger;
+  StreamerStats stats;
+  StreamerObserver* observer = nullptr;
+  LinkDirection* link = nullptr;
+
+  streamer::FaultTracker faults;
+  streamer::LatencyLoop latency_loop;
+  streamer::ControlInbox inbox;
+  streamer::CameraSet cameras;
+  streamer::FrameLoop frame_loop;
+  PeriodicTimer control_timer;
+
+  bool started = false;
+  SimTime start_time{};
+
+  // Vehicle side.
+  std::shared_ptr<streamer::VehicleConnection> vehicle;
+  std::optional<AckPair> echoed_pair;            // latest pair echoed by the vehicle (→ SEI)
+  std::optional<VehicleUserData> vehicle_data;   // latest vehicle user data …
+  SimTime vehicle_data_arrived_at{};             // … and when it arrived
+
+  // Operator side (as applied by the control path).
+  SimTime last_operator_arrival{};               // start_time until the first message
+  bool operator_message_seen = false;
+  std::optional<Controller> operator_controller = Controller::safe_default();
+  std::optional<RawJson> operator_user_data;
+  bool control_thread_stalled = false;
+  bool inbox_overflow_logged = false;
+
+  // Control path output.
+  OcpControlMessage outgoing;                    // reused every tick
+  std::string json_buffer;                       // reused every tick
+  std::string frame_buffer;                      // reused every tick
+  bool control_sent = false;
+  std::optional<Controller> last_sent_controller;
+  std::vector<std::string> missing_cameras;      // as of the last evaluation
+
+  std::uint64_t feedback_sequence = 0;
+};
+
+}  // namespace ocp

@@ -1,0 +1,58 @@
+// The vehicle connection lifecycle (SPEC §3.1): one active connection; a second one is
+// accepted and closed at once; a new connection starts clean.
+#include "streamer_state.hpp"
+
+namespace ocp {
+
+void StreamerCore::State::accept_vehicle(std::shared_ptr<ByteStream> stream) {
+  if (!stream) return;
+  const std::string peer = stream->peer_name();
+  if (vehicle) {
+    ++stats.connections_refused;
+    logger.warn("refused vehicle connection from {}: {} is already connected", peer,
+                vehicle->peer());
+    stream->close();
+    return;
+  }
+  ++stats.connections_accepted;
+  logger.info("vehicle connected: {}", peer);
+  // Nothing built for a previous connection survives: frames are encoded per tick straight
+  // into the active connection, and the old connection (with anything its transport still
+  // held) was dropped when it closed.
+  frame_buffer.clear();
+  streamer::VehicleConnection::Events events;
+  events.on_response = [this](const VehicleResponseMessage& response) {
+    on_vehicle_response(response);
+  };
+  events.on_closed = [this](const std::string& reason) { on_vehicle_closed(reason); };
+  vehicle = streamer::VehicleConnection::open(executor, logger.child("vehicle"), std::move(stream),
+                                              config.vehicle_read_timeout, stats, std::move(events));
+  if (started) faults.set(FaultId::VehicleNoResponse, false);
+  if (observer != nullptr) observer->on_vehicle_connection(true, peer);
+}
+
+void StreamerCore::State::on_vehicle_response(const VehicleResponseMessage& response) {
+  // Responses' pairs are not validated here: they are copied into SEI, and the MAC is checked
+  // when the operator returns them.
+  echoed_pair = response.ack;
+  if (response.vehicle_user_data) {
+    vehicle_data = response.vehicle_user_data;
+    vehicle_data_arrived_at = executor.now();
+  }
+  if (observer != nullptr) observer->on_vehicle_response(response);
+}
+
+void StreamerCore::State::on_vehicle_closed(const std::string& reason) {
+  if (!vehicle) return;
+  const std::string peer = vehicle->peer();
+  ++stats.connections_closed;
+  stats.last_close_reason = reason;
+  logger.info("vehicle disconnected: {} ({})", peer, reason);
+  // Keep the connection object alive until this callback unwinds: the stream callback that
+  // led here holds its own reference, so resetting our pointer is safe.
+  vehicle.reset();
+  if (started) faults.set(FaultId::VehicleNoResponse, true);
+  if (observer != nullptr) observer->on_vehicle_connection(false, peer);
+}
+
+}  // namespace ocp

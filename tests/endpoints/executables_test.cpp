@@ -1,0 +1,188 @@
+// The built streamer_sim and player_sim executables, run as a user would: --help, bad options,
+// a busy port, --duration-s and SIGTERM, checked by exit code and output.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <chrono>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "ocp/tcp_server.hpp"
+
+extern char** environ;
+
+namespace ocp {
+namespace {
+
+#if defined(OCP_STREAMER_SIM_PATH) && defined(OCP_PLAYER_SIM_PATH)
+
+constexpr std::chrono::seconds process_timeout{30};
+
+struct Process {
+  pid_t pid = -1;
+  std::string output_path;
+
+  static Process spawn(const std::vector<std::string>& arguments) {
+    Process process;
+    char path_template[] = "/tmp/ocp_endpoint_exe_XXXXXX";
+    const int fd = mkstemp(path_template);
+    EXPECT_GE(fd, 0);
+    process.output_path = path_template;
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_adddup2(&actions, fd, STDOUT_FILENO);
+    posix_spawn_file_actions_adddup2(&actions, fd, STDERR_FILENO);
+    std::vector<char*> argv;
+    for (const auto& argument : arguments) argv.push_back(const_cast<char*>(argument.c_str()));
+    argv.push_back(nullptr);
+    const int result = posix_spawn(&process.pid, argv[0], &actions, nullptr, argv.data(), environ);
+    EXPECT_EQ(result, 0) << "cannot start " << arguments[0];
+    posix_spawn_file_actions_destroy(&actions);
+    close(fd);
+    return process;
+  }
+
+  // Exit code, or -1 if it had to be killed after the timeout (or died by a signal).
+  int wait(std::chrono::milliseconds timeout = process_timeout) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    int status = 0;
+    while (true) {
+      const pid_t done = waitpid(pid, &status, WNOHANG);
+      if (done == pid) break;
+      if (std::chrono::steady_clock::now() >= deadline) {
+        kill(pid, SIGKILL);
+        waitpid(pid, &status, 0);
+        return -1;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+
+  std::string output() const {
+    std::ifstream file(output_path);
+    std::stringstream text;
+    text << file.rdbuf();
+    return text.str();
+  }
+
+  ~Process() {
+    if (!output_path.empty()) std::remove(output_path.c_str());
+  }
+};
+
+struct ProcessRun {
+  int exit_code;
+  std::string output;
+};
+
+ProcessRun run(const std::vector<std::string>& arguments) {
+  Process process = Process::spawn(arguments);
+  const int code = process.wait();
+  return {code, process.output()};
+}
+
+// A port nobody listens on right now (taken from the kernel, then released).
+std::uint16_t free_port() {
+  boost::asio::io_context io;
+  TcpServer server(io, {});
+  EXPECT_TRUE(server.listen({.port = 0}).ok());
+  return server.port();
+}
+
+bool can_connect(std::uint16_t port) {
+  boost::asio::io_context io;
+  boost::asio::ip::tcp::socket socket(io);
+  boost::system::error_code error;
+  socket.connect({boost::asio::ip::address_v4::loopback(), port}, error);
+  return !error;
+}
+
+const std::string streamer_sim = OCP_STREAMER_SIM_PATH;
+const std::string player_sim = OCP_PLAYER_SIM_PATH;
+
+TEST(Executables, HelpExitsZeroAndListsThePluginParameters) {
+  for (const auto& program : {streamer_sim, player_sim}) {
+    const ProcessRun result = run({program, "--help"});
+    EXPECT_EQ(result.exit_code, 0) << program;
+    EXPECT_NE(result.output.find("--plugin-param NAME VALUE"), std::string::npos) << result.output;
+    EXPECT_NE(result.output.find("ocp_tcp_allow_remote"), std::string::npos);
+  }
+}
+
+TEST(Executables, UnknownOptionOrBadValueExitsTwoWithAClearError) {
+  for (const auto& program : {streamer_sim, player_sim}) {
+    ProcessRun result = run({program, "--no-such-option"});
+    EXPECT_EQ(result.exit_code, 2) << program;
+    EXPECT_NE(result.output.find("--no-such-option"), std::string::npos) << result.output;
+
+    result = run({program, "--plugin-param", "tcp_port", "forty"});
+    EXPECT_EQ(result.exit_code, 2) << program;
+    EXPECT_NE(result.output.find("tcp_port: expected a port number 0..65535, got 'forty'"), std::string::npos)
+        << result.output;
+
+    result = run({program, "--plugin-param", "tcp_prot", "4000"});
+    EXPECT_EQ(result.exit_code, 2) << program;
+    EXPECT_NE(result.output.find("unknown plugin parameter 'tcp_prot'"), std::string::npos) << result.output;
+
+    result = run({program, "--link-loss", "1.5"});
+    EXPECT_EQ(result.exit_code, 2) << program;
+  }
+}
+
+TEST(Executables, BusyPortExitsOneNamingTheAddress) {
+  boost::asio::io_context io;
+  TcpServer occupant(io, {});
+  ASSERT_TRUE(occupant.listen({.port = 0}).ok());
+  const std::string port = std::to_string(occupant.port());
+
+  ProcessRun result = run({streamer_sim, "--plugin-param", "tcp_port", port, "--duration-s", "20"});
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_NE(result.output.find("address 127.0.0.1:" + port + " already in use"), std::string::npos)
+      << result.output;
+
+  result = run({player_sim, "--plugin-param", "ocp_player_tcp_port", port, "--duration-s", "20"});
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_NE(result.output.find("address 127.0.0.1:" + port + " already in use"), std::string::npos)
+      << result.output;
+}
+
+TEST(Executables, SigtermShutsDownCleanlyWithExitZero) {
+  const std::uint16_t port = free_port();
+  Process process = Process::spawn({streamer_sim, "--plugin-param", "tcp_port", std::to_string(port)});
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (!can_connect(port) && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ASSERT_TRUE(can_connect(port)) << process.output();
+  kill(process.pid, SIGTERM);
+  EXPECT_EQ(process.wait(), 0) << process.output();
+  const std::string output = process.output();
+  EXPECT_NE(output.find("shutting down: SIGTERM received"), std::string::npos) << output;
+  EXPECT_NE(output.find("vehicle connected: 127.0.0.1:"), std::string::npos) << output;
+}
+
+TEST(Executables, DurationRunsPrintsStatusLinesAndExitsZero) {
+  const ProcessRun result = run({player_sim, "--plugin-param", "ocp_player_tcp_port", "0", "--vehicle", "truck-1",
+                          "--vehicle", "truck-2", "--duration-s", "2.2"});
+  EXPECT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_NE(result.output.find("operator API listening on 127.0.0.1:"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("status: operator client none"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("truck-2: latency"), std::string::npos) << result.output;
+}
+
+#else
+TEST(Executables, NotBuilt) { GTEST_SKIP() << "streamer_sim / player_sim targets not available"; }
+#endif
+
+}  // namespace
+}  // namespace ocp

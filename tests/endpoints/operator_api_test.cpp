@@ -1,0 +1,222 @@
+// The Player's operator API (:4001) on real loopback sockets, driven in real time by
+// PlayerSimulation (the player_sim executable's world: simulated vehicles with the reference
+// vehicle client in-process).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <boost/asio/io_context.hpp>
+#include <memory>
+
+#include "endpoint_fixture.hpp"
+#include "player_app/player_simulation.hpp"
+
+namespace ocp {
+namespace {
+
+using testing::CapturedLog;
+using testing::LoopbackClient;
+using testing::run_until;
+
+// An operator-side client: decodes every VehicleOcpShared and can answer with ClientOcpShared.
+class OperatorClient {
+ public:
+  explicit OperatorClient(boost::asio::io_context& io) : client_(io) {
+    client_.on_payload = [this](const std::string& payload) {
+      auto shared = decode_vehicle_ocp_shared(payload);
+      if (!shared) {
+        ++undecodable_;
+        return;
+      }
+      latest_ = *shared;
+      ++received_;
+      if (answer_) answer_(*shared);
+    };
+  }
+  bool connect(std::uint16_t port) { return client_.connect(port); }
+  void send(const ClientOcpShared& message) {
+    std::string json;
+    encode_client_ocp_shared(message, json);
+    client_.send_payload(json);
+  }
+  // Called for every object received (e.g. to echo its pairs back).
+  std::function<void(const VehicleOcpShared&)> answer_;
+
+  LoopbackClient& client() { return client_; }
+  const VehicleOcpShared& latest() const { return latest_; }
+  std::size_t received() const { return received_; }
+  std::size_t undecodable() const { return undecodable_; }
+
+ private:
+  LoopbackClient client_;
+  VehicleOcpShared latest_;
+  std::size_t received_ = 0;
+  std::size_t undecodable_ = 0;
+};
+
+// The answer of a well-behaved TCP client: the latest pair of each vehicle, returned.
+ClientOcpShared echo_all(const VehicleOcpShared& shared, bool with_pairs = true,
+                         std::optional<std::string> user_data = std::nullopt) {
+  ClientOcpShared answer;
+  for (const auto& [name, feedback] : shared.vehicle_feedback) {
+    ClientVehicleEntry entry;
+    if (with_pairs && feedback.ack.ack_time != 0) {
+      entry.ack_time_returned = feedback.ack.ack_time;
+      entry.ack_time_mac_returned = feedback.ack.ack_time_mac;
+    }
+    if (user_data) entry.user_data = RawJson{*user_data};
+    answer.client_user_data[name] = entry;
+  }
+  return answer;
+}
+
+class OperatorApi : public ::testing::Test {
+ protected:
+  void start(std::vector<std::string> vehicles = {"truck-1"}) {
+    PlayerSimOptions options;
+    options.vehicles = std::move(vehicles);
+    options.plugin_params.ocp_player_tcp_port = 0;
+    simulation_ = std::make_unique<PlayerSimulation>(executor_, options, log_.sink());
+    ASSERT_TRUE(simulation_->start().ok());
+    ASSERT_NE(simulation_->port(), 0);
+  }
+  void TearDown() override { simulation_.reset(); }
+
+  PlayerCore& player() { return simulation_->player(); }
+  StreamerCore& streamer(const std::string& name) { return simulation_->world().streamer(name); }
+
+  boost::asio::io_context io_;
+  AsioExecutor executor_{io_};
+  CapturedLog log_;
+  std::unique_ptr<PlayerSimulation> simulation_;
+};
+
+TEST_F(OperatorApi, ClientSeesFeedbackForTheVehicleAndItsReturnedPairClosesTheLoop) {
+  start();
+  OperatorClient client(io_);
+  ASSERT_TRUE(client.connect(simulation_->port()));
+  ASSERT_TRUE(run_until(io_, [&] {
+    const auto found = client.latest().vehicle_feedback.find("truck-1");
+    return found != client.latest().vehicle_feedback.end() && found->second.ack.ack_time != 0 &&
+           found->second.vehicle_data.has_value();
+  }));
+  EXPECT_EQ(client.undecodable(), 0u);
+  EXPECT_EQ(client.latest().vehicle_feedback.size(), 1u);
+  // The reference vehicle's user data crossed the link.
+  EXPECT_NE(client.latest().vehicle_feedback.at("truck-1").vehicle_data->user_data.text.find("drive_state"),
+            std::string::npos);
+
+  // Before any client data the Player self-echoes: the loop is closed.
+  ASSERT_TRUE(run_until(io_, [&] { return !streamer("truck-1").faults().contains(FaultId::InvalidMac); }));
+
+  // Client data without pairs locks the tcp source: self-echo stops, so the loop opens.
+  client.answer_ = [&](const VehicleOcpShared& shared) { client.send(echo_all(shared, false)); };
+  ASSERT_TRUE(run_until(io_, [&] {
+    return player().locked_source() == ClientSource::tcp &&
+           streamer("truck-1").faults().contains(FaultId::InvalidMac);
+  }));
+
+  // Returning the pairs closes it again.
+  client.answer_ = [&](const VehicleOcpShared& shared) { client.send(echo_all(shared, true)); };
+  ASSERT_TRUE(run_until(io_, [&] {
+    return !streamer("truck-1").faults().contains(FaultId::InvalidMac) &&
+           streamer("truck-1").latency_ms().has_value();
+  }));
+  EXPECT_FALSE(player().client_data_stopped());
+}
+
+TEST_F(OperatorApi, ClientUserDataReachesTheVehicle) {
+  start();
+  struct Watcher : StreamerObserver {
+    std::optional<RawJson> last_user_data;
+    void on_control_sent(const OcpControlMessage& message) override {
+      if (message.client_user_data) last_user_data = message.client_user_data;
+    }
+  } watcher;
+  streamer("truck-1").set_observer(&watcher);
+
+  OperatorClient client(io_);
+  ASSERT_TRUE(client.connect(simulation_->port()));
+  client.answer_ = [&](const VehicleOcpShared& shared) {
+    client.send(echo_all(shared, true, std::string(R"({"mission":"dock-7"})")));
+  };
+  ASSERT_TRUE(run_until(io_, [&] { return watcher.last_user_data.has_value(); }));
+  EXPECT_EQ(watcher.last_user_data->text, R"({"mission":"dock-7"})");
+  EXPECT_EQ(player().locked_source(), ClientSource::tcp);
+  streamer("truck-1").set_observer(nullptr);
+}
+
+TEST_F(OperatorApi, SecondSourceStopsClientData) {
+  start();
+  OperatorClient client(io_);
+  ASSERT_TRUE(client.connect(simulation_->port()));
+  client.answer_ = [&](const VehicleOcpShared& shared) { client.send(echo_all(shared, true)); };
+  ASSERT_TRUE(run_until(io_, [&] {
+    return player().locked_source() == ClientSource::tcp && !streamer("truck-1").faults().contains(FaultId::InvalidMac) &&
+           streamer("truck-1").latency_ms().has_value();
+  }));
+
+  // A web view starts sending too: everything stops, the loop visibly breaks.
+  ClientOcpShared webview;
+  webview.client_user_data["truck-1"] = ClientVehicleEntry{};
+  player().handle_client_data(ClientSource::webview, webview);
+  EXPECT_TRUE(player().client_data_stopped());
+  const std::uint64_t ignored = player().stats().client_messages_ignored;
+  ASSERT_TRUE(run_until(io_, [&] { return player().stats().client_messages_ignored >= ignored + 10; }));
+  ASSERT_TRUE(run_until(io_, [&] { return streamer("truck-1").faults().contains(FaultId::InvalidMac); }));
+  EXPECT_TRUE(client.client().connected());  // the tcp client is not disconnected for it
+}
+
+TEST_F(OperatorApi, SecondClientIsRefusedWhileTheFirstKeepsReceiving) {
+  start();
+  OperatorClient first(io_);
+  ASSERT_TRUE(first.connect(simulation_->port()));
+  ASSERT_TRUE(run_until(io_, [&] { return first.received() >= 3; }));
+
+  LoopbackClient second(io_);
+  ASSERT_TRUE(second.connect(simulation_->port()));
+  ASSERT_TRUE(run_until(io_, [&] { return second.closed_by_peer(); }));
+  EXPECT_EQ(player().stats().client_connections_refused, 1u);
+  const std::size_t before = first.received();
+  ASSERT_TRUE(run_until(io_, [&] { return first.received() >= before + 20; }));
+}
+
+TEST_F(OperatorApi, FleetClientSeesEveryVehicle) {
+  start({"truck-1", "truck-2"});
+  OperatorClient client(io_);
+  ASSERT_TRUE(client.connect(simulation_->port()));
+  ASSERT_TRUE(run_until(io_, [&] {
+    const auto& feedback = client.latest().vehicle_feedback;
+    return feedback.count("truck-1") == 1 && feedback.count("truck-2") == 1 &&
+           feedback.at("truck-1").ack.ack_time != 0 && feedback.at("truck-2").ack.ack_time != 0;
+  }));
+  // No active vehicle selected in a fleet: both report VehicleControlInactive.
+  for (const auto& name : {"truck-1", "truck-2"}) {
+    const auto& faults = client.latest().vehicle_feedback.at(name).sender_fault;
+    EXPECT_NE(std::find(faults.begin(), faults.end(), "VehicleControlInactive"), faults.end()) << name;
+  }
+}
+
+TEST_F(OperatorApi, MalformedJsonClosesTheClient) {
+  start();
+  LoopbackClient client(io_);
+  ASSERT_TRUE(client.connect(simulation_->port()));
+  ASSERT_TRUE(run_until(io_, [&] { return player().client_connected(); }));
+  client.send_payload("[1, 2, 3]");
+  ASSERT_TRUE(run_until(io_, [&] { return client.closed_by_peer(); }));
+  EXPECT_FALSE(player().last_client_close_reason().empty());
+}
+
+TEST_F(OperatorApi, PortInUseIsAClearError) {
+  start();
+  PlayerSimOptions options;
+  options.plugin_params.ocp_player_tcp_port = simulation_->port();
+  PlayerSimulation second(executor_, options, {});
+  const Status status = second.start();
+  ASSERT_FALSE(status.ok());
+  EXPECT_EQ(status.error().code, std::errc::address_in_use);
+  EXPECT_EQ(status.error().detail,
+            "address 127.0.0.1:" + std::to_string(simulation_->port()) + " already in use");
+}
+
+}  // namespace
+}  // namespace ocp

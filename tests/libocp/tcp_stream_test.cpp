@@ -1,0 +1,176 @@
+#include <gtest/gtest.h>
+
+#include <boost/asio/connect.hpp>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <chrono>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "ocp/tcp_stream.hpp"
+
+namespace ocp {
+namespace {
+
+namespace asio = boost::asio;
+using tcp = asio::ip::tcp;
+
+// Generous: these run on a loaded 2-core machine.
+constexpr auto wait_limit = std::chrono::seconds(20);
+
+// Runs the io_context until `done` holds or the limit passes; returns `done()`.
+bool run_until(asio::io_context& io, const std::function<bool()>& done) {
+  const auto give_up_at = std::chrono::steady_clock::now() + wait_limit;
+  while (!done() && std::chrono::steady_clock::now() < give_up_at) {
+    if (io.stopped()) {
+      io.restart();
+    }
+    io.run_one_for(std::chrono::milliseconds(10));
+  }
+  return done();
+}
+
+struct Received {
+  std::string bytes;
+  std::vector<std::string> closes;
+  ByteStreamHandlers handlers() {
+    return ByteStreamHandlers{[this](std::string_view chunk) { bytes.append(chunk); },
+                              [this](const std::string& reason) { closes.push_back(reason); }};
+  }
+};
+
+// A connected pair of TCP streams over loopback.
+struct Connection {
+  asio::io_context io;
+  std::shared_ptr<ByteStream> server;
+  std::shared_ptr<ByteStream> client;
+
+  Connection() {
+    tcp::acceptor acceptor(io, tcp::endpoint(asio::ip::make_address("127.0.0.1"), 0));
+    tcp::socket server_socket(io);
+    bool accepted = false;
+    acceptor.async_accept(server_socket, [&](const boost::system::error_code& error) { accepted = !error; });
+    tcp::socket client_socket(io);
+    bool connected = false;
+    client_socket.async_connect(acceptor.local_endpoint(), [&](const boost::system::error_code& error) { connected = !error; });
+    run_until(io, [&] { return accepted && connected; });
+    server = make_tcp_stream(std::move(server_socket));
+    client = make_tcp_stream(std::move(client_socket));
+  }
+};
+
+TEST(TcpStream, BytesFlowBothWays) {
+  Connection connection;
+  Received at_server;
+  Received at_client;
+  connection.server->set_handlers(at_server.handlers());
+  connection.client->set_handlers(at_client.handlers());
+  connection.client->write("hello ");
+  connection.client->write("server");
+  connection.server->write("hello client");
+  ASSERT_TRUE(run_until(connection.io, [&] { return at_server.bytes.size() == 12 && at_client.bytes.size() == 12; }));
+  EXPECT_EQ(at_server.bytes, "hello server");
+  EXPECT_EQ(at_client.bytes, "hello client");
+}
+
+TEST(TcpStream, LargeWriteArrivesIntactAndInOrder) {
+  Connection connection;
+  Received at_server;
+  connection.server->set_handlers(at_server.handlers());
+  std::string big(1 << 20, '\0');
+  for (std::size_t i = 0; i < big.size(); ++i) {
+    big[i] = static_cast<char>((i * 131 + i / 977) & 0xff);
+  }
+  // Many writes queued at once, while one is in flight, must keep their order.
+  connection.client->write(big.substr(0, 1000));
+  for (std::size_t offset = 1000; offset < big.size(); offset += 65536) {
+    connection.client->write(std::string_view(big).substr(offset, 65536));
+  }
+  ASSERT_TRUE(run_until(connection.io, [&] { return at_server.bytes.size() >= big.size(); }));
+  EXPECT_TRUE(at_server.bytes == big);
+}
+
+TEST(TcpStream, BytesSentBeforeHandlersAreSetAreNotLost) {
+  Connection connection;
+  connection.client->write("early");
+  // Give the bytes time to reach the server's kernel buffer before reading starts.
+  const auto settle_until = std::chrono::steady_clock::now() + std::chrono::milliseconds(100);
+  run_until(connection.io, [&] { return std::chrono::steady_clock::now() >= settle_until; });
+  Received at_server;
+  connection.server->set_handlers(at_server.handlers());
+  ASSERT_TRUE(run_until(connection.io, [&] { return at_server.bytes == "early"; }));
+}
+
+TEST(TcpStream, PeerCloseIsReportedOnceAfterItsLastBytes) {
+  Connection connection;
+  Received at_server;
+  Received at_client;
+  connection.server->set_handlers(at_server.handlers());
+  connection.client->set_handlers(at_client.handlers());
+  connection.client->write("goodbye");
+  connection.client->close();
+  EXPECT_FALSE(connection.client->is_open());
+  ASSERT_TRUE(run_until(connection.io, [&] { return !at_server.closes.empty(); }));
+  EXPECT_EQ(at_server.bytes, "goodbye");
+  ASSERT_EQ(at_server.closes.size(), 1u);
+  EXPECT_EQ(at_server.closes[0], "connection closed by peer");
+  EXPECT_FALSE(connection.server->is_open());
+  EXPECT_TRUE(at_client.closes.empty());  // a local close is not reported locally
+}
+
+TEST(TcpStream, CloseIsIdempotentAndLaterWritesAreIgnored) {
+  Connection connection;
+  Received at_server;
+  Received at_client;
+  connection.server->set_handlers(at_server.handlers());
+  connection.client->set_handlers(at_client.handlers());
+  connection.client->close();
+  connection.client->close();
+  connection.client->write("ignored");
+  ASSERT_TRUE(run_until(connection.io, [&] { return !at_server.closes.empty(); }));
+  EXPECT_TRUE(at_server.bytes.empty());
+  EXPECT_EQ(at_server.closes.size(), 1u);
+  EXPECT_TRUE(at_client.closes.empty());
+}
+
+TEST(TcpStream, StreamStaysAliveWhileOperationsArePending) {
+  Connection connection;
+  Received at_server;
+  connection.server->set_handlers(at_server.handlers());
+  {
+    Received ignored;
+    connection.client->set_handlers(ignored.handlers());
+  }
+  connection.client->set_handlers(ByteStreamHandlers{});
+  connection.client->write("from a dropped stream");
+  connection.client.reset();  // pending read and write keep it alive
+  ASSERT_TRUE(run_until(connection.io, [&] { return at_server.bytes == "from a dropped stream"; }));
+}
+
+TEST(TcpStream, AbortedPeerIsReportedAsReset) {
+  asio::io_context io;
+  tcp::acceptor acceptor(io, tcp::endpoint(asio::ip::make_address("127.0.0.1"), 0));
+  tcp::socket server_socket(io);
+  tcp::socket client(io);
+  client.connect(acceptor.local_endpoint());
+  acceptor.accept(server_socket);
+  auto server = make_tcp_stream(std::move(server_socket));
+  Received at_server;
+  server->set_handlers(at_server.handlers());
+  // Linger with a zero timeout makes close() send a RST instead of a FIN.
+  client.set_option(asio::socket_base::linger(true, 0));
+  client.close();
+  ASSERT_TRUE(run_until(io, [&] { return !at_server.closes.empty(); }));
+  EXPECT_EQ(at_server.closes, std::vector<std::string>{"connection reset"});
+}
+
+TEST(TcpStream, PeerNameIsAddressAndPort) {
+  Connection connection;
+  const std::string name = connection.server->peer_name();
+  EXPECT_EQ(name.rfind("127.0.0.1:", 0), 0u) << name;
+  EXPECT_GT(name.size(), std::string("127.0.0.1:").size());
+}
+
+}  // namespace
+}  // namespace ocp

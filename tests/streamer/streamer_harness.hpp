@@ -1,0 +1,230 @@
+#pragma once
+// Test harness for StreamerCore in virtual time: a StreamerCore on a VirtualExecutor, a
+// minimal test-side vehicle on an in-memory pipe (libocp framing + JSON codec, exactly what a
+// TCP client would send), and a fake Player that feeds handle_link_message and records what
+// comes back over a zero-impairment LinkDirection.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include "ocp/com_channel.hpp"
+#include "ocp/frame.hpp"
+#include "ocp/json_codec.hpp"
+#include "ocp/log.hpp"
+#include "ocp/mac.hpp"
+#include "ocp/pipe.hpp"
+#include "ocp/virtual_executor.hpp"
+#include "streamer/streamer_core.hpp"
+
+namespace ocp::streamer_test {
+
+inline constexpr SimTime ms(std::int64_t value) { return SimTime{value * 1000}; }
+
+inline MacKey test_key() {
+  MacKey key{};
+  for (std::size_t i = 0; i < key.size(); ++i) key[i] = static_cast<std::uint8_t>(i * 7 + 1);
+  return key;
+}
+
+inline StreamerConfig test_config() {
+  StreamerConfig config;
+  config.name = "truck-1";
+  config.mac_key = test_key();
+  return config;
+}
+
+// The vehicle client side of one pipe: decodes every control frame it receives and can echo
+// the newest pair back (like the reference vehicle does).
+class TestVehicle {
+ public:
+  TestVehicle(VirtualExecutor& executor, std::shared_ptr<ByteStream> stream)
+      : executor_(executor), stream_(std::move(stream)) {
+    stream_->set_handlers(ByteStreamHandlers{
+        [this](std::string_view bytes) { on_bytes(bytes); },
+        [this](const std::string& reason) {
+          closed = true;
+          closed_at = executor_.now();
+          close_reason = reason;
+        }});
+  }
+
+  void send_payload(std::string_view payload) {
+    std::string framed;
+    EXPECT_TRUE(append_frame(payload, framed, 1u << 30).ok());
+    stream_->write(framed);
+  }
+  void send_raw(std::string_view bytes) { stream_->write(bytes); }
+  void send_response(const VehicleResponseMessage& response) {
+    std::string json;
+    encode_vehicle_response(response, json);
+    send_payload(json);
+  }
+  void close() { stream_->close(); }
+
+  bool echo = false;                              // answer every control frame with its pair
+  std::optional<VehicleUserData> echo_user_data;  // attached to every echo
+  std::vector<OcpControlMessage> received;
+  std::vector<SimTime> received_at;
+  std::vector<std::string> raw_payloads;
+  bool closed = false;
+  SimTime closed_at{};
+  std::string close_reason;
+
+ private:
+  void on_bytes(std::string_view bytes) {
+    while (!bytes.empty()) {
+      FrameEvent event;
+      bytes.remove_prefix(decoder_.put(bytes, event));
+      if (event.kind != FrameEvent::Kind::frame) continue;
+      raw_payloads.emplace_back(event.payload);
+      auto message = decode_control_message(event.payload);
+      ASSERT_TRUE(message.ok()) << message.error().message();
+      received.push_back(*message);
+      received_at.push_back(executor_.now());
+      if (echo) send_response(VehicleResponseMessage{message->ack, echo_user_data});
+    }
+  }
+
+  VirtualExecutor& executor_;
+  std::shared_ptr<ByteStream> stream_;
+  FrameDecoder decoder_;
+};
+
+struct Received {
+  SimTime at;
+  LinkMessage message;
+};
+
+// Records faults and connections as the observer sees them.
+class RecordingObserver : public StreamerObserver {
+ public:
+  explicit RecordingObserver(const Executor& executor) : executor_(executor) {}
+  struct FaultChange {
+    SimTime at;
+    FaultId id;
+    bool active;
+  };
+  void on_fault_changed(FaultId id, bool active) override {
+    fault_changes.push_back({executor_.now(), id, active});
+  }
+  void on_vehicle_connection(bool connected, const std::string& peer) override {
+    connections.emplace_back(connected, peer);
+  }
+  void on_control_sent(const OcpControlMessage&) override { ++controls_sent; }
+  // Times at which `id` changed to `active`.
+  std::vector<SimTime> changes(FaultId id, bool active) const {
+    std::vector<SimTime> times;
+    for (const auto& change : fault_changes) {
+      if (change.id == id && change.active == active) times.push_back(change.at);
+    }
+    return times;
+  }
+  std::vector<FaultChange> fault_changes;
+  std::vector<std::pair<bool, std::string>> connections;
+  std::uint64_t controls_sent = 0;
+
+ private:
+  const Executor& executor_;
+};
+
+class StreamerHarness {
+ public:
+  explicit StreamerHarness(StreamerConfig config = test_config())
+      : to_player(executor, 7),
+        core(executor, std::move(config),
+             Logger(executor, "streamer:truck-1",
+                    [this](const LogRecord& record) {
+                      log_lines.push_back(std::string(log_level_name(record.level)) + " " +
+                                          std::string(record.message));
+                    })),
+        observer(executor) {
+    to_player.set_receiver(
+        [this](LinkMessage&& message) { from_streamer.push_back({executor.now(), std::move(message)}); });
+    core.set_link(&to_player);
+    core.set_observer(&observer);
+  }
+
+  // Connects a new test vehicle through a pipe; the Streamer sees `peer_name`.
+  TestVehicle& connect_vehicle(std::string peer_name = "pipe:vehicle") {
+    PipeOptions options;
+    options.name_a = std::move(peer_name);
+    options.name_b = "pipe:streamer";
+    PipeEnds ends = make_pipe(executor, options);
+    vehicles.push_back(std::make_unique<TestVehicle>(executor, ends.a));
+    core.accept_vehicle_connection(ends.b);
+    return *vehicles.back();
+  }
+
+  void send_control(OperatorControl control) { core.handle_link_message(std::move(control)); }
+
+  // Schedules an operator message at first, first + period, … ≤ last, built at send time.
+  void schedule_controls(SimTime first, SimTime last, Micros period,
+                         std::function<OperatorControl(SimTime now)> make) {
+    for (SimTime at = first; at <= last; at += period) {
+      executor.call_at(at, [this, make, at] { send_control(make(at)); });
+    }
+  }
+
+  // Operator messages every 10 ms at 5 ms past each tick, returning a fresh valid pair
+  // (issued `age` before the message) and `controller`.
+  void schedule_fresh_controls(SimTime first, SimTime last, std::optional<Controller> controller,
+                               Micros age = Micros{5000}) {
+    schedule_controls(first, last, Micros{10'000}, [this, controller, age](SimTime now) {
+      return control_returning(pair_issued_at(now - age), controller);
+    });
+  }
+
+  // An operator message returning `pair` (valid unless the caller tampers with it).
+  OperatorControl control_returning(std::optional<AckPair> pair,
+                                    std::optional<Controller> controller = Controller{}) {
+    OperatorControl control;
+    control.sequence = next_sequence_++;
+    control.controller = std::move(controller);
+    control.returned_ack = pair;
+    return control;
+  }
+
+  // A valid pair as the Streamer would have issued it at `issued_at` (offset from config).
+  AckPair pair_issued_at(SimTime issued_at) {
+    const std::uint64_t ack_time =
+        static_cast<std::uint64_t>(issued_at.count()) + core.config().ack_time_offset;
+    AckMac mac(*core.config().mac_key);
+    return AckPair{ack_time, mac.compute(ack_time)};
+  }
+
+  template <class T>
+  std::vector<std::pair<SimTime, T>> received_of() const {
+    std::vector<std::pair<SimTime, T>> out;
+    for (const auto& item : from_streamer) {
+      if (const auto* value = std::get_if<T>(&item.message)) out.emplace_back(item.at, *value);
+    }
+    return out;
+  }
+
+  bool logged(std::string_view needle) const {
+    for (const auto& line : log_lines) {
+      if (line.find(needle) != std::string::npos) return true;
+    }
+    return false;
+  }
+
+  VirtualExecutor executor;
+  LinkDirection to_player;
+  std::vector<std::string> log_lines;
+  StreamerCore core;
+  RecordingObserver observer;
+  std::vector<std::unique_ptr<TestVehicle>> vehicles;
+  std::vector<Received> from_streamer;
+
+ private:
+  std::uint64_t next_sequence_ = 0;
+};
+
+}  // namespace ocp::streamer_test

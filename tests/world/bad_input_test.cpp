@@ -1,0 +1,187 @@
+// Hostile bytes on the vehicle-side stream (issue #3 "Bad input"): every case is handled as
+// SPEC §2 says, and none of them stalls or slows the world — the control cadence to the
+// remaining (or next) connection stays exactly 10 ms.
+#include <gtest/gtest.h>
+
+#include <chrono>
+
+#include "world_fixture.hpp"
+
+namespace ocp::world_test {
+namespace {
+
+WorldConfig raw_vehicle_config() {
+  WorldConfig config = one_vehicle_config();
+  config.vehicles[0].in_process_client = false;
+  return config;
+}
+
+class WorldBadInput : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_TRUE(sim.start());
+    sim.run_until(SimTime{Millis{95}});
+    peer = RawVehiclePeer::connect(sim, "truck-1");
+    sim.run_for(Millis{100});
+    ASSERT_TRUE(streamer().vehicle_connected());
+  }
+  StreamerCore& streamer() { return sim.world().streamer("truck-1"); }
+
+  // The connection is closed (by the Streamer, with a reason naming the problem), and a new
+  // well-behaved connection afterwards gets control frames every 10 ms exactly.
+  void expect_closed_then_next_connection_is_served(const std::string& reason_part) {
+    sim.run_for(Millis{10});
+    EXPECT_TRUE(peer->closed());
+    EXPECT_FALSE(streamer().vehicle_connected());
+    EXPECT_NE(streamer().stats().last_close_reason.find(reason_part), std::string::npos)
+        << "close reason: " << streamer().stats().last_close_reason;
+    auto next = RawVehiclePeer::connect(sim, "truck-1");
+    next->echo_automatically = true;
+    sim.run_for(Millis{500});
+    EXPECT_TRUE(streamer().vehicle_connected());
+    EXPECT_EQ(next->control_times().size(), 50u);
+    EXPECT_TRUE(next->cadence_exact());
+    EXPECT_GT(streamer().stats().vehicle_responses_received, 40u);
+  }
+
+  VirtualWorld sim{raw_vehicle_config()};
+  std::unique_ptr<RawVehiclePeer> peer;
+};
+
+TEST_F(WorldBadInput, MalformedJsonClosesTheConnection) {
+  peer->write_frame(R"({"ack_time": 1, "ack_time_mac": )");
+  expect_closed_then_next_connection_is_served("malformed");
+}
+
+TEST_F(WorldBadInput, NonObjectJsonClosesTheConnection) {
+  peer->write_frame("[1, 2, 3]");
+  expect_closed_then_next_connection_is_served("object");
+}
+
+TEST_F(WorldBadInput, MissingRequiredFieldClosesTheConnection) {
+  peer->write_frame(R"({"ack_time_mac": 5})");
+  expect_closed_then_next_connection_is_served("ack_time");
+}
+
+TEST_F(WorldBadInput, WrongTypeClosesTheConnection) {
+  peer->write_frame(R"({"ack_time": "123", "ack_time_mac": 5})");
+  expect_closed_then_next_connection_is_served("ack_time");
+}
+
+TEST_F(WorldBadInput, OutOfRangeIntegersCloseTheConnection) {
+  peer->write_frame(R"({"ack_time": 1, "ack_time_mac": 4294967296})");
+  expect_closed_then_next_connection_is_served("ack_time_mac");
+}
+
+TEST_F(WorldBadInput, DeeplyNestedUserDataClosesTheConnection) {
+  std::string nested = R"({"ack_time": 1, "ack_time_mac": 2, "vehicle_user_data": {"user_data": )";
+  nested.append(5000, '[');
+  nested.append(5000, ']');
+  nested += "}}";
+  peer->write_frame(nested);
+  sim.run_for(Millis{10});
+  EXPECT_TRUE(peer->closed());
+  expect_closed_then_next_connection_is_served("");
+}
+
+TEST_F(WorldBadInput, StreamEndingInsideAFrameIsATruncatedFrame) {
+  peer->write_raw(std::string("\x64\x00\x00\x00{\"ack_time\"", 15));
+  peer->close();
+  sim.run_for(Millis{10});
+  EXPECT_FALSE(streamer().vehicle_connected());
+  EXPECT_NE(streamer().stats().last_close_reason.find("trunc"), std::string::npos)
+      << streamer().stats().last_close_reason;
+  auto next = RawVehiclePeer::connect(sim, "truck-1");
+  next->echo_automatically = true;
+  sim.run_for(Millis{300});
+  EXPECT_EQ(next->control_times().size(), 30u);
+  EXPECT_TRUE(next->cadence_exact());
+}
+
+TEST_F(WorldBadInput, SilenceInsideAFrameClosesAfterExactlyTwoSeconds) {
+  const SimTime last_byte = sim.now();
+  peer->write_raw(std::string("\x64\x00\x00\x00{\"ack", 9));
+  sim.run_until(last_byte + Millis{2000} - Micros{1});
+  EXPECT_TRUE(streamer().vehicle_connected());
+  EXPECT_TRUE(peer->cadence_exact()) << "a half-received frame must not disturb control";
+  sim.run_until(last_byte + Millis{2000});
+  EXPECT_FALSE(streamer().vehicle_connected());
+  EXPECT_EQ(peer->closed_at(), last_byte + Millis{2000});
+}
+
+TEST_F(WorldBadInput, OversizedFrameIsDrainedAndTheConnectionKept) {
+  peer->echo_automatically = true;
+  const std::size_t frames_before = peer->control_times().size();
+  std::string big = R"({"ack_time": 1, "ack_time_mac": 2, "vehicle_user_data": {"user_data": ")";
+  big.append(40'000, 'x');
+  big += "\"}}";
+  peer->write_frame(big);
+  sim.run_for(Millis{500});
+  EXPECT_FALSE(peer->closed()) << peer->close_reason();
+  EXPECT_EQ(streamer().stats().oversized_frames_dropped, 1u);
+  EXPECT_TRUE(peer->cadence_exact(frames_before));
+  EXPECT_TRUE(streamer().faults().empty() || !streamer().faults().contains(FaultId::VehicleNoResponse));
+}
+
+TEST_F(WorldBadInput, HostileLengthIsDrainedWithoutBufferingIt) {
+  // A header announcing 4 GiB, then 2 MiB of junk in small chunks: drained as it comes, the
+  // connection stays (SPEC §2), control keeps its exact cadence.
+  const std::size_t frames_before = peer->control_times().size();
+  peer->write_raw(std::string("\xff\xff\xff\xff", 4));
+  const std::string junk(64 * 1024, 'j');
+  for (int chunk = 0; chunk < 32; ++chunk) {
+    peer->write_raw(junk);
+    sim.run_for(Millis{10});
+  }
+  sim.run_for(Millis{500});
+  EXPECT_FALSE(peer->closed()) << peer->close_reason();
+  EXPECT_TRUE(streamer().vehicle_connected());
+  EXPECT_TRUE(peer->cadence_exact(frames_before));
+}
+
+TEST_F(WorldBadInput, FloodOfResponsesNeitherStallsNorSlowsTheWorld) {
+  const std::size_t frames_before = peer->control_times().size();
+  // 20 000 valid responses (about 1 MB) in one burst, then another every tick for a second.
+  VehicleResponseMessage response;
+  response.ack = AckPair{1, 2};
+  response.vehicle_user_data = VehicleUserData{Position{57.7, 11.9}, RawJson{R"({"speed":1})"}};
+  std::string json;
+  encode_vehicle_response(response, json);
+  std::string burst;
+  for (int index = 0; index < 20'000; ++index) ASSERT_TRUE(append_frame(json, burst));
+  const auto wall_start = std::chrono::steady_clock::now();
+  peer->write_raw(burst);
+  for (int index = 0; index < 100; ++index) {
+    peer->write_raw(burst.substr(0, burst.size() / 20));
+    sim.run_for(tick);
+  }
+  const auto wall = std::chrono::steady_clock::now() - wall_start;
+  EXPECT_FALSE(peer->closed()) << peer->close_reason();
+  EXPECT_GE(streamer().stats().vehicle_responses_received, 20'000u + 100u * 1000u);
+  EXPECT_TRUE(peer->cadence_exact(frames_before));
+  // 120 000 decodes: generous bound that still catches quadratic buffering.
+  EXPECT_LT(std::chrono::duration_cast<std::chrono::seconds>(wall).count(), 20);
+}
+
+TEST_F(WorldBadInput, UnknownFieldsAreIgnored) {
+  peer->echo_automatically = true;
+  peer->write_frame(R"({"ack_time": 1, "ack_time_mac": 2, "future_field": {"x": [1, 2]}})");
+  sim.run_for(Millis{200});
+  EXPECT_FALSE(peer->closed()) << peer->close_reason();
+  EXPECT_TRUE(streamer().vehicle_connected());
+}
+
+TEST_F(WorldBadInput, SecondConnectionIsRefusedAndTheFirstKeepsItsCadence) {
+  const std::size_t frames_before = peer->control_times().size();
+  peer->echo_automatically = true;
+  auto intruder = RawVehiclePeer::connect(sim, "truck-1");
+  sim.run_for(Millis{300});
+  EXPECT_TRUE(intruder->closed());
+  EXPECT_TRUE(intruder->control_times().empty());
+  EXPECT_FALSE(peer->closed());
+  EXPECT_EQ(streamer().stats().connections_refused, 1u);
+  EXPECT_TRUE(peer->cadence_exact(frames_before));
+}
+
+}  // namespace
+}  // namespace ocp::world_test

@@ -1,0 +1,83 @@
+// vehicle_client — the reference OCP vehicle integration. Copy this program to start your own:
+// replace the Eigen bicycle model (vehicle_model.hpp) with your vehicle bridge and adapt the
+// safety layer; keep the response path exactly as it is. See docs/vehicle_client.md.
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/signal_set.hpp>
+#include <csignal>
+#include <string>
+
+#include "ocp/asio_executor.hpp"
+#include "ocp/log.hpp"
+#include "options.hpp"
+#include "vehicle_client/tcp_runner.hpp"
+#include "vehicle_client/vehicle_client.hpp"
+
+namespace {
+
+std::string status_line(const ocp::VehicleClient& client) {
+  const ocp::VehicleClientStats& stats = client.stats();
+  const ocp::SafetyOutput& safety = client.safety();
+  const ocp::VehicleState& vehicle = client.vehicle();
+  std::string reasons;
+  for (std::string_view name : safety.reasons.names()) {
+    if (!reasons.empty()) reasons += ',';
+    reasons += name;
+  }
+  return fmt::format(
+      "status: {} | latency {} ms | fault: {} | drive: {} | safe: {} | {:.2f} m/s heading {:.1f} | rx {} tx {}",
+      client.connected() ? "connected" : "NOT connected", stats.last_latency_ms,
+      stats.last_telemetry_fault ? stats.last_fault_reason : "none", ocp::drive_state_name(safety.drive_state),
+      safety.safe_state ? reasons : "no", vehicle.speed_mps, vehicle.heading_deg(),
+      stats.control_messages_received, stats.responses_sent);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ocp::ParseOutcome parsed = ocp::parse_program_options(argc, argv);
+  if (!parsed.options) return parsed.exit_code;
+  const ocp::ProgramOptions& options = *parsed.options;
+
+  boost::asio::io_context io;
+  ocp::AsioExecutor executor(io);
+  const ocp::LogSink sink = ocp::make_console_sink(options.log_level);
+  const ocp::Logger logger(executor, "vehicle-client", sink);
+  ocp::VehicleClient client(executor, options.client, logger);
+  ocp::TcpRunner runner(executor, client, options.runner, logger.child("tcp"));
+  boost::asio::signal_set signals(io, SIGINT, SIGTERM);
+
+  int exit_code = 0;
+  bool stopping = false;
+  ocp::PeriodicTimer status_timer(executor, ocp::Micros{1'000'000},
+                                  [&](ocp::SimTime) { logger.info("{}", status_line(client)); });
+  const auto shutdown = [&](int code, const std::string& why) {
+    if (stopping) return;
+    stopping = true;
+    exit_code = code;
+    logger.info("shutting down: {}", why);
+    status_timer.stop();
+    runner.stop();
+    signals.cancel();
+    io.stop();  // the model timer and stream handlers would keep the loop alive
+  };
+
+  signals.async_wait([&](const boost::system::error_code& error, int signal_number) {
+    if (!error) shutdown(0, signal_number == SIGINT ? "SIGINT" : "SIGTERM");
+  });
+  if (options.duration_s) {
+    executor.call_after(ocp::Micros{static_cast<std::int64_t>(*options.duration_s * 1e6)},
+                        [&] { shutdown(0, "--duration-s elapsed"); });
+  }
+  runner.set_on_event([&](const ocp::ConnectionEvent& event) {
+    if (event.kind == ocp::ConnectionEventKind::stopped && !options.runner.reconnect) {
+      shutdown(1, "connection ended and --no-reconnect is set");
+    }
+  });
+  if (options.status_line) status_timer.start(executor.now() + ocp::Micros{1'000'000});
+
+  logger.info("vehicle client for {} (watchdog {} ms, start {:.6f},{:.6f})", options.runner.server.to_string(),
+              ocp::to_whole_ms(options.client.safety.watchdog), options.client.start.lat, options.client.start.lon);
+  runner.start();
+  io.run();
+  return exit_code;
+}

@@ -1,0 +1,268 @@
+// Connection lifecycle and the receive path of the reference vehicle client. The response
+// encoding (including the misbehaviour switches) lives in response_writer.cpp.
+#include "vehicle_client/vehicle_client.hpp"
+
+#include <cctype>
+
+#include "ocp/json_codec.hpp"
+
+namespace ocp {
+namespace {
+
+// First bytes of a non-OCP peer, printable, for the "not an OCP server" message.
+std::string printable_prefix(std::string_view bytes) {
+  std::string text;
+  for (char c : bytes.substr(0, 16)) {
+    text += std::isprint(static_cast<unsigned char>(c)) ? c : '.';
+  }
+  return text;
+}
+
+}  // namespace
+
+std::string_view disconnect_kind_name(DisconnectKind kind) {
+  switch (kind) {
+    case DisconnectKind::none: return "none";
+    case DisconnectKind::peer_closed: return "peer_closed";
+    case DisconnectKind::protocol_error: return "protocol_error";
+    case DisconnectKind::not_an_ocp_server: return "not_an_ocp_server";
+    case DisconnectKind::server_silent: return "server_silent";
+  }
+  return "unknown";
+}
+
+std::optional<std::string> validate(const VehicleClientConfig& config) {
+  if (auto problem = validate(config.safety)) return problem;
+  if (auto problem = validate(config.vehicle)) return problem;
+  if (!(config.start.lat >= -89.0 && config.start.lat <= 89.0)) return "start latitude must be in [-89, 89]";
+  if (!(config.start.lon >= -180.0 && config.start.lon <= 180.0)) return "start longitude must be in [-180, 180]";
+  if (config.response_period.count() <= 0) return "response period must be positive";
+  if (config.model_step.count() <= 0) return "model step must be positive";
+  if (config.server_silence_limit.count() <= 0) return "server silence limit must be positive";
+  if (config.user_data_limit_bytes == 0 || config.user_data_limit_bytes > max_payload_bytes / 2) {
+    return "user data limit must be in [1, 8192] bytes";
+  }
+  if (config.misbehave.delay_responses.count() < 0) return "response delay must be >= 0";
+  return std::nullopt;
+}
+
+VehicleClient::VehicleClient(Executor& executor, VehicleClientConfig config, Logger logger)
+    : executor_(executor),
+      config_(std::move(config)),
+      logger_(std::move(logger)),
+      safety_(config_.safety),
+      model_(config_.vehicle, config_.start, config_.start_heading_deg),
+      model_timer_(executor_, config_.model_step, [this](SimTime deadline) { on_model_tick(deadline); }),
+      alive_(std::make_shared<char>()) {
+  model_.reset_time(executor_.now());
+  refresh_user_data();
+  if (config_.misbehave.any()) {
+    logger_.warn("MISBEHAVING on purpose (tests/demos only): {}", config_.misbehave.describe());
+  }
+}
+
+VehicleClient::~VehicleClient() {
+  alive_.reset();
+  detach();
+}
+
+const SafetyOutput& VehicleClient::safety() const { return safety_.output(); }
+const VehicleState& VehicleClient::vehicle() const { return model_.state(); }
+
+bool VehicleClient::connected() const { return stream_ && stream_->is_open(); }
+
+void VehicleClient::set_on_disconnected(std::function<void(const std::string& reason)> callback) {
+  on_disconnected_ = std::move(callback);
+}
+
+void VehicleClient::attach(std::shared_ptr<ByteStream> stream) {
+  if (stream_) detach();
+  const SimTime now = executor_.now();
+  stream_ = std::move(stream);
+  const std::uint64_t id = ++connection_id_;
+  decoder_.reset();
+  first_header_.clear();
+  seen_valid_control_ = false;
+  echo_pair_.reset();
+  last_response_time_.reset();
+  ++stats_.connections;
+  // A new connection is a new session: the operator must enable driving again.
+  safety_.reset(now);
+  if (!model_timer_.running()) {
+    model_.reset_time(now);
+    model_timer_.start(now + config_.model_step);
+  }
+  logger_.debug("attached to {}", stream_->peer_name());
+
+  stream_->set_no_delay(true);
+  std::weak_ptr<char> alive = alive_;
+  stream_->set_handlers(ByteStreamHandlers{
+      .on_bytes =
+          [this, alive, id](std::string_view bytes) {
+            if (!alive.expired() && id == connection_id_) on_bytes(bytes);
+          },
+      .on_closed =
+          [this, alive, id](const std::string& reason) {
+            if (!alive.expired() && id == connection_id_) on_closed(reason);
+          },
+  });
+  arm_silence_check(now + config_.server_silence_limit);
+}
+
+void VehicleClient::detach() {
+  if (!stream_) return;
+  std::shared_ptr<ByteStream> stream = std::move(stream_);
+  release_connection();
+  stream->close();
+}
+
+void VehicleClient::release_connection() {
+  stream_.reset();
+  ++connection_id_;  // callbacks of the old connection become no-ops
+  if (keepalive_timer_ != 0) executor_.cancel(keepalive_timer_);
+  if (silence_timer_ != 0) executor_.cancel(silence_timer_);
+  keepalive_timer_ = 0;
+  silence_timer_ = 0;
+}
+
+void VehicleClient::on_closed(const std::string& reason) {
+  std::string detail = reason.empty() ? "connection closed by server" : reason;
+  if (const Status tail = decoder_.finish(); !tail.ok()) detail += " (" + tail.error().message() + ")";
+  release_connection();
+  finish_disconnect(DisconnectKind::peer_closed, detail);
+}
+
+void VehicleClient::close_with(DisconnectKind kind, const std::string& reason) {
+  std::shared_ptr<ByteStream> stream = std::move(stream_);
+  release_connection();
+  if (stream) stream->close();
+  finish_disconnect(kind, reason);
+}
+
+void VehicleClient::finish_disconnect(DisconnectKind kind, const std::string& reason) {
+  stats_.last_disconnect_kind = kind;
+  stats_.last_disconnect_reason = reason;
+  logger_.info("disconnected: {}", reason);
+  if (on_disconnected_) on_disconnected_(reason);
+}
+
+void VehicleClient::on_bytes(std::string_view bytes) {
+  stats_.bytes_received += bytes.size();
+  if (!seen_valid_control_ && !check_first_header(bytes)) return;
+  const std::uint64_t id = connection_id_;
+  while (!bytes.empty()) {
+    FrameEvent event;
+    bytes.remove_prefix(decoder_.put(bytes, event));
+    if (event.kind == FrameEvent::Kind::frame) {
+      handle_payload(event.payload);
+      if (id != connection_id_) return;  // the payload closed the connection
+    } else if (event.kind == FrameEvent::Kind::oversized_dropped) {
+      ++stats_.oversized_frames_dropped;
+      logger_.warn("dropped an oversized control frame ({} bytes > {} limit)", event.declared_length,
+                   max_payload_bytes);
+    }
+  }
+}
+
+bool VehicleClient::check_first_header(std::string_view bytes) {
+  // An OCP server's first frame is a small control message. A declared length over the limit
+  // means the peer speaks something else (HTTP's "HTTP" reads as ~1.3 GB): say so at once
+  // instead of silently draining gigabytes.
+  if (first_header_.size() >= frame_header_bytes) return true;
+  first_header_.append(bytes.substr(0, frame_header_bytes - first_header_.size()));
+  if (first_header_.size() < frame_header_bytes) return true;
+  std::uint32_t length = 0;
+  for (std::size_t index = 0; index < frame_header_bytes; ++index) {
+    length |= static_cast<std::uint32_t>(static_cast<unsigned char>(first_header_[index])) << (8 * index);
+  }
+  if (length <= max_payload_bytes) return true;
+  close_with(DisconnectKind::not_an_ocp_server,
+             fmt::format("not an OCP server: first frame declares {} bytes (limit {}); peer sent \"{}\"",
+                         length, max_payload_bytes, printable_prefix(bytes)));
+  return false;
+}
+
+void VehicleClient::handle_payload(std::string_view payload) {
+  Result<OcpControlMessage> message = decode_control_message(payload);
+  if (!message.ok()) {
+    if (!seen_valid_control_) {
+      close_with(DisconnectKind::not_an_ocp_server,
+                 "not an OCP server: first frame is not an OCP control message (" +
+                     message.error().message() + ")");
+    } else {
+      close_with(DisconnectKind::protocol_error, "bad control message from server: " + message.error().message());
+    }
+    return;
+  }
+  handle_control_message(*message);
+}
+
+void VehicleClient::handle_control_message(const OcpControlMessage& message) {
+  const SimTime now = executor_.now();
+  // Latency first: the echo leaves before anything else is looked at.
+  if (!(config_.misbehave.stop_echo && echo_pair_)) echo_pair_ = message.ack;
+  send_response(ResponseCause::echo);
+
+  seen_valid_control_ = true;
+  ++stats_.control_messages_received;
+  stats_.last_ack = message.ack;
+  stats_.last_control_time = now;
+  stats_.last_latency_ms = message.telemetry.latency_ms;
+  if (message.telemetry.fault != stats_.last_telemetry_fault ||
+      (message.telemetry.fault && message.telemetry.fault_reason != stats_.last_fault_reason)) {
+    if (message.telemetry.fault) {
+      logger_.warn("Streamer reports fault: {}", message.telemetry.fault_reason);
+    } else {
+      logger_.info("Streamer faults cleared");
+    }
+    stats_.last_telemetry_fault = message.telemetry.fault;
+    stats_.last_fault_reason = message.telemetry.fault_reason;  // display only
+  }
+  safety_.on_control_message(message, now);
+}
+
+void VehicleClient::arm_silence_check(SimTime deadline) {
+  std::weak_ptr<char> alive = alive_;
+  silence_timer_ = executor_.call_at(deadline, [this, alive] {
+    if (!alive.expired()) on_silence_check();
+  });
+}
+
+void VehicleClient::on_silence_check() {
+  silence_timer_ = 0;
+  if (!stream_) return;
+  const SimTime now = executor_.now();
+  const double limit_s = std::chrono::duration<double>(config_.server_silence_limit).count();
+  if (!seen_valid_control_) {
+    close_with(DisconnectKind::not_an_ocp_server,
+               fmt::format("not an OCP server: no control message within {:g} s of connecting", limit_s));
+    return;
+  }
+  const SimTime deadline = *stats_.last_control_time + config_.server_silence_limit;
+  if (deadline <= now) {
+    close_with(DisconnectKind::server_silent,
+               fmt::format("server stopped sending control messages for {:g} s", limit_s));
+    return;
+  }
+  arm_silence_check(deadline);
+}
+
+void VehicleClient::on_model_tick(SimTime deadline) {
+  const SafetyOutput before = safety_.output();
+  const SafetyOutput& after = safety_.evaluate(deadline);
+  model_.advance_to(deadline, after.command, config_.model_step);
+  if (after.drive_state != before.drive_state) {
+    logger_.info("drive state: {}", drive_state_name(after.drive_state));
+  }
+  if (after.reasons != before.reasons) {
+    std::string reasons;
+    for (std::string_view name : after.reasons.names()) {
+      if (!reasons.empty()) reasons += ", ";
+      reasons += name;
+    }
+    logger_.debug("safe state: {}", after.safe_state ? reasons : "off (commands pass through)");
+  }
+  refresh_user_data();
+}
+
+}  // namespace ocp
