@@ -230,6 +230,31 @@ void BM_ControlDecodeEncode_Ours(benchmark::State& state) {
 }
 BENCHMARK(BM_ControlDecodeEncode_Ours);
 
+// What the wire carries: the encoder's compact output (the world's steady state takes the
+// tokenizer's fast path: all ASCII, no escapes, no exponents).
+void BM_ControlDecodeCompact_Ours(benchmark::State& state) {
+  std::string text;
+  ocp::encode_control_message(ocp::decode_control_message(control_text).value(), text);
+  for (auto _ : state) {
+    auto message = ocp::decode_control_message(text);
+    benchmark::DoNotOptimize(message);
+  }
+}
+BENCHMARK(BM_ControlDecodeCompact_Ours);
+
+// The same with one non-ASCII string: falls back to RapidJSON with UTF-8 validation.
+void BM_ControlDecodeCompactNonAscii_Ours(benchmark::State& state) {
+  ocp::OcpControlMessage message = ocp::decode_control_message(control_text).value();
+  message.telemetry.fault_reason = "Kamera bak: fel på länk";
+  std::string text;
+  ocp::encode_control_message(message, text);
+  for (auto _ : state) {
+    auto decoded = ocp::decode_control_message(text);
+    benchmark::DoNotOptimize(decoded);
+  }
+}
+BENCHMARK(BM_ControlDecodeCompactNonAscii_Ours);
+
 void BM_ResponseDecode_Ours(benchmark::State& state) {
   const std::string text = response_text;
   for (auto _ : state) {
@@ -238,6 +263,16 @@ void BM_ResponseDecode_Ours(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_ResponseDecode_Ours);
+
+void BM_ResponseDecodeCompact_Ours(benchmark::State& state) {
+  std::string text;
+  ocp::encode_vehicle_response(ocp::decode_vehicle_response(response_text).value(), text);
+  for (auto _ : state) {
+    auto message = ocp::decode_vehicle_response(text);
+    benchmark::DoNotOptimize(message);
+  }
+}
+BENCHMARK(BM_ResponseDecodeCompact_Ours);
 
 void BM_ResponseEncode_Ours(benchmark::State& state) {
   const ocp::VehicleResponseMessage message = ocp::decode_vehicle_response(response_text).value();

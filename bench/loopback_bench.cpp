@@ -8,6 +8,7 @@
 // Each benchmark runs once for a fixed wall-clock window and reports percentiles as counters.
 // Results: docs/benchmarks.md ("Loopback").
 #include <benchmark/benchmark.h>
+#include <sys/prctl.h>
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -29,6 +30,9 @@ namespace {
 constexpr std::chrono::seconds measure_window{5};
 constexpr std::chrono::seconds warm_up{1};
 
+// As sim::RealTimeRunner does for the executables: no 50 µs default timer slack.
+void use_precise_timers() { prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL); }
+
 double thread_cpu_seconds() {
   rusage usage{};
   getrusage(RUSAGE_THREAD, &usage);
@@ -48,6 +52,7 @@ class ClientThread {
  public:
   explicit ClientThread(std::uint16_t port) {
     thread_ = std::thread([this, port] {
+      use_precise_timers();
       boost::asio::io_context io;
       AsioExecutor executor(io);
       VehicleClient client(executor, VehicleClientConfig{}, Logger(executor, "vehicle", {}));
@@ -132,6 +137,7 @@ void report_percentiles(benchmark::State& state, const std::string& prefix, cons
 }
 
 void BM_LoopbackEchoRoundTrip(benchmark::State& state) {
+  use_precise_timers();
   for (auto _ : state) {
     boost::asio::io_context io;
     AsioExecutor executor(io);
@@ -166,6 +172,7 @@ BENCHMARK(BM_LoopbackEchoRoundTrip)->Iterations(1)->Unit(benchmark::kSecond)->Us
 
 // The same Streamer world without a vehicle: the baseline the per-vehicle CPU is measured from.
 void BM_StreamerWithoutVehicle(benchmark::State& state) {
+  use_precise_timers();
   for (auto _ : state) {
     boost::asio::io_context io;
     AsioExecutor executor(io);
@@ -186,6 +193,7 @@ void BM_StreamerWithoutVehicle(benchmark::State& state) {
 BENCHMARK(BM_StreamerWithoutVehicle)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
 
 void BM_TickLatenessIdle100Hz(benchmark::State& state) {
+  use_precise_timers();
   for (auto _ : state) {
     boost::asio::io_context io;
     AsioExecutor executor(io);

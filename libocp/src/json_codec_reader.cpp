@@ -14,8 +14,48 @@ std::string quote_number(std::string_view text) {
   return std::string(text.substr(0, max_echoed_chars)) + "...";
 }
 
+bool is_digit(char c) { return c >= '0' && c <= '9'; }
+
+// The tokenizer checked the JSON number grammar: digits alone mean no sign, fraction or
+// exponent.
 bool is_plain_integer(std::string_view text) {
-  return text.find_first_of(".eE-") == std::string_view::npos;
+  for (const char c : text) {
+    if (!is_digit(c)) return false;
+  }
+  return true;
+}
+
+// Exact fast path for the decimals our encoders write ("-0.25", "57.7081"): at most 15
+// significant digits and no exponent. Both the digits (< 2^53) and the power of ten (<= 10^22)
+// are exact doubles, so one correctly rounded division gives the correctly rounded value
+// (Clinger's fast path). Anything else goes to from_chars.
+bool parse_short_decimal(std::string_view text, double& out) {
+  static constexpr double powers_of_ten[] = {1e0, 1e1, 1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                             1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15};
+  constexpr int max_digits = 15;
+  std::size_t at = 0;
+  const bool negative = !text.empty() && text[0] == '-';
+  if (negative) at = 1;
+  std::uint64_t digits = 0;
+  int digit_count = 0;
+  int fraction_digits = 0;
+  bool in_fraction = false;
+  for (; at < text.size(); ++at) {
+    const char c = text[at];
+    if (is_digit(c)) {
+      digits = digits * 10 + static_cast<std::uint64_t>(c - '0');
+      if (digits != 0 && ++digit_count > max_digits) return false;
+      if (in_fraction) ++fraction_digits;
+    } else if (c == '.' && !in_fraction) {
+      in_fraction = true;
+    } else {
+      return false;  // exponent
+    }
+  }
+  if (fraction_digits > max_digits) return false;
+  const double value = static_cast<double>(digits) / powers_of_ten[fraction_digits];
+  out = negative ? -value : value;
+  return true;
 }
 
 // Digits only (the tokenizer already checked the JSON number grammar).
@@ -34,6 +74,7 @@ bool parse_digits(std::string_view text, std::uint64_t& out) {
 // RapidJSON's exponent limit leave underflow only for negative exponents or a zero integral
 // part, where the closest double is a signed zero.
 bool parse_double(std::string_view text, double& out) {
+  if (parse_short_decimal(text, out)) return true;
   const char* first = text.data();
   const char* last = text.data() + text.size();
   const auto [end, error] = std::from_chars(first, last, out);

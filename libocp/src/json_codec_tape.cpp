@@ -1,6 +1,7 @@
 #include "json_codec_tape.hpp"
 
 #include <array>
+#include <bit>
 #include <cstring>
 #include <limits>
 
@@ -10,19 +11,37 @@
 namespace ocp::json_detail {
 namespace {
 
-// Bounded in-situ stream over the tape's private copy of the input. In-situ parsing decodes
-// strings in place and hands out numbers as pointers into the copy, so RapidJSON never needs
-// its internal stack (whose first growth is undefined behaviour in RapidJSON 1.1: it offsets a
-// null pointer) and nothing is copied twice. Past the end it reads '\0', which RapidJSON
-// treats as end of input; writes always trail the read position.
+// In-situ stream over the tape's private copy of the input. In-situ parsing decodes strings
+// in place and hands out numbers as pointers into the copy, so RapidJSON never needs its
+// internal stack (whose first growth is undefined behaviour in RapidJSON 1.1: it offsets a
+// null pointer) and nothing is copied twice. Writes always trail the read position.
+//
+// Bounded: past the end it reads '\0', which RapidJSON treats as end of input. Needed when
+// encoding validation is on: RapidJSON's UTF-8 decoder takes continuation bytes without
+// looking, so a truncated sequence at the end would read past the terminator.
+// Unbounded (all-ASCII input, no validation): RapidJSON never takes a '\0', so the work
+// copy's own terminator stops it, and every Peek/Take saves a compare.
+template <bool Bounded>
 class InsituStream {
  public:
   using Ch = char;
   InsituStream(char* begin, std::size_t size)
       : begin_(begin), current_(begin), end_(begin + size), write_(begin) {}
 
-  Ch Peek() const { return current_ == end_ ? '\0' : *current_; }
-  Ch Take() { return current_ == end_ ? '\0' : *current_++; }
+  Ch Peek() const {
+    if constexpr (Bounded) {
+      return current_ == end_ ? '\0' : *current_;
+    } else {
+      return *current_;
+    }
+  }
+  Ch Take() {
+    if constexpr (Bounded) {
+      return current_ == end_ ? '\0' : *current_++;
+    } else {
+      return *current_++;
+    }
+  }
   std::size_t Tell() const { return static_cast<std::size_t>(current_ - begin_); }
 
   Ch* PutBegin() { return write_ = current_; }
@@ -37,9 +56,13 @@ class InsituStream {
   char* write_;
 };
 
+template <class Stream>
 class TapeHandler {
  public:
-  TapeHandler(Tape& tape, const InsituStream& stream) : tape_(tape), stream_(stream) {}
+  // `check_surrogates`: false when the input has neither escapes nor non-ASCII bytes, so no
+  // decoded string can hold a surrogate.
+  TapeHandler(Tape& tape, const Stream& stream, bool check_surrogates)
+      : tape_(tape), stream_(stream), check_surrogates_(check_surrogates) {}
 
   // Literals, brackets: RapidJSON has consumed the token from our stream when it calls us.
   bool Null() { return push(TokenKind::null_value, stream_.Tell() - 4); }
@@ -92,6 +115,7 @@ class TapeHandler {
   // RapidJSON 1.1 rejects a lone high surrogate escape but turns a lone low one ("\udc00")
   // into the bytes ED B0 80, which are not UTF-8. Surrogates only ever encode as ED A0..BF.
   bool check_surrogates(const char* text, rapidjson::SizeType length) {
+    if (!check_surrogates_) return true;
     const char* end = text + length;
     for (const char* at = text; (at = static_cast<const char*>(std::memchr(
                                      at, '\xED', static_cast<std::size_t>(end - at)))) != nullptr;
@@ -120,16 +144,226 @@ class TapeHandler {
   }
 
   Tape& tape_;
-  const InsituStream& stream_;
+  const Stream& stream_;
+  bool check_surrogates_;
   int depth_ = 0;
   bool too_deep_ = false;
   bool lone_surrogate_ = false;
   std::array<std::uint32_t, max_json_depth> open_indexes_{};
 };
 
-constexpr unsigned parse_flags = rapidjson::kParseInsituFlag |
-                                 rapidjson::kParseValidateEncodingFlag |
-                                 rapidjson::kParseNumbersAsStringsFlag;
+// The fast path for what the codec sees all day: well-formed, all-ASCII documents without
+// escapes or exponents (the encoders never write them). It records exactly the tape RapidJSON
+// would (same tokens, offsets and texts) at a fraction of the cost, and gives up on anything
+// else (escapes, non-ASCII, control bytes, exponents, long numbers, depth, any syntax error):
+// RapidJSON then parses the document from scratch, so every error and every unusual input
+// goes through the one validating parser.
+class FastTokenizer {
+ public:
+  FastTokenizer(std::string_view json, Tape& tape)
+      : begin_(json.data()), at_(json.data()), end_(json.data() + json.size()), tape_(tape) {}
+
+  bool run() {
+    for (;;) {
+      skip_whitespace();
+      if (!value()) return false;
+      // After a value: close containers, or find the next element.
+      for (;;) {
+        skip_whitespace();
+        if (depth_ == 0) return at_ == end_;
+        if (at_ == end_) return false;
+        const bool in_object =
+            tape_.tokens[open_indexes_[static_cast<std::size_t>(depth_ - 1)]].kind ==
+            TokenKind::object_begin;
+        const char c = *at_;
+        if (c == ',') {
+          ++at_;
+          if (in_object && !member_key()) return false;
+          break;  // next value
+        }
+        if (c != (in_object ? '}' : ']')) return false;
+        ++at_;
+        close(in_object ? TokenKind::object_end : TokenKind::array_end);
+      }
+    }
+  }
+
+ private:
+  void skip_whitespace() {
+    while (at_ != end_ && (*at_ == ' ' || *at_ == '\n' || *at_ == '\r' || *at_ == '\t')) ++at_;
+  }
+  std::uint32_t offset(const char* at) const { return static_cast<std::uint32_t>(at - begin_); }
+  void push(TokenKind kind, const char* at, std::uint32_t text_begin = 0,
+            std::uint32_t text_length = 0) {
+    Token token;
+    token.kind = kind;
+    token.text_begin = text_begin;
+    token.text_length = text_length;
+    token.source_offset = offset(at);
+    tape_.tokens.push_back(token);
+  }
+  void close(TokenKind kind) {
+    const std::uint32_t begin_index = open_indexes_[static_cast<std::size_t>(--depth_)];
+    tape_.tokens[begin_index].end_index = static_cast<std::uint32_t>(tape_.tokens.size());
+    push(kind, at_);  // just past the bracket
+  }
+  bool open(TokenKind kind) {
+    if (depth_ == max_json_depth) return false;
+    open_indexes_[static_cast<std::size_t>(depth_++)] =
+        static_cast<std::uint32_t>(tape_.tokens.size());
+    push(kind, at_);
+    ++at_;
+    return true;
+  }
+  // A string without escapes: its text is the source between the quotes.
+  bool string(TokenKind kind) {
+    const char* const quote = at_;
+    const char* at = quote + 1;
+    // Eight bytes at a time up to the first byte that is not plain printable ASCII (the
+    // lowest address is the lowest bit only on little-endian machines).
+    while (std::endian::native == std::endian::little && end_ - at >= 8) {
+      std::uint64_t word;
+      std::memcpy(&word, at, sizeof word);
+      const std::uint64_t special = special_bytes(word);
+      if (special != 0) {
+        at += static_cast<unsigned>(std::countr_zero(special)) / 8;
+        break;
+      }
+      at += 8;
+    }
+    for (;; ++at) {
+      if (at == end_) return false;
+      const auto c = static_cast<unsigned char>(*at);
+      if (c == '"') break;
+      if (c < 0x20 || c >= 0x80 || c == '\\') return false;
+    }
+    push(kind, quote, offset(quote + 1), static_cast<std::uint32_t>(at - quote - 1));
+    at_ = at + 1;
+    return true;
+  }
+  // High bit set in each byte of `word` that is '"', '\\', below 0x20 or above 0x7F (exact for
+  // the lowest such byte, which is all the caller needs: borrows only run upwards).
+  static std::uint64_t special_bytes(std::uint64_t word) {
+    constexpr std::uint64_t ones = 0x0101010101010101ULL;
+    constexpr std::uint64_t high = 0x8080808080808080ULL;
+    const std::uint64_t quote = word ^ (ones * '"');
+    const std::uint64_t backslash = word ^ (ones * '\\');
+    const std::uint64_t zero_quote = (quote - ones) & ~quote;
+    const std::uint64_t zero_backslash = (backslash - ones) & ~backslash;
+    const std::uint64_t control = word - ones * 0x20;  // borrows into the high bit if < 0x20
+    return (zero_quote | zero_backslash | control | word) & high;
+  }
+  // `"key" :` with the whitespace JSON allows around it.
+  bool member_key() {
+    skip_whitespace();
+    if (at_ == end_ || *at_ != '"' || !string(TokenKind::key)) return false;
+    skip_whitespace();
+    if (at_ == end_ || *at_ != ':') return false;
+    ++at_;
+    return true;
+  }
+  static bool is_digit(char c) { return c >= '0' && c <= '9'; }
+  bool number() {
+    const char* const start = at_;
+    const char* at = at_;
+    if (*at == '-') ++at;
+    if (at == end_) return false;
+    if (*at == '0') {
+      ++at;
+    } else if (is_digit(*at)) {
+      while (at != end_ && is_digit(*at)) ++at;
+    } else {
+      return false;
+    }
+    if (at != end_ && *at == '.') {
+      ++at;
+      if (at == end_ || !is_digit(*at)) return false;
+      while (at != end_ && is_digit(*at)) ++at;
+    }
+    // Exponents and very long numbers carry RapidJSON's range checks: leave them to it.
+    constexpr std::ptrdiff_t longest_plain_number = 40;
+    if (at != end_ && (*at == 'e' || *at == 'E')) return false;
+    if (at - start > longest_plain_number) return false;
+    push(TokenKind::number, start, offset(start), static_cast<std::uint32_t>(at - start));
+    at_ = at;
+    return true;
+  }
+  bool literal(std::string_view text, TokenKind kind) {
+    if (static_cast<std::size_t>(end_ - at_) < text.size() ||
+        std::memcmp(at_, text.data(), text.size()) != 0) {
+      return false;
+    }
+    push(kind, at_);
+    at_ += text.size();
+    return true;
+  }
+  // One value; an opened container counts as done once its first member's key is read (or
+  // it was closed at once), and run() carries on from there.
+  bool value() {
+    if (at_ == end_) return false;
+    switch (*at_) {
+      case '{':
+        if (!open(TokenKind::object_begin)) return false;
+        skip_whitespace();
+        if (at_ != end_ && *at_ == '}') {
+          ++at_;
+          close(TokenKind::object_end);
+          return true;
+        }
+        return member_key() && (skip_whitespace(), value());
+      case '[':
+        if (!open(TokenKind::array_begin)) return false;
+        skip_whitespace();
+        if (at_ != end_ && *at_ == ']') {
+          ++at_;
+          close(TokenKind::array_end);
+          return true;
+        }
+        return value();
+      case '"': return string(TokenKind::string);
+      case 't': return literal("true", TokenKind::true_value);
+      case 'f': return literal("false", TokenKind::false_value);
+      case 'n': return literal("null", TokenKind::null_value);
+      default: return number();
+    }
+  }
+
+  const char* const begin_;
+  const char* at_;
+  const char* const end_;
+  Tape& tape_;
+  int depth_ = 0;
+  std::array<std::uint32_t, max_json_depth> open_indexes_{};
+};
+
+constexpr unsigned ascii_parse_flags =
+    rapidjson::kParseInsituFlag | rapidjson::kParseNumbersAsStringsFlag;
+constexpr unsigned validating_parse_flags =
+    ascii_parse_flags | rapidjson::kParseValidateEncodingFlag;
+
+// What a quick pass over the input tells the tokenizer. Encoding validation (RapidJSON checks
+// every string byte through its UTF-8 decoder) only matters for bytes >= 0x80, and lone
+// surrogates can only come from escapes or non-ASCII bytes; our messages are plain ASCII.
+struct InputShape {
+  bool ascii = true;
+  bool has_backslash = false;
+};
+
+InputShape inspect(std::string_view json) {
+  InputShape shape;
+  const char* at = json.data();
+  const char* const end = at + json.size();
+  std::uint64_t high_bits = 0;
+  for (; end - at >= 8; at += 8) {
+    std::uint64_t word;
+    std::memcpy(&word, at, sizeof word);
+    high_bits |= word;
+  }
+  for (; at != end; ++at) high_bits |= static_cast<unsigned char>(*at);
+  shape.ascii = (high_bits & 0x8080808080808080ULL) == 0;
+  shape.has_backslash = std::memchr(json.data(), '\\', json.size()) != nullptr;
+  return shape;
+}
 
 Error malformed(std::string detail) {
   return Error{make_error_code(ProtocolError::malformed_json), std::move(detail)};
@@ -142,8 +376,8 @@ Error malformed(std::string detail) {
 // copy and then asks the original for the number's start), exactly as for its own
 // InsituStringStream.
 namespace rapidjson {
-template <>
-struct StreamTraits<ocp::json_detail::InsituStream> {
+template <bool Bounded>
+struct StreamTraits<ocp::json_detail::InsituStream<Bounded>> {
   enum { copyOptimization = 1 };
 };
 }  // namespace rapidjson
@@ -174,17 +408,23 @@ std::string_view Tape::source_of(std::size_t index) const {
   return source.substr(begin, end - begin);
 }
 
-Status tokenize(std::string_view json, Tape& tape, bool require_object) {
-  tape.source = json;
-  tape.tokens.clear();
-  if (json.size() >= std::numeric_limits<std::uint32_t>::max()) {
-    return malformed("document larger than 4 GiB");
+namespace {
+
+Status check_root(const Tape& tape, bool require_object) {
+  if (require_object && tape.tokens.front().kind != TokenKind::object_begin) {
+    return Error{make_error_code(ProtocolError::not_an_object),
+                 "top-level value is not an object"};
   }
-  tape.text.assign(json);  // the in-situ work copy; never resized while parsing
+  return Ok{};
+}
+
+template <bool Bounded, unsigned Flags>
+Status parse_tape(std::string_view json, Tape& tape, bool require_object,
+                  bool check_surrogates) {
   rapidjson::Reader reader;
-  InsituStream stream(tape.text.data(), tape.text.size());
-  TapeHandler handler(tape, stream);
-  const rapidjson::ParseResult result = reader.Parse<parse_flags>(stream, handler);
+  InsituStream<Bounded> stream(tape.text.data(), tape.text.size());
+  TapeHandler<InsituStream<Bounded>> handler(tape, stream, check_surrogates);
+  const rapidjson::ParseResult result = reader.Parse<Flags>(stream, handler);
   if (handler.too_deep()) {
     return Error{make_error_code(ProtocolError::too_deep),
                  "nesting deeper than " + std::to_string(max_json_depth) + " levels at offset " +
@@ -202,11 +442,35 @@ Status tokenize(std::string_view json, Tape& tape, bool require_object) {
     // RapidJSON stops at a NUL byte as if the input ended there.
     return malformed("unexpected NUL byte (offset " + std::to_string(stream.Tell()) + ")");
   }
-  if (require_object && tape.tokens.front().kind != TokenKind::object_begin) {
-    return Error{make_error_code(ProtocolError::not_an_object),
-                 "top-level value is not an object"};
+  return check_root(tape, require_object);
+}
+
+}  // namespace
+
+Status tokenize(std::string_view json, Tape& tape, bool require_object) {
+  tape.source = json;
+  tape.tokens.clear();
+  if (json.size() >= std::numeric_limits<std::uint32_t>::max()) {
+    return malformed("document larger than 4 GiB");
   }
-  return Ok{};
+  tape.text.assign(json);  // the in-situ work copy; never resized while parsing
+  if (FastTokenizer(json, tape).run()) return check_root(tape, require_object);
+  tape.tokens.clear();
+  return tokenize_with_rapidjson(json, tape, require_object);
+}
+
+Status tokenize_with_rapidjson(std::string_view json, Tape& tape, bool require_object) {
+  tape.source = json;
+  tape.tokens.clear();
+  if (json.size() >= std::numeric_limits<std::uint32_t>::max()) {
+    return malformed("document larger than 4 GiB");
+  }
+  tape.text.assign(json);
+  const InputShape shape = inspect(json);
+  if (shape.ascii) {
+    return parse_tape<false, ascii_parse_flags>(json, tape, require_object, shape.has_backslash);
+  }
+  return parse_tape<true, validating_parse_flags>(json, tape, require_object, true);
 }
 
 Tape& thread_tape() {

@@ -1,6 +1,8 @@
 #pragma once
-// Tokenizer of the JSON codec. RapidJSON's SAX Reader checks the grammar and UTF-8 and hands
-// us events; we record them on a flat "tape" (no DOM, no per-value allocation) that the typed
+// Tokenizer of the JSON codec. Plain documents (all ASCII, no escapes, no exponents: what
+// our encoders write) take a small hand-written scanner; everything else, errors included,
+// goes to RapidJSON's SAX Reader, which checks the grammar and UTF-8 and hands us events. Both
+// record the same flat "tape" (no DOM, no per-value allocation) that the typed
 // decoders then walk by index (parsing in situ on a reused copy, so nothing is allocated in
 // the steady state). Each token remembers where it ends in the source, so any value
 // (user data) can be cut out of the input byte-exact. Numbers are kept as their source text so
@@ -64,6 +66,11 @@ struct Tape {
 // too_deep (nesting beyond max_json_depth), not_an_object (valid JSON, top level not an object,
 // only when `require_object`).
 [[nodiscard]] Status tokenize(std::string_view json, Tape& tape, bool require_object = true);
+
+// The same with RapidJSON alone, skipping tokenize's fast path for plain documents (tests
+// compare the two; tokenize falls back to it for anything the fast path does not take).
+[[nodiscard]] Status tokenize_with_rapidjson(std::string_view json, Tape& tape,
+                                             bool require_object = true);
 
 // One tape per thread, reused across decodes so the steady state allocates nothing.
 Tape& thread_tape();

@@ -32,6 +32,23 @@ std::size_t utf8_sequence_length(std::string_view text) {
 }  // namespace
 
 void JsonWriter::number(double value) {
+  // Whole values of small magnitude (most axes sit at 0, -1 or 1) skip the shortest
+  // round-trip search: below 10^4 it prints their integer digits anyway (fixed notation wins
+  // ties with exponent notation). NaN fails both compares and takes the general path.
+  if (value > -10000.0 && value < 10000.0) {
+    const auto whole = static_cast<int>(value);
+    if (static_cast<double>(whole) == value) {
+      if (whole == 0 && std::signbit(value)) {
+        out_.append("-0.0");
+        return;
+      }
+      char digits[8];
+      const auto result = std::to_chars(digits, digits + sizeof digits, whole);
+      out_.append(digits, result.ptr);
+      out_.append(".0");
+      return;
+    }
+  }
   if (!std::isfinite(value)) {
     null();
     return;

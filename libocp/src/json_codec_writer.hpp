@@ -19,7 +19,9 @@ class JsonWriter {
 
   void literal(std::string_view text) { out_.append(text); }
   void literal(char c) { out_.push_back(c); }
-  void boolean(bool value) { out_.append(value ? "true" : "false"); }
+  void boolean(bool value) {
+    out_.append(value ? std::string_view("true") : std::string_view("false"));
+  }
   void null() { out_.append("null"); }
   void u64(std::uint64_t value) {
     char buffer[20];

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 #include <rapidjson/document.h>
 
+#include <limits>
+
 #include "ocp/json_codec.hpp"
 
 namespace ocp {
@@ -44,6 +46,49 @@ TEST(VehicleClientUserData, StaysUnder1KiBInTheWorstCase) {
   encode_user_data(UserDataSample{model.state(), output, ~0ull, ~0ull, Micros{INT64_MAX}, &misbehave}, json);
   EXPECT_TRUE(validate_raw_json(json).ok()) << json;
   EXPECT_LT(json.size(), 1024u) << json;
+}
+
+// Fixed resolution, not shortest round-trip: mm/s and command units to 0.001, heading and
+// odometer to 0.01.
+TEST(VehicleClientUserData, NumbersHaveFixedResolution) {
+  VehicleState vehicle;
+  vehicle.speed_mps = 12.34567;
+  vehicle.yaw_rad = 0.0;  // east: compass 90°
+  vehicle.odometer_m = 1234.5678;
+  SafetyOutput output;
+  output.command = ActuatorCommand{0.3, 0.0, -0.1};
+  std::string json;
+  encode_user_data(UserDataSample{vehicle, output, 0, 1, Micros{0}, nullptr}, json);
+  EXPECT_NE(json.find(R"("speed_mps":12.346,"heading_deg":90.00,)"), std::string::npos) << json;
+  EXPECT_NE(json.find(R"("throttle":0.300,"brake":0.000,"steer":-0.100,"odometer_m":1234.57,)"),
+            std::string::npos)
+      << json;
+}
+
+TEST(VehicleClientUserData, TinyNegativeValuesPrintAsZero) {
+  VehicleState vehicle;
+  SafetyOutput output;
+  output.command = ActuatorCommand{0.0, 0.0, -0.0004};
+  std::string json;
+  encode_user_data(UserDataSample{vehicle, output, 0, 1, Micros{0}, nullptr}, json);
+  EXPECT_NE(json.find(R"("steer":0.000,)"), std::string::npos) << json;
+}
+
+TEST(VehicleClientUserData, NonFiniteNumbersStayValidJson) {
+  VehicleState vehicle;
+  vehicle.speed_mps = std::numeric_limits<double>::quiet_NaN();
+  vehicle.odometer_m = 1e300;  // beyond the fixed-point range: still a JSON number
+  SafetyOutput output;
+  output.command.throttle = std::numeric_limits<double>::infinity();
+  std::string json;
+  encode_user_data(UserDataSample{vehicle, output, 0, 1, Micros{0}, nullptr}, json);
+  EXPECT_TRUE(validate_raw_json(json).ok()) << json;
+  EXPECT_NE(json.find(R"("speed_mps":null,)"), std::string::npos) << json;
+  EXPECT_NE(json.find(R"("throttle":null,)"), std::string::npos) << json;
+  rapidjson::Document document;
+  document.Parse(json.c_str());
+  ASSERT_TRUE(document.IsObject()) << json;
+  EXPECT_DOUBLE_EQ(document["odometer_m"].GetDouble(), 1e300);
 }
 
 }  // namespace

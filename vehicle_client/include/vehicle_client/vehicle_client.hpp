@@ -120,6 +120,8 @@ class VehicleClient {
   void arm_silence_check(SimTime deadline);
   void on_silence_check();
   void on_model_tick(SimTime deadline);
+  // Encodes user_data for the current model sample (at construction and every model step);
+  // every response until the next sample reuses the text as is.
   void refresh_user_data();
 
   Executor& executor_;
