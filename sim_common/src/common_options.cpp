@@ -58,6 +58,9 @@ void add_common_options(CLI::App& app, CommonOptions& options) {
   app.add_option("--camera", options.camera_texts,
                  "simulated camera NAME or NAME:FPS (repeatable; default: front at 30 fps)")
       ->type_name("NAME[:FPS]")->group(general);
+  app.add_option("--gamepad", options.gamepad_text,
+                 "simulated operator gamepad: idle, drive, or a recording file")
+      ->capture_default_str()->group(general);
   app.add_option("--seed", options.seed, "seed for every random choice (link jitter and loss)")
       ->type_name("N")->capture_default_str()->group(general);
   app.add_option("--log-level", options.log_level_text, "debug, info, warn or error")
@@ -67,9 +70,9 @@ void add_common_options(CLI::App& app, CommonOptions& options) {
       ->type_name("S")->check(CLI::Range(0.0, 1e7))->group(general);
 }
 
-Result<CameraOption> parse_camera(const std::string& text) {
+Result<CameraConfig> parse_camera(const std::string& text) {
   const auto colon = text.find(':');
-  CameraOption camera;
+  CameraConfig camera;
   camera.name = text.substr(0, colon);
   if (camera.name.empty()) return usage_error("--camera '" + text + "': empty camera name");
   if (colon == std::string::npos) return camera;
@@ -115,6 +118,9 @@ Status finish_common_options(CommonOptions& options) {
     }
     options.cameras.push_back(std::move(*camera));
   }
+  auto gamepad = parse_gamepad_script(options.gamepad_text);
+  if (!gamepad) return usage_error(gamepad.error().detail);
+  options.gamepad = std::move(*gamepad);
   return Ok{};
 }
 

@@ -9,8 +9,7 @@
 #include "sim_common/common_options.hpp"
 #include "sim_common/console.hpp"
 #include "sim_common/exit_codes.hpp"
-#include "sim_common/gamepad_script.hpp"
-#include "sim_common/real_time_runner.hpp"
+#include "sim_common/run_simulation.hpp"
 
 int main(int argc, char** argv) {
   using namespace ocp;
@@ -22,12 +21,9 @@ int main(int argc, char** argv) {
   sim::CommonOptions common;
   sim::add_common_options(app, common);
   std::vector<std::string> vehicles;
-  std::string gamepad_text = "drive";
   double frame_rate_hz = 100.0;
   app.add_option("--vehicle", vehicles, "simulated vehicle name (repeatable; several form a fleet; default: vehicle)")
       ->group("Player");
-  app.add_option("--gamepad", gamepad_text, "operator gamepad: idle, drive, or a recording file")
-      ->capture_default_str()->group("Player");
   app.add_option("--frame-rate-hz", frame_rate_hz, "Player frame rate (capped at 100)")
       ->capture_default_str()->check(CLI::Range(1.0, 100.0))->group("Player");
   if (const auto exit_code = sim::parse_command_line(app, argc, argv, common)) return *exit_code;
@@ -40,48 +36,24 @@ int main(int argc, char** argv) {
       return sim::exit_usage_error;
     }
   }
-  auto gamepad = sim::parse_gamepad_script(gamepad_text);
-  if (!gamepad) {
-    std::cerr << "player_sim: " << gamepad.error().detail << "\nRun with --help for the options.\n";
-    return sim::exit_usage_error;
-  }
 
   PlayerSimOptions options;
   options.vehicles = vehicles;
   options.plugin_params = common.plugin_params;
-  for (const auto& camera : common.cameras) {
-    CameraConfig config;
-    config.name = camera.name;
-    config.fps = camera.fps;
-    options.cameras.push_back(config);
-  }
+  options.cameras = common.cameras;
   options.link = common.link_impairments();
   options.seed = common.seed;
-  options.gamepad = std::move(*gamepad);
+  options.gamepad = common.gamepad;
   options.frame_rate_hz = frame_rate_hz;
 
   const LogSink sink = sim::configure_console(common.log_level);
   sim::RealTimeRunner runner;   // first: the io_context outlives every socket below
   const Logger logger(runner.executor(), "player_sim", sink);
-  runner.set_logger(&logger);
   PlayerSimulation simulation(runner.executor(), options, sink);
-  if (auto status = simulation.start(); !status) {
-    std::cerr << "player_sim: cannot start: " << status.error().detail;
-    if (status.error().code == std::errc::address_in_use) {
-      std::cerr << " (is another player_sim running? pick a port with --plugin-param ocp_player_tcp_port N)";
-    }
-    std::cerr << "\n";
-    return sim::exit_runtime_error;
-  }
-  sim::StatusTicker status(runner.executor(), Millis{1000}, [&] { logger.info("{}", simulation.status_line()); });
-  status.start();
-  runner.set_on_shutdown([&](const std::string&) {
-    status.stop();
+  return sim::run_simulation("player_sim", "ocp_player_tcp_port", common, runner, logger, simulation, [&] {
     const PlayerStats& stats = simulation.player().stats();
-    logger.info("summary: {} frames, {} feedback objects to the client, {} client messages, {} clients accepted, {} refused",
-                stats.frames, stats.client_frames_sent, stats.client_messages_received,
-                stats.client_connections_accepted, stats.client_connections_refused);
-    simulation.stop();
+    return fmt::format("{} frames, {} feedback objects to the client, {} client messages, {} clients accepted, {} refused",
+                       stats.frames, stats.client_frames_sent, stats.client_messages_received,
+                       stats.client_connections_accepted, stats.client_connections_refused);
   });
-  return runner.run(common.duration());
 }

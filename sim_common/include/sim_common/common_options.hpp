@@ -3,6 +3,7 @@
 //   --plugin-param NAME VALUE   (repeatable; the product's settings, SPEC §9)
 //   --link-delay-ms, --link-jitter-ms, --link-loss   (the fake com channel, both directions)
 //   --seed, --log-level, --camera NAME[:FPS] (repeatable), --duration-s
+//   --gamepad idle|drive|FILE   (the simulated operator's gamepad)
 //
 //   CLI::App app{"…"};
 //   sim::CommonOptions options;
@@ -19,13 +20,10 @@
 #include "ocp/error.hpp"
 #include "ocp/log.hpp"
 #include "ocp/plugin_params.hpp"
+#include "sim_common/gamepad_script.hpp"
+#include "streamer/streamer_core.hpp"
 
 namespace ocp::sim {
-
-struct CameraOption {
-  std::string name;
-  double fps = 30.0;
-};
 
 struct CommonOptions {
   // As typed: one group per --plugin-param occurrence (NAME VALUE, or NAME alone for
@@ -38,11 +36,13 @@ struct CommonOptions {
   std::string log_level_text = "info";
   std::vector<std::string> camera_texts;   // NAME or NAME:FPS
   double duration_s = 0.0;           // 0 = run until SIGINT/SIGTERM
+  std::string gamepad_text = "drive";
 
   // Filled by parse_command_line from the texts above.
   PluginParams plugin_params;
   LogLevel log_level = LogLevel::info;
-  std::vector<CameraOption> cameras;       // empty when no --camera was given
+  std::vector<CameraConfig> cameras;       // empty when no --camera was given
+  GamepadScript gamepad;
 
   Impairments link_impairments() const;    // delay / jitter / loss, for both directions
   std::optional<Micros> duration() const;  // nullopt = run until a signal
@@ -54,7 +54,7 @@ void add_common_options(CLI::App& app, CommonOptions& options);
 [[nodiscard]] Status finish_common_options(CommonOptions& options);
 
 // "front" → {front, 30}; "rear:15" → {rear, 15}.
-[[nodiscard]] Result<CameraOption> parse_camera(const std::string& text);
+[[nodiscard]] Result<CameraConfig> parse_camera(const std::string& text);
 
 // Parses and validates. nullopt: go on and run. Otherwise the process should exit with the
 // returned code: 0 after --help, 2 after a usage error (already printed to stderr, with a

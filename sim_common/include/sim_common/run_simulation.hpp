@@ -1,0 +1,47 @@
+#pragma once
+// The part of main() both simulator executables share: start the simulation (a start error,
+// such as a busy port, is printed with a hint and gives exit code 1), then log its status
+// line once a second until shutdown, log a summary at shutdown, and return the exit code.
+#include <functional>
+#include <iostream>
+#include <string>
+#include <string_view>
+#include <system_error>
+
+#include "ocp/log.hpp"
+#include "sim_common/common_options.hpp"
+#include "sim_common/console.hpp"
+#include "sim_common/exit_codes.hpp"
+#include "sim_common/real_time_runner.hpp"
+
+namespace ocp::sim {
+
+// `Simulation` needs start() → Status, stop(), status_line() → std::string.
+// `port_param` names the --plugin-param that moves the port ("tcp_port").
+template <class Simulation>
+[[nodiscard]] int run_simulation(std::string_view program, std::string_view port_param,
+                                 const CommonOptions& common, RealTimeRunner& runner,
+                                 const Logger& logger, Simulation& simulation,
+                                 std::function<std::string()> summary) {
+  runner.set_logger(&logger);
+  if (auto status = simulation.start(); !status) {
+    std::cerr << program << ": cannot start: " << status.error().detail;
+    if (status.error().code == std::errc::address_in_use) {
+      std::cerr << " (is another " << program << " running? pick a port with --plugin-param "
+                << port_param << " N)";
+    }
+    std::cerr << "\n";
+    return exit_runtime_error;
+  }
+  StatusTicker status(runner.executor(), Millis{1000},
+                      [&] { logger.info("{}", simulation.status_line()); });
+  status.start();
+  runner.set_on_shutdown([&](const std::string&) {
+    status.stop();
+    logger.info("summary: {}", summary());
+    simulation.stop();
+  });
+  return runner.run(common.duration());
+}
+
+}  // namespace ocp::sim
