@@ -361,7 +361,8 @@ InputShape inspect(std::string_view json) {
   }
   for (; at != end; ++at) high_bits |= static_cast<unsigned char>(*at);
   shape.ascii = (high_bits & 0x8080808080808080ULL) == 0;
-  shape.has_backslash = std::memchr(json.data(), '\\', json.size()) != nullptr;
+  // memchr needs a non-null pointer even for zero bytes, and an empty frame's view has none.
+  shape.has_backslash = !json.empty() && std::memchr(json.data(), '\\', json.size()) != nullptr;
   return shape;
 }
 

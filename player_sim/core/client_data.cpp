@@ -2,6 +2,8 @@
 // (§4.2), the latency-loop echo (§5 step 6) and the single tcp client connection.
 #include <utility>
 
+#include "ocp/json_codec.hpp"
+
 #include "player_impl.hpp"
 
 namespace ocp {
@@ -71,28 +73,52 @@ std::optional<AckPair> PlayerCore::Impl::echo_pair(const VehicleLink& link) cons
 
 void PlayerCore::Impl::accept_client(std::shared_ptr<ByteStream> stream) {
   if (!stream) return;
-  if (client && client->open()) {
+  if (client && client->is_open()) {
     ++stats.client_connections_refused;
     logger.warn("tcp client {} refused: client {} is already connected (one client at a time)",
-                stream->peer_name(), client->peer_name());
+                stream->peer_name(), client->peer());
     stream->close();
     return;
   }
   ++stats.client_connections_accepted;
   logger.info("tcp client {} connected", stream->peer_name());
-  OperatorClientConnection::Callbacks callbacks;
-  callbacks.on_message = [this](ClientOcpShared&& message) {
-    on_client_data(ClientSource::tcp, message);
+  FramedConnection::Options options;
+  options.label = "tcp client";
+  options.read_timeout = config.client_read_timeout;
+  FramedConnection::Counters counters;
+  counters.oversized_frames_dropped = &stats.client_oversized_frames;
+  FramedConnection::Handlers handlers;
+  handlers.on_payload = [this](std::string_view payload) -> Status {
+    Result<ClientOcpShared> message = decode_client_ocp_shared(payload);
+    if (!message) return message.error();
+    on_client_data(ClientSource::tcp, *message);
+    return Ok{};
   };
-  callbacks.on_closed = [this](const std::string& reason) { on_client_closed(reason); };
-  client = std::make_shared<OperatorClientConnection>(executor, std::move(stream),
-                                                      config.client_read_timeout,
-                                                      logger.child("tcp"), stats, std::move(callbacks));
-  auto keep_alive = client;
-  keep_alive->start();
+  handlers.on_closed = [this](const std::string& reason) { on_client_closed(reason); };
+  client_too_large_warned = false;
+  client = FramedConnection::open(executor, logger.child("tcp"), std::move(stream),
+                                  std::move(options), counters, std::move(handlers));
+}
+
+void PlayerCore::Impl::send_to_client(const VehicleOcpShared& shared) {
+  encode_vehicle_ocp_shared(shared, client_json_buffer);
+  const Status sent = client->send(client_json_buffer);
+  if (sent) {
+    ++stats.client_frames_sent;
+    return;
+  }
+  if (sent.error().code != ProtocolError::frame_too_large) return;
+  // Never send an oversized frame (SPEC §2); the client simply misses this one. Logged once
+  // per connection: it would otherwise repeat every frame.
+  ++stats.client_frames_too_large;
+  if (client_too_large_warned) return;
+  client_too_large_warned = true;
+  logger.child("tcp").warn("tcp client {}: VehicleOcpShared not sent: {}", client->peer(),
+                           sent.error().message());
 }
 
 void PlayerCore::Impl::on_client_closed(const std::string& reason) {
+  ++stats.client_connections_closed;
   last_client_close_reason = reason;
   client.reset();  // the connection keeps itself alive until its callback returns
 }

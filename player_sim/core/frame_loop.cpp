@@ -65,10 +65,7 @@ void PlayerCore::Impl::on_frame() {
   last_shared = std::move(shared);
   ++stats.shared_published;
 
-  if (client && client->open()) {
-    auto keep_alive = client;
-    keep_alive->send(last_shared);
-  }
+  if (client && client->is_open()) send_to_client(last_shared);
   for (const SharedListener& listener : shared_listeners) listener(last_shared);
 }
 

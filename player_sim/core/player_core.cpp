@@ -159,7 +159,7 @@ std::optional<AckPair> PlayerCore::latest_sei(const std::string& vehicle) const 
   return found == impl_->vehicles.end() ? std::nullopt : found->second.latest_sei;
 }
 
-bool PlayerCore::client_connected() const { return impl_->client && impl_->client->open(); }
+bool PlayerCore::client_connected() const { return impl_->client && impl_->client->is_open(); }
 const std::string& PlayerCore::last_client_close_reason() const { return impl_->last_client_close_reason; }
 const PlayerStats& PlayerCore::stats() const { return impl_->stats; }
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "operator_client_connection.hpp"
+#include "ocp/framed_connection.hpp"
 #include "player/player_core.hpp"
 #include "source_lock.hpp"
 #include "vehicle_link.hpp"
@@ -33,6 +33,7 @@ struct PlayerCore::Impl {
   std::optional<AckPair> echo_pair(const VehicleLink& link) const;
   void accept_client(std::shared_ptr<ByteStream> stream);
   void on_client_closed(const std::string& reason);
+  void send_to_client(const VehicleOcpShared& shared);
 
   Executor& executor;
   PlayerConfig config;
@@ -57,8 +58,10 @@ struct PlayerCore::Impl {
   std::set<std::string> warned_unknown_entries;
   std::set<std::string> warned_unknown_senders;
 
-  std::shared_ptr<OperatorClientConnection> client;
+  std::shared_ptr<FramedConnection> client;      // the tcp source (:4001), one at a time
   std::string last_client_close_reason;
+  std::string client_json_buffer;                // reused every frame
+  bool client_too_large_warned = false;          // per connection: logged once, not every frame
 };
 
 }  // namespace ocp

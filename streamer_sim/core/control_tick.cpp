@@ -48,21 +48,21 @@ void StreamerCore::State::build_control_message() {
 
 void StreamerCore::State::send_control_message() {
   encode_control_message(outgoing, json_buffer);
-  frame_buffer.clear();
-  if (!append_frame(json_buffer, frame_buffer)) {
+  Status sent = vehicle->send(json_buffer);
+  if (!sent && sent.error().code == ProtocolError::frame_too_large) {
     // Only oversized client user data can do this; the vehicle still needs its control.
     logger.warn("control message of {} bytes exceeds {} bytes: sent without client_user_data",
                 json_buffer.size(), max_payload_bytes);
     outgoing.client_user_data.reset();
     ++stats.control_user_data_dropped;
     encode_control_message(outgoing, json_buffer);
-    frame_buffer.clear();
-    if (!append_frame(json_buffer, frame_buffer)) {
-      logger.error("control message of {} bytes cannot be framed; not sent", json_buffer.size());
-      return;
-    }
+    sent = vehicle->send(json_buffer);
   }
-  vehicle->write(frame_buffer);
+  if (!sent) {
+    logger.error("control message of {} bytes not sent: {}", json_buffer.size(),
+                 sent.error().message());
+    return;
+  }
   ++stats.control_frames_sent;
   control_sent = true;
   last_sent_controller = outgoing.controller;

@@ -15,8 +15,8 @@
 #include "fault_tracker.hpp"
 #include "frame_loop.hpp"
 #include "latency_loop.hpp"
+#include "ocp/framed_connection.hpp"
 #include "streamer/streamer_core.hpp"
-#include "vehicle_connection.hpp"
 
 namespace ocp {
 
@@ -69,7 +69,7 @@ struct StreamerCore::State {
   SimTime start_time{};
 
   // Vehicle side.
-  std::shared_ptr<streamer::VehicleConnection> vehicle;
+  std::shared_ptr<FramedConnection> vehicle;
   std::optional<AckPair> echoed_pair;            // latest pair echoed by the vehicle (→ SEI)
   std::optional<VehicleUserData> vehicle_data;   // latest vehicle user data …
   SimTime vehicle_data_arrived_at{};             // … and when it arrived
@@ -85,7 +85,6 @@ struct StreamerCore::State {
   // Control path output.
   OcpControlMessage outgoing;                    // reused every tick
   std::string json_buffer;                       // reused every tick
-  std::string frame_buffer;                      // reused every tick
   bool control_sent = false;
   std::optional<Controller> last_sent_controller;
   std::vector<std::string> missing_cameras;      // as of the last evaluation

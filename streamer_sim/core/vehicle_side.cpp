@@ -1,5 +1,6 @@
 // The vehicle connection lifecycle (SPEC §3.1): one active connection; a second one is
 // accepted and closed at once; a new connection starts clean.
+#include "ocp/json_codec.hpp"
 #include "streamer_state.hpp"
 
 namespace ocp {
@@ -19,14 +20,23 @@ void StreamerCore::State::accept_vehicle(std::shared_ptr<ByteStream> stream) {
   // Nothing built for a previous connection survives: frames are encoded per tick straight
   // into the active connection, and the old connection (with anything its transport still
   // held) was dropped when it closed.
-  frame_buffer.clear();
-  streamer::VehicleConnection::Events events;
-  events.on_response = [this](const VehicleResponseMessage& response) {
-    on_vehicle_response(response);
+  FramedConnection::Options options;
+  options.label = "vehicle";
+  options.read_timeout = config.vehicle_read_timeout;
+  FramedConnection::Counters counters;
+  counters.bytes_in = &stats.vehicle_bytes_in;
+  counters.bytes_out = &stats.vehicle_bytes_out;
+  counters.oversized_frames_dropped = &stats.oversized_frames_dropped;
+  FramedConnection::Handlers handlers;
+  handlers.on_payload = [this](std::string_view payload) -> Status {
+    auto response = decode_vehicle_response(payload);
+    if (!response) return response.error();
+    on_vehicle_response(*response);
+    return Ok{};
   };
-  events.on_closed = [this](const std::string& reason) { on_vehicle_closed(reason); };
-  vehicle = streamer::VehicleConnection::open(executor, logger.child("vehicle"), std::move(stream),
-                                              config.vehicle_read_timeout, stats, std::move(events));
+  handlers.on_closed = [this](const std::string& reason) { on_vehicle_closed(reason); };
+  vehicle = FramedConnection::open(executor, logger.child("vehicle"), std::move(stream),
+                                   std::move(options), counters, std::move(handlers));
   if (started) faults.set(FaultId::VehicleNoResponse, false);
   if (observer != nullptr) observer->on_vehicle_connection(true, peer);
 }
@@ -34,6 +44,7 @@ void StreamerCore::State::accept_vehicle(std::shared_ptr<ByteStream> stream) {
 void StreamerCore::State::on_vehicle_response(const VehicleResponseMessage& response) {
   // Responses' pairs are not validated here: they are copied into SEI, and the MAC is checked
   // when the operator returns them.
+  ++stats.vehicle_responses_received;
   echoed_pair = response.ack;
   if (response.vehicle_user_data) {
     vehicle_data = response.vehicle_user_data;

@@ -63,6 +63,15 @@ TEST(JsonCodecHostile, SyntaxErrorsAreMalformed) {
   }
 }
 
+// A zero-length frame reaches the decoders as a default-constructed view (null data pointer).
+TEST(JsonCodecHostile, EmptyViewWithNullDataIsMalformed) {
+  const std::string_view empty;
+  EXPECT_TRUE(fails_with_code(decode_control_message(empty), ProtocolError::malformed_json));
+  EXPECT_TRUE(fails_with_code(decode_vehicle_response(empty), ProtocolError::malformed_json));
+  EXPECT_TRUE(fails_with_code(decode_vehicle_ocp_shared(empty), ProtocolError::malformed_json));
+  EXPECT_TRUE(fails_with_code(decode_client_ocp_shared(empty), ProtocolError::malformed_json));
+}
+
 TEST(JsonCodecHostile, NanAndInfinityLiteralsAreMalformed) {
   for (const char* literal : {"NaN", "Infinity", "-Infinity", "nan", "inf"}) {
     SCOPED_TRACE(literal);

@@ -1,0 +1,105 @@
+#pragma once
+// One framed JSON connection over any ByteStream (pipe or TCP), with the SPEC §2 rules shared
+// by both TCP APIs (Streamer ↔ vehicle on :4000, Player ↔ client on :4001):
+//   * frames are deframed; each complete payload goes to `on_payload`, which decodes and
+//     dispatches it and returns an Error to close the connection with that reason (malformed
+//     JSON, not an object, a missing or mistyped field);
+//   * an inbound frame over the limit is drained, counted and logged; the connection is kept;
+//   * the stream ending inside a frame closes it with the decoder's truncated_frame reason;
+//   * no byte for `read_timeout` (between frames as well as inside one) closes it;
+//   * `send` frames an already-encoded payload and refuses (frame_too_large) to send one over
+//     the limit — an oversized frame never leaves.
+// Every close path — peer, timeout, bad input, local close() — reports `on_closed` exactly
+// once and is logged with its reason.
+//
+// Lifetime: open() returns the only shared_ptr the owner needs. Stream and timer callbacks
+// hold weak pointers and lock them for the duration of a callback, so the owner may drop the
+// connection from inside on_payload or on_closed. Destroying it closes the stream without
+// reporting on_closed.
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <string_view>
+
+#include "ocp/byte_stream.hpp"
+#include "ocp/error.hpp"
+#include "ocp/executor.hpp"
+#include "ocp/frame.hpp"
+#include "ocp/log.hpp"
+
+namespace ocp {
+
+class FramedConnection : public std::enable_shared_from_this<FramedConnection> {
+ public:
+  struct Options {
+    // Who the peer is ("vehicle", "tcp client"): starts every log line and the timeout reason.
+    std::string label = "peer";
+    // No byte for this long closes the connection; zero (or negative) disables the rule.
+    Micros read_timeout{2'000'000};
+    std::size_t payload_limit_bytes = max_payload_bytes;
+  };
+
+  // Where the connection adds what it counts. Each member points into the owner's stats, so
+  // the owner's numbers stay live and add up across connections; the owner's stats must
+  // outlive the connection. Null members are not counted.
+  struct Counters {
+    std::uint64_t* bytes_in = nullptr;                  // every byte received
+    std::uint64_t* bytes_out = nullptr;                 // every byte written (headers included)
+    std::uint64_t* oversized_frames_dropped = nullptr;  // inbound frames drained
+  };
+
+  struct Handlers {
+    // Decodes and dispatches one complete payload (valid only during the call). An error
+    // closes the connection with error.message() as the reason.
+    std::function<Status(std::string_view payload)> on_payload;
+    // Called exactly once, whatever closed the connection.
+    std::function<void(const std::string& reason)> on_closed;
+  };
+
+  // Takes over `stream`, starts reading from it and arms the read timeout. A stream that is
+  // already closed is reported through on_closed from the executor, never from inside open().
+  [[nodiscard]] static std::shared_ptr<FramedConnection> open(Executor& executor, Logger logger,
+                                                              std::shared_ptr<ByteStream> stream,
+                                                              Options options, Counters counters,
+                                                              Handlers handlers);
+  ~FramedConnection();
+  FramedConnection(const FramedConnection&) = delete;
+  FramedConnection& operator=(const FramedConnection&) = delete;
+
+  // Frames and writes one encoded payload. Fails with frame_too_large (nothing written) when
+  // the payload is over the limit, and with not_connected once the connection is closed.
+  [[nodiscard]] Status send(std::string_view payload);
+  // Local close: logs `reason` as a warning, closes the stream, reports on_closed.
+  void close(const std::string& reason);
+
+  bool is_open() const { return open_; }
+  const std::string& peer() const { return peer_; }
+
+ private:
+  FramedConnection(Executor& executor, Logger logger, std::shared_ptr<ByteStream> stream,
+                   Options options, Counters counters, Handlers handlers);
+  void start();
+  void handle_bytes(std::string_view bytes);
+  void handle_payload(std::string_view payload);
+  void handle_peer_closed(const std::string& transport_reason);
+  void arm_read_timer(SimTime deadline);
+  void on_read_timer();
+  void finish(const std::string& reason);
+
+  Executor& executor_;
+  Logger logger_;
+  std::shared_ptr<ByteStream> stream_;
+  std::string peer_;
+  Options options_;
+  Counters counters_;
+  Handlers handlers_;
+  FrameDecoder decoder_;
+  std::string frame_buffer_;  // reused by send(): no allocation per frame in steady state
+  bool open_ = true;
+  SimTime last_byte_at_{};
+  Executor::TimerId read_timer_ = 0;
+};
+
+}  // namespace ocp
