@@ -24,6 +24,11 @@ bool parse_log_level(std::string_view text, LogLevel& level) {
 }
 
 LogSink make_console_sink(LogLevel minimum) {
+  // The sink writes the time stamp, level and component itself; spdlog only prints the line
+  // (and flushes it at once, so a person watching sees events as they happen).
+  spdlog::set_pattern("%v");
+  spdlog::set_level(spdlog::level::debug);
+  spdlog::flush_on(spdlog::level::debug);
   return [minimum](const LogRecord& record) {
     if (record.level < minimum) return;
     const double seconds = static_cast<double>(record.time.count()) / 1e6;

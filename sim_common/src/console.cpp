@@ -1,18 +1,8 @@
 #include "sim_common/console.hpp"
 
-#include <spdlog/spdlog.h>
-
 #include <optional>
 
 namespace ocp::sim {
-
-LogSink configure_console(LogLevel minimum) {
-  // The sink adds the sim-time stamp, the level and the component; spdlog only prints it.
-  spdlog::set_pattern("%v");
-  spdlog::set_level(spdlog::level::debug);
-  spdlog::flush_on(spdlog::level::debug);
-  return make_console_sink(minimum);
-}
 
 StatusTicker::StatusTicker(Executor& executor, Micros period, std::function<void()> report)
     : executor_(executor),

@@ -28,6 +28,7 @@ struct LogRecord {
 using LogSink = std::function<void(const LogRecord&)>;
 
 // Prints "[   12.345678] INFO  streamer:truck-1: message" through spdlog, at or above `minimum`.
+// Sets spdlog's global pattern to the bare message, since the sink formats the stamp itself.
 LogSink make_console_sink(LogLevel minimum = LogLevel::info);
 // Drops everything (benchmarks, quiet tests).
 LogSink make_null_sink();

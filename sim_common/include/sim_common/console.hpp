@@ -1,7 +1,6 @@
 #pragma once
-// Console output of the simulator executables: one line per log record, stamped with the
-// executor's time ("[    1.234567] INFO  streamer: …"), nothing else (no second timestamp
-// from spdlog), and a once-per-second status line.
+// The once-per-second status line of the simulator executables and its formatting helpers.
+// (Log records go to the console through ocp::make_console_sink.)
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -12,9 +11,6 @@
 #include "ocp/log.hpp"
 
 namespace ocp::sim {
-
-// Configures spdlog for plain lines on stdout and returns the sink to hand to loggers.
-LogSink configure_console(LogLevel minimum);
 
 // Calls `report` every `period` (absolute deadlines) starting one period from start().
 class StatusTicker {

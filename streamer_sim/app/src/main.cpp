@@ -40,7 +40,7 @@ int main(int argc, char** argv) {
   options.gamepad = common.gamepad;
   options.operator_frame_rate_hz = operator_rate_hz;
 
-  const LogSink sink = sim::configure_console(common.log_level);
+  const LogSink sink = make_console_sink(common.log_level);
   sim::RealTimeRunner runner;   // first: the io_context outlives every socket below
   const Logger logger(runner.executor(), "streamer_sim", sink);
   StreamerSimulation simulation(runner.executor(), options, sink);
