@@ -113,7 +113,6 @@ struct StreamerStats {
   std::uint64_t connections_refused = 0;         // second connection while one was active
   std::uint64_t connections_closed = 0;          // active connections that ended (any reason)
   std::string last_close_reason;
-  std::uint64_t queued_controls_discarded = 0;   // stale control frames dropped on reconnect
   // Operator side.
   std::uint64_t operator_messages_received = 0;
   std::uint64_t invalid_returned_pairs = 0;
