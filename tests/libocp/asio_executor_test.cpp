@@ -101,6 +101,65 @@ TEST(AsioExecutor, ManyShortTimersAllFireAndChainsWork) {
   EXPECT_EQ(fired, 200);
 }
 
+// The timer is armed for the next deadline before a batch runs; a task in that batch that
+// schedules something sooner must still get it on time.
+TEST(AsioExecutor, EarlierDeadlineScheduledInsideABatchRunsOnTime) {
+  boost::asio::io_context io;
+  AsioExecutor executor(io);
+  const SimTime base = executor.now();
+  std::vector<int> order;
+  SimTime sooner_ran_at{};
+  executor.call_at(base + 1ms, [&] {
+    order.push_back(1);
+    executor.call_at(base + 5ms, [&] {
+      order.push_back(2);
+      sooner_ran_at = executor.now();
+    });
+  });
+  executor.call_at(base + 300ms, [&] { order.push_back(3); });
+  io.run();
+  EXPECT_EQ(order, (std::vector<int>{1, 2, 3}));
+  EXPECT_GE(sooner_ran_at, base + 5ms);
+  EXPECT_LT(sooner_ran_at, base + 250ms);  // not held back until the later deadline
+}
+
+// A deadline that passes while a batch runs is not left for the timer to notice later.
+TEST(AsioExecutor, DeadlinePassedDuringABatchRunsRightAfterIt) {
+  boost::asio::io_context io;
+  AsioExecutor executor(io);
+  const SimTime base = executor.now();
+  SimTime overtaken_ran_at{};
+  bool late_ran = false;
+  executor.call_at(base + 1ms, [&] {
+    while (executor.now() < base + 6ms) {
+    }
+  });
+  executor.call_at(base + 3ms, [&] { overtaken_ran_at = executor.now(); });
+  executor.call_at(base + 300ms, [&] {
+    late_ran = true;
+    EXPECT_GT(overtaken_ran_at, SimTime{0});
+  });
+  io.run();
+  EXPECT_TRUE(late_ran);
+  EXPECT_GE(overtaken_ran_at, base + 6ms);
+  EXPECT_LT(overtaken_ran_at, base + 250ms);
+}
+
+// Cancelling the earliest task leaves the timer armed for it; the wake-up that finds nothing
+// due must still lead to the next task.
+TEST(AsioExecutor, CancellingTheEarliestTaskKeepsTheRestOnSchedule) {
+  boost::asio::io_context io;
+  AsioExecutor executor(io);
+  const SimTime base = executor.now();
+  const auto earliest = executor.call_at(base + 2ms, [] { ADD_FAILURE() << "cancelled task ran"; });
+  SimTime next_ran_at{};
+  executor.call_at(base + 20ms, [&] { next_ran_at = executor.now(); });
+  executor.cancel(earliest);
+  io.run();
+  EXPECT_GE(next_ran_at, base + 20ms);
+  EXPECT_LT(next_ran_at, base + 2s);
+}
+
 TEST(AsioExecutor, DestroyedExecutorLeavesNoRunnableTasks) {
   boost::asio::io_context io;
   bool ran = false;

@@ -2,6 +2,16 @@
 // Real-time executor on a boost::asio::io_context: now() is steady_clock time since
 // construction; call_at queues the task at its absolute deadline and one steady_timer is
 // armed for the earliest one.
+//
+// Why the OS timer is touched as little as possible: on a virtual machine, re-programming a
+// timer costs 10–60 µs (a VM exit to re-program the host's timer; worse for one already
+// expired). Done between a task's socket write and this thread going back to sleep, that cost
+// sits inside the peer's round trip when both threads share a core (the kernel wakes the peer
+// on the writer's core and it waits there). So:
+//   * a batch arms the timer for the next deadline *before* running its tasks, and re-arms
+//     afterwards only if a task scheduled something earlier;
+//   * a task that is already due (post(), a zero delay, a deadline that passed during the
+//     batch) never goes through the timer: the next batch is posted to the io_context instead.
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <chrono>
@@ -33,7 +43,10 @@ class AsioExecutor final : public Executor {
   // timer per task: Asio does not promise FIFO order for equal expiry times, we do.
   // Key = (deadline, id); ids grow monotonically, so they double as the scheduling order.
   using QueueKey = std::pair<SimTime, TimerId>;
-  void arm();
+  // Makes sure the earliest task will run: posts a batch if it is due, else arms the timer.
+  void schedule_wake_up();
+  void arm_timer(SimTime deadline);
+  void post_batch();
   void run_due();
 
   boost::asio::io_context& io_;
@@ -44,7 +57,9 @@ class AsioExecutor final : public Executor {
   boost::asio::steady_timer timer_;
   std::optional<SimTime> armed_for_;
   std::uint64_t wait_generation_ = 0;
-  // Shared with pending wait handlers so they do nothing once this executor is gone.
+  bool batch_posted_ = false;
+  bool in_batch_ = false;
+  // Shared with pending handlers so they do nothing once this executor is gone.
   std::shared_ptr<bool> alive_;
 };
 
