@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <boost/asio/io_context.hpp>
 #include <memory>
 #include <vector>
@@ -25,9 +26,10 @@ struct LoopbackWorld {
                                              Logger(executor, "vehicle-client", make_null_sink()));
   }
 
-  std::unique_ptr<TcpRunner> make_runner(std::uint16_t port) {
+  std::unique_ptr<TcpRunner> make_runner(std::uint16_t port, Micros connect_timeout = Micros{2'000'000}) {
     TcpRunnerConfig config;
     config.server = Endpoint{"127.0.0.1", port};
+    config.connect_timeout = connect_timeout;
     config.backoff_initial = Micros{20'000};
     config.backoff_max = Micros{80'000};
     auto runner = std::make_unique<TcpRunner>(executor, *client, config,
@@ -152,6 +154,29 @@ TEST(VehicleClientTcp, SaysNotAnOcpServerWhenThePeerSpeaksSomethingElse) {
   EXPECT_NE(event->detail.find("not an OCP server"), std::string::npos) << event->detail;
   EXPECT_EQ(runner->stats().not_an_ocp_server, 1u);
   EXPECT_EQ(world.count(ConnectionEventKind::disconnected), 0u);
+}
+
+// Linux drops the SYN of a connection to a listener whose accept queue is full, so a connect
+// to it stays unanswered: a deterministic way to make a loopback connect time out.
+TEST(VehicleClientTcp, SaysTimedOutWhenTheServerNeverAnswersTheConnect) {
+  LoopbackWorld world;
+  namespace asio = boost::asio;
+  asio::ip::tcp::acceptor unanswering(world.io, asio::ip::tcp::endpoint(asio::ip::address_v4::loopback(), 0));
+  unanswering.listen(0);  // a backlog of 0 still queues one connection...
+  asio::ip::tcp::socket queued(world.io);
+  queued.connect(unanswering.local_endpoint());  // ...this one, never accepted: the queue is full
+  auto runner = world.make_runner(unanswering.local_endpoint().port(), Micros{150'000});
+  runner->start();
+  ASSERT_TRUE(testing::run_until(world.io, [&] { return world.count(ConnectionEventKind::timed_out) >= 1; }));
+  const auto event = std::find_if(world.events.begin(), world.events.end(), [](const ConnectionEvent& e) {
+    return e.kind == ConnectionEventKind::timed_out;
+  });
+  EXPECT_NE(event->detail.find("timed out after 150 ms"), std::string::npos) << event->detail;
+  EXPECT_EQ(runner->stats().timed_out, 1u);
+  EXPECT_FALSE(world.client->connected());
+  // A timed-out attempt is retried like a refused one.
+  ASSERT_TRUE(testing::run_until(world.io, [&] { return world.count(ConnectionEventKind::retry_scheduled) >= 1; }));
+  runner->stop();
 }
 
 TEST(VehicleClientTcp, StopCancelsThePendingRetry) {
