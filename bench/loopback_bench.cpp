@@ -4,7 +4,8 @@
 //   * tick lateness of a 100 Hz PeriodicTimer on the AsioExecutor, idle and beside a running
 //     Streamer with a connected vehicle;
 //   * CPU per connected vehicle at 100 Hz (getrusage(RUSAGE_THREAD) of the Streamer thread with
-//     and without a vehicle, and of the client's thread).
+//     and without a vehicle, and of the client's thread);
+//   * the machine's floor for the echo: a bare blocking-socket echo paced the same way.
 // Each benchmark runs once for a fixed wall-clock window and reports percentiles as counters.
 // Results: docs/benchmarks.md ("Loopback").
 #include <benchmark/benchmark.h>
@@ -12,8 +13,12 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/read.hpp>
+#include <boost/asio/write.hpp>
 #include <chrono>
 #include <cstdint>
 #include <thread>
@@ -205,6 +210,54 @@ void BM_TickLatenessIdle100Hz(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_TickLatenessIdle100Hz)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
+
+// The machine's floor for the echo figure, in the same run: two threads, plain blocking
+// sockets, a frame of the control message's size sent every 10 ms on absolute deadlines and
+// echoed at once. No Streamer, no client, no reactor: only the kernel's loopback and two
+// thread wake-ups, which on a VM can dominate (see docs/benchmarks.md).
+void BM_BareSocketEchoFloor(benchmark::State& state) {
+  namespace asio = boost::asio;
+  using asio::ip::tcp;
+  use_precise_timers();
+  for (auto _ : state) {
+    asio::io_context io;
+    tcp::acceptor acceptor(io, tcp::endpoint(asio::ip::address_v4::loopback(), 0));
+    tcp::socket echo_side(io);
+    echo_side.connect(acceptor.local_endpoint());
+    tcp::socket sender(io);
+    acceptor.accept(sender);
+    sender.set_option(tcp::no_delay(true));
+    echo_side.set_option(tcp::no_delay(true));
+    std::thread echo([&echo_side] {
+      use_precise_timers();
+      std::array<char, 4096> buffer{};
+      boost::system::error_code error;
+      for (;;) {
+        const std::size_t size = echo_side.read_some(asio::buffer(buffer), error);
+        if (error) return;
+        asio::write(echo_side, asio::buffer(buffer.data(), size), error);
+        if (error) return;
+      }
+    });
+    const std::string frame(380, 'x');  // about a control frame
+    std::string reply(frame.size(), '\0');
+    std::vector<double> round_trips_us;
+    const auto samples = static_cast<std::size_t>(measure_window / std::chrono::milliseconds(10));
+    auto deadline = std::chrono::steady_clock::now();
+    for (std::size_t index = 0; index < samples; ++index) {
+      deadline += std::chrono::milliseconds(10);
+      std::this_thread::sleep_until(deadline);
+      const auto sent_at = std::chrono::steady_clock::now();
+      asio::write(sender, asio::buffer(frame));
+      asio::read(sender, asio::buffer(reply));
+      round_trips_us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - sent_at).count());
+    }
+    sender.shutdown(tcp::socket::shutdown_both);
+    echo.join();
+    report_percentiles(state, "echo_", round_trips_us);
+  }
+}
+BENCHMARK(BM_BareSocketEchoFloor)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
 
 }  // namespace
 }  // namespace ocp
