@@ -5,7 +5,8 @@
 //     Streamer with a connected vehicle;
 //   * CPU per connected vehicle at 100 Hz (getrusage(RUSAGE_THREAD) of the Streamer thread with
 //     and without a vehicle, and of the client's thread);
-//   * the machine's floor for the echo: a bare blocking-socket echo paced the same way.
+//   * the machine's floors, measured in the same run: a bare sleep_until loop for tick
+//     lateness, a bare blocking-socket echo paced the same way for the echo.
 // Each benchmark runs once for a fixed wall-clock window and reports percentiles as counters.
 // Results: docs/benchmarks.md ("Loopback").
 #include <benchmark/benchmark.h>
@@ -210,6 +211,24 @@ void BM_TickLatenessIdle100Hz(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_TickLatenessIdle100Hz)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
+
+// The machine's floor for the tick-lateness figures, in the same run: a bare sleep_until loop
+// at 100 Hz on absolute deadlines (no executor, no reactor).
+void BM_BareSleepUntilFloor100Hz(benchmark::State& state) {
+  use_precise_timers();
+  for (auto _ : state) {
+    std::vector<double> lateness_us;
+    const auto samples = static_cast<std::size_t>(measure_window / std::chrono::milliseconds(10));
+    auto deadline = std::chrono::steady_clock::now();
+    for (std::size_t index = 0; index < samples; ++index) {
+      deadline += std::chrono::milliseconds(10);
+      std::this_thread::sleep_until(deadline);
+      lateness_us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - deadline).count());
+    }
+    report_percentiles(state, "tick_late_", lateness_us);
+  }
+}
+BENCHMARK(BM_BareSleepUntilFloor100Hz)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
 
 // The machine's floor for the echo figure, in the same run: two threads, plain blocking
 // sockets, a frame of the control message's size sent every 10 ms on absolute deadlines and
