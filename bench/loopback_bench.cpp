@@ -212,20 +212,33 @@ void BM_TickLatenessIdle100Hz(benchmark::State& state) {
 }
 BENCHMARK(BM_TickLatenessIdle100Hz)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
 
+using SteadyTime = std::chrono::steady_clock::time_point;
+
+double micros_since(SteadyTime start) {
+  return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The floors' pacing: wakes every 10 ms on absolute deadlines for the measurement window and
+// collects what `measure(deadline)` returns.
+template <typename Measure>
+std::vector<double> every_10ms(Measure measure) {
+  std::vector<double> values;
+  const auto samples = static_cast<std::size_t>(measure_window / std::chrono::milliseconds(10));
+  SteadyTime deadline = std::chrono::steady_clock::now();
+  for (std::size_t index = 0; index < samples; ++index) {
+    deadline += std::chrono::milliseconds(10);
+    std::this_thread::sleep_until(deadline);
+    values.push_back(measure(deadline));
+  }
+  return values;
+}
+
 // The machine's floor for the tick-lateness figures, in the same run: a bare sleep_until loop
 // at 100 Hz on absolute deadlines (no executor, no reactor).
 void BM_BareSleepUntilFloor100Hz(benchmark::State& state) {
   use_precise_timers();
   for (auto _ : state) {
-    std::vector<double> lateness_us;
-    const auto samples = static_cast<std::size_t>(measure_window / std::chrono::milliseconds(10));
-    auto deadline = std::chrono::steady_clock::now();
-    for (std::size_t index = 0; index < samples; ++index) {
-      deadline += std::chrono::milliseconds(10);
-      std::this_thread::sleep_until(deadline);
-      lateness_us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - deadline).count());
-    }
-    report_percentiles(state, "tick_late_", lateness_us);
+    report_percentiles(state, "tick_late_", every_10ms([](SteadyTime deadline) { return micros_since(deadline); }));
   }
 }
 BENCHMARK(BM_BareSleepUntilFloor100Hz)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
@@ -260,17 +273,12 @@ void BM_BareSocketEchoFloor(benchmark::State& state) {
     });
     const std::string frame(380, 'x');  // about a control frame
     std::string reply(frame.size(), '\0');
-    std::vector<double> round_trips_us;
-    const auto samples = static_cast<std::size_t>(measure_window / std::chrono::milliseconds(10));
-    auto deadline = std::chrono::steady_clock::now();
-    for (std::size_t index = 0; index < samples; ++index) {
-      deadline += std::chrono::milliseconds(10);
-      std::this_thread::sleep_until(deadline);
-      const auto sent_at = std::chrono::steady_clock::now();
+    const std::vector<double> round_trips_us = every_10ms([&](SteadyTime) {
+      const SteadyTime sent_at = std::chrono::steady_clock::now();
       asio::write(sender, asio::buffer(frame));
       asio::read(sender, asio::buffer(reply));
-      round_trips_us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - sent_at).count());
-    }
+      return micros_since(sent_at);
+    });
     sender.shutdown(tcp::socket::shutdown_both);
     echo.join();
     report_percentiles(state, "echo_", round_trips_us);
