@@ -142,14 +142,28 @@ void report_percentiles(benchmark::State& state, const std::string& prefix, cons
   state.counters[prefix + "samples"] = static_cast<double>(values.size());
 }
 
+// What `streamer_sim` runs, on an ephemeral port, driven by this thread's io_context.
+struct StreamerUnderTest {
+  boost::asio::io_context io;
+  AsioExecutor executor{io};
+  StreamerSimulation simulation{executor, ephemeral_port_options(), {}};
+
+  static StreamerSimOptions ephemeral_port_options() {
+    StreamerSimOptions options;
+    options.plugin_params.tcp_port = 0;
+    return options;
+  }
+};
+
+double cpu_percent_of_window(double cpu_seconds) {
+  return 100.0 * cpu_seconds / static_cast<double>(measure_window.count());
+}
+
 void BM_LoopbackEchoRoundTrip(benchmark::State& state) {
   use_precise_timers();
   for (auto _ : state) {
-    boost::asio::io_context io;
-    AsioExecutor executor(io);
-    StreamerSimOptions options;
-    options.plugin_params.tcp_port = 0;
-    StreamerSimulation simulation(executor, options, {});
+    StreamerUnderTest streamer;
+    auto& [io, executor, simulation] = streamer;
     if (!simulation.start().ok()) {
       state.SkipWithError("cannot start the streamer");
       return;
@@ -168,7 +182,7 @@ void BM_LoopbackEchoRoundTrip(benchmark::State& state) {
     client.join();
     report_percentiles(state, "echo_", probe.round_trips_us());
     report_percentiles(state, "tick_late_", ticks.lateness_us());
-    state.counters["streamer_thread_cpu_pct"] = 100.0 * streamer_cpu / static_cast<double>(measure_window.count());
+    state.counters["streamer_thread_cpu_pct"] = cpu_percent_of_window(streamer_cpu);
     state.counters["client_thread_cpu_pct"] = client.cpu_percent();
     state.counters["control_frames"] = static_cast<double>(simulation.streamer().stats().control_frames_sent);
     simulation.streamer().set_observer(nullptr);
@@ -180,20 +194,15 @@ BENCHMARK(BM_LoopbackEchoRoundTrip)->Iterations(1)->Unit(benchmark::kSecond)->Us
 void BM_StreamerWithoutVehicle(benchmark::State& state) {
   use_precise_timers();
   for (auto _ : state) {
-    boost::asio::io_context io;
-    AsioExecutor executor(io);
-    StreamerSimOptions options;
-    options.plugin_params.tcp_port = 0;
-    StreamerSimulation simulation(executor, options, {});
-    if (!simulation.start().ok()) {
+    StreamerUnderTest streamer;
+    if (!streamer.simulation.start().ok()) {
       state.SkipWithError("cannot start the streamer");
       return;
     }
-    io.run_for(warm_up);
+    streamer.io.run_for(warm_up);
     const double cpu_start = thread_cpu_seconds();
-    io.run_for(measure_window);
-    state.counters["streamer_thread_cpu_pct"] =
-        100.0 * (thread_cpu_seconds() - cpu_start) / static_cast<double>(measure_window.count());
+    streamer.io.run_for(measure_window);
+    state.counters["streamer_thread_cpu_pct"] = cpu_percent_of_window(thread_cpu_seconds() - cpu_start);
   }
 }
 BENCHMARK(BM_StreamerWithoutVehicle)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();

@@ -10,14 +10,15 @@ namespace ocp {
 
 void StreamerCore::State::on_control_tick(SimTime /*deadline*/) {
   ++stats.control_ticks;
-  evaluate_tick_faults();
+  // One instant per tick: the faults, the telemetry latency and the issued ack_time agree.
+  const SimTime now = executor.now();
+  evaluate_tick_faults(now);
   if (!vehicle) return;
-  build_control_message();
+  build_control_message(now);
   send_control_message();
 }
 
-void StreamerCore::State::evaluate_tick_faults() {
-  const SimTime now = executor.now();
+void StreamerCore::State::evaluate_tick_faults(SimTime now) {
   faults.set(FaultId::VehicleNoResponse, vehicle == nullptr);
   // Measured from start when no operator message ever arrived.
   faults.set(FaultId::NoControlMessage, now - last_operator_arrival > config.no_control_timeout);
@@ -29,7 +30,7 @@ void StreamerCore::State::evaluate_tick_faults() {
   evaluate_inbox_fault();
 }
 
-void StreamerCore::State::build_control_message() {
+void StreamerCore::State::build_control_message(SimTime now) {
   const FaultSet& active = faults.faults();
   if (!operator_controller) {
     outgoing.controller.reset();  // gamepad disabled: null, also during faults
@@ -38,11 +39,11 @@ void StreamerCore::State::build_control_message() {
   } else {
     outgoing.controller = operator_controller;
   }
-  outgoing.telemetry.latency_ms = latency_loop.latency_ms(executor.now()).value_or(0);
+  outgoing.telemetry.latency_ms = latency_loop.latency_ms(now).value_or(0);
   outgoing.telemetry.fault = !active.empty();
   outgoing.telemetry.fault_reason = active.fault_reason();
   outgoing.telemetry.missing_cameras = missing_cameras;
-  outgoing.ack = latency_loop.issue(executor.now());
+  outgoing.ack = latency_loop.issue(now);
   outgoing.client_user_data = operator_user_data;
 }
 

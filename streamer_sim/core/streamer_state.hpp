@@ -41,8 +41,8 @@ struct StreamerCore::State {
 
   // control_tick.cpp
   void on_control_tick(SimTime deadline);
-  void evaluate_tick_faults();
-  void build_control_message();
+  void evaluate_tick_faults(SimTime now);
+  void build_control_message(SimTime now);
   void send_control_message();
 
   // feedback.cpp

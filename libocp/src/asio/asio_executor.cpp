@@ -44,7 +44,7 @@ void AsioExecutor::cancel(TimerId id) {
     timer_.cancel();
   }
   // Otherwise the timer stays armed: one wake-up that finds nothing due is cheaper than
-  // re-programming the timer on every cancel (read timeouts are cancelled and re-armed often).
+  // re-programming the timer on every cancel.
 }
 
 void AsioExecutor::schedule_wake_up() {
