@@ -13,7 +13,7 @@
 #include <string>
 
 #include "ocp/virtual_executor.hpp"
-#include "scenario/world.hpp"
+#include "world/world.hpp"
 
 namespace {
 

@@ -4,9 +4,9 @@
 
 #include <vector>
 
-#include "sim_common/common_options.hpp"
-#include "sim_common/exit_codes.hpp"
-#include "sim_common/gamepad_script.hpp"
+#include "sim_app/common_options.hpp"
+#include "sim_app/exit_codes.hpp"
+#include "sim_app/gamepad_script.hpp"
 
 namespace ocp::sim {
 namespace {

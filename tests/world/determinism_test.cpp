@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "scenario/seeds.hpp"
+#include "world/seeds.hpp"
 #include "world_fixture.hpp"
 
 namespace ocp::world_test {

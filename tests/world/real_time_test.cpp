@@ -5,8 +5,8 @@
 #include <boost/asio/io_context.hpp>
 
 #include "ocp/asio_executor.hpp"
-#include "scenario/stream_tap.hpp"
-#include "scenario/world.hpp"
+#include "world/stream_tap.hpp"
+#include "world/world.hpp"
 
 namespace ocp {
 namespace {

@@ -14,8 +14,8 @@
 #include "ocp/frame.hpp"
 #include "ocp/json_codec.hpp"
 #include "ocp/pipe.hpp"
-#include "scenario/stream_tap.hpp"
-#include "scenario/virtual_world.hpp"
+#include "world/stream_tap.hpp"
+#include "world/virtual_world.hpp"
 
 namespace ocp::world_test {
 

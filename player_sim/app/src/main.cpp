@@ -6,10 +6,10 @@
 #include <set>
 
 #include "player_app/player_simulation.hpp"
-#include "sim_common/common_options.hpp"
-#include "sim_common/console.hpp"
-#include "sim_common/exit_codes.hpp"
-#include "sim_common/run_simulation.hpp"
+#include "sim_app/common_options.hpp"
+#include "sim_app/console.hpp"
+#include "sim_app/exit_codes.hpp"
+#include "sim_app/run_simulation.hpp"
 
 int main(int argc, char** argv) {
   using namespace ocp;

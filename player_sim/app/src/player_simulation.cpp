@@ -4,7 +4,7 @@
 
 #include <utility>
 
-#include "sim_common/console.hpp"
+#include "sim_app/console.hpp"
 
 namespace ocp {
 

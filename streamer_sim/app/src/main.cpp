@@ -4,10 +4,10 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
-#include "sim_common/common_options.hpp"
-#include "sim_common/console.hpp"
-#include "sim_common/exit_codes.hpp"
-#include "sim_common/run_simulation.hpp"
+#include "sim_app/common_options.hpp"
+#include "sim_app/console.hpp"
+#include "sim_app/exit_codes.hpp"
+#include "sim_app/run_simulation.hpp"
 #include "streamer_app/streamer_simulation.hpp"
 
 int main(int argc, char** argv) {

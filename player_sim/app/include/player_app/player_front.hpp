@@ -9,7 +9,7 @@
 #include "ocp/asio_executor.hpp"
 #include "ocp/log.hpp"
 #include "ocp/tcp_server.hpp"
-#include "scenario/world.hpp"
+#include "world/world.hpp"
 
 namespace ocp {
 

@@ -13,8 +13,8 @@
 #include "ocp/log.hpp"
 #include "ocp/plugin_params.hpp"
 #include "player_app/player_front.hpp"
-#include "scenario/world.hpp"
-#include "sim_common/gamepad_script.hpp"
+#include "world/world.hpp"
+#include "sim_app/gamepad_script.hpp"
 
 namespace ocp {
 

@@ -10,7 +10,7 @@
 #include "ocp/asio_executor.hpp"
 #include "ocp/log.hpp"
 #include "ocp/tcp_server.hpp"
-#include "scenario/world.hpp"
+#include "world/world.hpp"
 
 namespace ocp {
 

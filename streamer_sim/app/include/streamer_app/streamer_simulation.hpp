@@ -12,8 +12,8 @@
 #include "ocp/com_channel.hpp"
 #include "ocp/log.hpp"
 #include "ocp/plugin_params.hpp"
-#include "scenario/world.hpp"
-#include "sim_common/gamepad_script.hpp"
+#include "world/world.hpp"
+#include "sim_app/gamepad_script.hpp"
 #include "streamer_app/streamer_front.hpp"
 
 namespace ocp {

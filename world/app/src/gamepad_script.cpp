@@ -1,4 +1,4 @@
-#include "sim_common/gamepad_script.hpp"
+#include "sim_app/gamepad_script.hpp"
 
 #include <cmath>
 #include <numbers>

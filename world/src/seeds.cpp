@@ -1,4 +1,4 @@
-#include "scenario/seeds.hpp"
+#include "world/seeds.hpp"
 
 namespace ocp {
 namespace {

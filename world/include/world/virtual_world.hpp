@@ -11,8 +11,8 @@
 #include <functional>
 
 #include "ocp/virtual_executor.hpp"
-#include "scenario/trace.hpp"
-#include "scenario/world.hpp"
+#include "world/trace.hpp"
+#include "world/world.hpp"
 
 namespace ocp {
 

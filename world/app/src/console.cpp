@@ -1,4 +1,4 @@
-#include "sim_common/console.hpp"
+#include "sim_app/console.hpp"
 
 #include <optional>
 

@@ -1,10 +1,10 @@
-#include "sim_common/common_options.hpp"
+#include "sim_app/common_options.hpp"
 
 #include <charconv>
 #include <cmath>
 #include <iostream>
 
-#include "sim_common/exit_codes.hpp"
+#include "sim_app/exit_codes.hpp"
 
 namespace ocp::sim {
 

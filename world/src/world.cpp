@@ -1,4 +1,4 @@
-#include "scenario/world.hpp"
+#include "world/world.hpp"
 
 #include <cstdio>
 #include <cstdlib>
@@ -7,8 +7,8 @@
 #include <variant>
 
 #include "ocp/pipe.hpp"
-#include "scenario/seeds.hpp"
-#include "scenario/stream_tap.hpp"
+#include "world/seeds.hpp"
+#include "world/stream_tap.hpp"
 
 namespace ocp {
 

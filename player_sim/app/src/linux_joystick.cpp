@@ -1,5 +1,5 @@
 // Non-blocking reader for Linux joystick devices (see linux_joystick.hpp).
-#include "player/linux_joystick.hpp"
+#include "player_app/linux_joystick.hpp"
 
 #include <fcntl.h>
 #include <linux/joystick.h>

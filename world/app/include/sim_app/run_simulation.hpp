@@ -9,10 +9,10 @@
 #include <system_error>
 
 #include "ocp/log.hpp"
-#include "sim_common/common_options.hpp"
-#include "sim_common/console.hpp"
-#include "sim_common/exit_codes.hpp"
-#include "sim_common/real_time_runner.hpp"
+#include "sim_app/common_options.hpp"
+#include "sim_app/console.hpp"
+#include "sim_app/exit_codes.hpp"
+#include "sim_app/real_time_runner.hpp"
 
 namespace ocp::sim {
 

@@ -1,11 +1,11 @@
-#include "scenario/trace.hpp"
+#include "world/trace.hpp"
 
 #include <fmt/format.h>
 
 #include <map>
 #include <utility>
 
-#include "scenario/world.hpp"
+#include "world/world.hpp"
 
 namespace ocp {
 namespace {

@@ -1,4 +1,4 @@
-#include "scenario/virtual_world.hpp"
+#include "world/virtual_world.hpp"
 
 #include <utility>
 

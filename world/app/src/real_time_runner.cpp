@@ -1,4 +1,4 @@
-#include "sim_common/real_time_runner.hpp"
+#include "sim_app/real_time_runner.hpp"
 
 #include <fmt/format.h>
 

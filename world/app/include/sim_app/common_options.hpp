@@ -20,7 +20,7 @@
 #include "ocp/error.hpp"
 #include "ocp/log.hpp"
 #include "ocp/plugin_params.hpp"
-#include "sim_common/gamepad_script.hpp"
+#include "sim_app/gamepad_script.hpp"
 #include "streamer/streamer_core.hpp"
 
 namespace ocp::sim {

@@ -1,4 +1,4 @@
-#include "scenario/stream_tap.hpp"
+#include "world/stream_tap.hpp"
 
 #include <utility>
 
