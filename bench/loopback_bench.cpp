@@ -88,17 +88,23 @@ class ClientThread {
   double wall_seconds_ = 0.0;
 };
 
-// Control frame sent (by ack_time) → the first response that carries that pair.
-class RoundTripProbe : public StreamerObserver {
+// Control frame sent (by ack_time) → the first response that carries that pair, from the
+// Streamer's event stream (WireFrame events carry the pair of each frame).
+class RoundTripProbe {
  public:
-  explicit RoundTripProbe(const Executor& executor) : executor_(executor) {}
-  void on_control_sent(const OcpControlMessage& message) override {
-    sent_at_[message.ack.ack_time] = executor_.now();
-  }
-  void on_vehicle_response(const VehicleResponseMessage& response) override {
-    const auto found = sent_at_.find(response.ack.ack_time);
+  explicit RoundTripProbe(EventBus& events)
+      : subscription_(events.subscribe([this](const Event& event) {
+          const auto* frame = std::get_if<WireFrame>(&event.body);
+          if (frame != nullptr && frame->ack) on_frame(*frame, event.time);
+        })) {}
+  void on_frame(const WireFrame& frame, SimTime at) {
+    if (frame.direction == FrameDirection::out) {
+      sent_at_[frame.ack->ack_time] = at;
+      return;
+    }
+    const auto found = sent_at_.find(frame.ack->ack_time);
     if (found == sent_at_.end()) return;   // keep-alive repeat of a pair already counted
-    if (recording_) round_trips_us_.push_back(static_cast<double>((executor_.now() - found->second).count()));
+    if (recording_) round_trips_us_.push_back(static_cast<double>((at - found->second).count()));
     sent_at_.erase(found);
   }
   void start_recording() {
@@ -108,10 +114,10 @@ class RoundTripProbe : public StreamerObserver {
   const std::vector<double>& round_trips_us() const { return round_trips_us_; }
 
  private:
-  const Executor& executor_;
   std::unordered_map<std::uint64_t, SimTime> sent_at_;
   std::vector<double> round_trips_us_;
   bool recording_ = false;
+  EventBus::Subscription subscription_;
 };
 
 // Lateness of every tick of a 100 Hz PeriodicTimer.
@@ -168,8 +174,7 @@ void BM_LoopbackEchoRoundTrip(benchmark::State& state) {
       state.SkipWithError("cannot start the streamer");
       return;
     }
-    RoundTripProbe probe(executor);
-    simulation.streamer().set_observer(&probe);
+    RoundTripProbe probe(simulation.streamer().events());
     TickProbe ticks(executor);
     ClientThread client(simulation.port());
     io.run_for(warm_up);
@@ -185,7 +190,6 @@ void BM_LoopbackEchoRoundTrip(benchmark::State& state) {
     state.counters["streamer_thread_cpu_pct"] = cpu_percent_of_window(streamer_cpu);
     state.counters["client_thread_cpu_pct"] = client.cpu_percent();
     state.counters["control_frames"] = static_cast<double>(simulation.streamer().stats().control_frames_sent);
-    simulation.streamer().set_observer(nullptr);
   }
 }
 BENCHMARK(BM_LoopbackEchoRoundTrip)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();

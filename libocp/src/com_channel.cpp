@@ -26,7 +26,44 @@ LinkDirection::~LinkDirection() { *alive_ = false; }
 
 void LinkDirection::set_receiver(Receiver receiver) { receiver_ = std::move(receiver); }
 
-void LinkDirection::set_impairments(const Impairments& impairments) { impairments_ = impairments; }
+void LinkDirection::set_identity(std::string_view name, LinkRoute route) {
+  name_ = name;
+  route_ = route;
+}
+
+void LinkDirection::set_impairments(const Impairments& impairments) {
+  impairments_ = impairments;
+  if (events_.active()) {
+    events_.publish(Event{executor_.now(), Component{ComponentKind::link, name_},
+                          ImpairmentChange{route_, &impairments_}});
+  }
+}
+
+namespace {
+
+LinkMessageKind kind_of(const LinkMessage& message) {
+  switch (message.index()) {
+    case 0: return LinkMessageKind::operator_control;
+    case 1: return LinkMessageKind::feedback;
+    case 2: return LinkMessageKind::video_frame;
+    case 3: return LinkMessageKind::ping;
+    default: return LinkMessageKind::pong;
+  }
+}
+
+}  // namespace
+
+void LinkDirection::publish(LinkOutcome outcome, const LinkMessage& message,
+                            std::size_t size_bytes, std::uint64_t message_id, DropReason reason) {
+  events_.publish(Event{executor_.now(), Component{ComponentKind::link, name_},
+                        LinkEvent{route_, outcome, kind_of(message), reason, size_bytes, message_id}});
+}
+
+void LinkDirection::drop(const LinkMessage& message, std::size_t size_bytes,
+                         std::uint64_t message_id, DropReason reason) {
+  ++counters_.dropped;
+  if (events_.active()) publish(LinkOutcome::dropped, message, size_bytes, message_id, reason);
+}
 
 void LinkDirection::outage_for(Micros duration) {
   outage_until_ = std::max(outage_until_, executor_.now() + duration);
@@ -63,7 +100,7 @@ Micros LinkDirection::jitter_sample() {
   return Micros{0};
 }
 
-bool LinkDirection::lost_in_transit() {
+DropReason LinkDirection::lost_in_transit() {
   if (impairments_.burst_loss) {
     // Gilbert–Elliott: move the two-state chain one step, then lose with that state's rate.
     const double transition = uniform_unit();
@@ -74,10 +111,13 @@ bool LinkDirection::lost_in_transit() {
     }
     const double loss = in_bad_state_ ? impairments_.loss_in_bad : impairments_.loss_in_good;
     if (loss > 0.0 && uniform_unit() < loss) {
-      return true;
+      return DropReason::burst_loss;
     }
   }
-  return impairments_.loss_probability > 0.0 && uniform_unit() < impairments_.loss_probability;
+  if (impairments_.loss_probability > 0.0 && uniform_unit() < impairments_.loss_probability) {
+    return DropReason::random_loss;
+  }
+  return DropReason::none;
 }
 
 std::size_t LinkDirection::backlog_bytes(SimTime now) const {
@@ -99,8 +139,10 @@ void LinkDirection::send(LinkMessage message) {
   const std::size_t size_bytes = wire_size_bytes(message);
   ++counters_.sent;
   counters_.bytes_sent += size_bytes;
+  const std::uint64_t message_id = next_message_id_++;
+  if (events_.active()) publish(LinkOutcome::sent, message, size_bytes, message_id);
   if (is_down()) {
-    ++counters_.dropped;
+    drop(message, size_bytes, message_id, DropReason::outage);
     return;
   }
 
@@ -110,7 +152,7 @@ void LinkDirection::send(LinkMessage message) {
   if (impairments_.bandwidth_bits_per_second > 0.0) {
     if (impairments_.queue_limit_bytes > 0 &&
         backlog_bytes(now) + size_bytes > impairments_.queue_limit_bytes) {
-      ++counters_.dropped;
+      drop(message, size_bytes, message_id, DropReason::queue_full);
       return;
     }
     const double transmit_micros = static_cast<double>(size_bytes) * bits_per_byte * micros_per_second /
@@ -121,8 +163,8 @@ void LinkDirection::send(LinkMessage message) {
   }
 
   // Loss happens in transit, after the message used its share of the bandwidth.
-  if (lost_in_transit()) {
-    ++counters_.dropped;
+  if (const DropReason lost = lost_in_transit(); lost != DropReason::none) {
+    drop(message, size_bytes, message_id, lost);
     return;
   }
 
@@ -140,20 +182,23 @@ void LinkDirection::send(LinkMessage message) {
 
   if (impairments_.duplicate_probability > 0.0 && uniform_unit() < impairments_.duplicate_probability) {
     ++counters_.duplicated;
-    schedule_delivery(deliver_at, message, size_bytes);
+    schedule_delivery(deliver_at, message, size_bytes, message_id);
   }
-  schedule_delivery(deliver_at, std::move(message), size_bytes);
+  schedule_delivery(deliver_at, std::move(message), size_bytes, message_id);
 }
 
-void LinkDirection::schedule_delivery(SimTime deliver_at, LinkMessage message, std::size_t size_bytes) {
+void LinkDirection::schedule_delivery(SimTime deliver_at, LinkMessage message, std::size_t size_bytes,
+                                      std::uint64_t message_id) {
   ++counters_.in_flight;
-  executor_.call_at(deliver_at, [this, alive = alive_, message = std::move(message), size_bytes]() mutable {
+  executor_.call_at(deliver_at, [this, alive = alive_, message = std::move(message), size_bytes,
+                                 message_id]() mutable {
     if (!*alive) {
       return;
     }
     --counters_.in_flight;
     ++counters_.delivered;
     counters_.bytes_delivered += size_bytes;
+    if (events_.active()) publish(LinkOutcome::delivered, message, size_bytes, message_id);
     if (receiver_) {
       receiver_(std::move(message));
     }
@@ -161,7 +206,12 @@ void LinkDirection::schedule_delivery(SimTime deliver_at, LinkMessage message, s
 }
 
 ComChannel::ComChannel(Executor& executor, std::uint64_t seed, std::string name)
-    : name_(std::move(name)), to_streamer_(executor, mix_seed(seed)), to_player_(executor, mix_seed(~seed)) {}
+    : name_(std::move(name)), to_streamer_(executor, mix_seed(seed)), to_player_(executor, mix_seed(~seed)) {
+  to_streamer_.set_identity(name_, LinkRoute::to_streamer);
+  to_player_.set_identity(name_, LinkRoute::to_player);
+  to_streamer_.events().set_parent(&events_);
+  to_player_.events().set_parent(&events_);
+}
 
 void ComChannel::set_impairments(const Impairments& impairments) {
   to_streamer_.set_impairments(impairments);

@@ -84,7 +84,7 @@ std::size_t FrameDecoder::put(std::string_view input, FrameEvent& event) {
 
 Status FrameDecoder::finish() const {
   const auto truncated = [](std::string detail) {
-    return Error{make_error_code(ProtocolError::truncated_frame), std::move(detail)};
+    return Error{make_error_code(PeerError::truncated_frame), std::move(detail)};
   };
   switch (state_) {
     case State::header:
@@ -117,7 +117,7 @@ Status append_frame(std::string_view payload, std::string& out, std::size_t payl
   const std::size_t limit =
       std::min<std::size_t>(payload_limit_bytes, std::numeric_limits<std::uint32_t>::max());
   if (payload.size() > limit) {
-    return Error{make_error_code(ProtocolError::frame_too_large),
+    return Error{make_error_code(LocalError::frame_too_large),
                  "payload of " + std::to_string(payload.size()) + " bytes exceeds the limit of " +
                      std::to_string(limit) + " bytes"};
   }

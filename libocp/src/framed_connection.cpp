@@ -6,11 +6,30 @@
 
 #include <fmt/format.h>
 
+#include "ocp/json_codec.hpp"
+
 namespace ocp {
 namespace {
 
 void add(std::uint64_t* counter, std::uint64_t amount) {
   if (counter != nullptr) *counter += amount;
+}
+
+// The pair a vehicle-wire message carries, for WireFrame events (only decoded while somebody
+// listens). Operator-wire messages carry one pair per vehicle: none is singled out.
+std::optional<AckPair> carried_pair(WireMessageKind kind, std::string_view payload) {
+  switch (kind) {
+    case WireMessageKind::control:
+      if (auto message = decode_control_message(payload)) return message->ack;
+      return std::nullopt;
+    case WireMessageKind::vehicle_response:
+      if (auto message = decode_vehicle_response(payload)) return message->ack;
+      return std::nullopt;
+    case WireMessageKind::vehicle_ocp_shared:
+    case WireMessageKind::client_ocp_shared:
+      return std::nullopt;
+  }
+  return std::nullopt;
 }
 
 }  // namespace
@@ -49,10 +68,13 @@ void FramedConnection::start() {
     // Closed locally before we got it: no on_closed will ever come from the stream. Report it
     // from the executor so the owner has stored its pointer by then.
     executor_.post([weak] {
-      if (auto self = weak.lock()) self->close("stream already closed");
+      if (auto self = weak.lock()) {
+        self->close(CloseReason{LocalError::stream_closed, "the stream was closed before it was handed over"});
+      }
     });
     return;
   }
+  publish_connection(ConnectionChange::opened, nullptr);
   last_byte_at_ = executor_.now();
   if (options_.read_timeout.count() > 0) arm_read_timer(last_byte_at_ + options_.read_timeout);
   stream_->set_no_delay(true);
@@ -67,15 +89,48 @@ void FramedConnection::start() {
 
 Status FramedConnection::send(std::string_view payload) {
   if (!open_) {
-    return Error{std::make_error_code(std::errc::not_connected),
+    return Error{LocalError::not_connected,
                  fmt::format("{} connection {} is closed", options_.label, peer_)};
   }
   frame_buffer_.clear();
   Status framed = append_frame(payload, frame_buffer_, options_.payload_limit_bytes);
   if (!framed) return framed;  // never send an oversized frame (SPEC §2)
+  const std::size_t queued = stream_->queued_bytes();
+  if (queued + frame_buffer_.size() > options_.write_queue_limit_bytes) {
+    CloseReason reason{PeerError::not_reading,
+                       fmt::format("peer not reading: {} bytes already queued for it (limit {})",
+                                   queued, options_.write_queue_limit_bytes)};
+    close(reason);
+    return reason;
+  }
   add(counters_.bytes_out, frame_buffer_.size());
   stream_->write(frame_buffer_);
+  if (options_.events != nullptr && options_.events->active()) {
+    publish_frame(FrameDirection::out, options_.outbound_kind,
+                  static_cast<std::uint32_t>(payload.size()), payload, false);
+  }
   return framed;
+}
+
+void FramedConnection::publish_frame(FrameDirection direction, WireMessageKind kind,
+                                     std::uint32_t length_prefix, std::string_view payload,
+                                     bool drained) {
+  WireFrame frame;
+  frame.wire = options_.wire;
+  frame.direction = direction;
+  frame.kind = kind;
+  frame.length_prefix = length_prefix;
+  frame.payload = payload;
+  frame.drained = drained;
+  if (!drained) frame.ack = carried_pair(kind, payload);
+  frame.peer = peer_;
+  options_.events->publish(Event{executor_.now(), options_.component, frame});
+}
+
+void FramedConnection::publish_connection(ConnectionChange change, const CloseReason* reason) {
+  if (options_.events == nullptr || !options_.events->active()) return;
+  options_.events->publish(Event{executor_.now(), options_.component,
+                                 ConnectionEvent{options_.wire, change, peer_, reason}});
 }
 
 void FramedConnection::handle_bytes(std::string_view bytes) {
@@ -94,6 +149,9 @@ void FramedConnection::handle_bytes(std::string_view bytes) {
         break;
       case FrameEvent::Kind::oversized_dropped:
         add(counters_.oversized_frames_dropped, 1);
+        if (options_.events != nullptr && options_.events->active()) {
+          publish_frame(FrameDirection::in, options_.inbound_kind, event.declared_length, {}, true);
+        }
         logger_.warn("{} {}: dropped oversized frame of {} bytes (limit {}); connection kept",
                      options_.label, peer_, event.declared_length, options_.payload_limit_bytes);
         break;
@@ -105,9 +163,13 @@ void FramedConnection::handle_bytes(std::string_view bytes) {
 }
 
 void FramedConnection::handle_payload(std::string_view payload) {
+  if (options_.events != nullptr && options_.events->active()) {
+    publish_frame(FrameDirection::in, options_.inbound_kind,
+                  static_cast<std::uint32_t>(payload.size()), payload, false);
+  }
   if (!handlers_.on_payload) return;
   const Status handled = handlers_.on_payload(payload);
-  if (!handled) close(handled.error().message());
+  if (!handled) close(handled.error());
 }
 
 void FramedConnection::handle_peer_closed(const std::string& transport_reason) {
@@ -116,11 +178,11 @@ void FramedConnection::handle_peer_closed(const std::string& transport_reason) {
   if (!end) {
     logger_.warn("{} {}: stream ended inside a frame ({}): {}", options_.label, peer_,
                  transport_reason, end.error().message());
-    finish(end.error().message());
+    finish(end.error());
     return;
   }
   logger_.info("{} {}: peer closed the connection ({})", options_.label, peer_, transport_reason);
-  finish("peer closed: " + transport_reason);
+  finish(CloseReason{PeerError::closed_by_peer, transport_reason});
 }
 
 void FramedConnection::arm_read_timer(SimTime deadline) {
@@ -139,17 +201,18 @@ void FramedConnection::on_read_timer() {
     arm_read_timer(deadline);
     return;
   }
-  close(fmt::format("read timeout: no data from the {} for {} ms", options_.label,
-                    to_whole_ms(options_.read_timeout)));
+  close(CloseReason{PeerError::read_timeout, fmt::format("no data from the {} for {} ms",
+                                                         options_.label,
+                                                         to_whole_ms(options_.read_timeout))});
 }
 
-void FramedConnection::close(const std::string& reason) {
+void FramedConnection::close(CloseReason reason) {
   if (!open_) return;
-  logger_.warn("closing {} connection {}: {}", options_.label, peer_, reason);
+  logger_.warn("closing {} connection {}: {}", options_.label, peer_, reason.message());
   finish(reason);
 }
 
-void FramedConnection::finish(const std::string& reason) {
+void FramedConnection::finish(const CloseReason& reason) {
   if (!open_) return;
   // The owner usually drops its reference inside on_closed; stay alive until we return.
   const auto self = shared_from_this();
@@ -159,6 +222,7 @@ void FramedConnection::finish(const std::string& reason) {
     read_timer_ = 0;
   }
   if (stream_->is_open()) stream_->close();
+  publish_connection(ConnectionChange::closed, &reason);
   if (handlers_.on_closed) handlers_.on_closed(reason);
 }
 

@@ -92,7 +92,7 @@ bool parse_double(std::string_view text, double& out) {
 
 }  // namespace
 
-bool Decoder::fail(ProtocolError code, std::string_view message) {
+bool Decoder::fail(PeerError code, std::string_view message) {
   code_ = code;
   message_.assign(message);
   path_reversed_.clear();
@@ -100,7 +100,7 @@ bool Decoder::fail(ProtocolError code, std::string_view message) {
 }
 
 bool Decoder::fail_missing(std::string_view field) {
-  fail(ProtocolError::missing_field, "required field missing");
+  fail(PeerError::missing_field, "required field missing");
   return in_field(field, false);
 }
 
@@ -134,29 +134,29 @@ Error Decoder::take_error() const {
 
 bool Decoder::expect_object(std::size_t index) {
   if (kind(index) == TokenKind::object_begin) return true;
-  return fail(ProtocolError::wrong_type, "expected object");
+  return fail(PeerError::wrong_type, "expected object");
 }
 
 bool Decoder::read_bool(std::size_t index, bool& out) {
   switch (kind(index)) {
     case TokenKind::true_value: out = true; return true;
     case TokenKind::false_value: out = false; return true;
-    default: return fail(ProtocolError::wrong_type, "expected boolean");
+    default: return fail(PeerError::wrong_type, "expected boolean");
   }
 }
 
 bool Decoder::read_u64(std::size_t index, std::uint64_t& out) {
   constexpr std::string_view expected = "expected unsigned 64-bit integer";
-  if (kind(index) != TokenKind::number) return fail(ProtocolError::wrong_type, expected);
+  if (kind(index) != TokenKind::number) return fail(PeerError::wrong_type, expected);
   const std::string_view text = tape_.text_of(tape_.tokens[index]);
   if (is_plain_integer(text) && parse_digits(text, out)) return true;
-  return fail(ProtocolError::out_of_range,
+  return fail(PeerError::out_of_range,
               std::string(expected) + ", got " + quote_number(text));
 }
 
 bool Decoder::read_u32(std::size_t index, std::uint32_t& out) {
   constexpr std::string_view expected = "expected unsigned 32-bit integer";
-  if (kind(index) != TokenKind::number) return fail(ProtocolError::wrong_type, expected);
+  if (kind(index) != TokenKind::number) return fail(PeerError::wrong_type, expected);
   const std::string_view text = tape_.text_of(tape_.tokens[index]);
   std::uint64_t wide = 0;
   if (is_plain_integer(text) && parse_digits(text, wide) &&
@@ -164,13 +164,13 @@ bool Decoder::read_u32(std::size_t index, std::uint32_t& out) {
     out = static_cast<std::uint32_t>(wide);
     return true;
   }
-  return fail(ProtocolError::out_of_range,
+  return fail(PeerError::out_of_range,
               std::string(expected) + ", got " + quote_number(text));
 }
 
 bool Decoder::read_integral(std::size_t index, std::uint64_t& out) {
   constexpr std::string_view expected = "expected non-negative integer";
-  if (kind(index) != TokenKind::number) return fail(ProtocolError::wrong_type, expected);
+  if (kind(index) != TokenKind::number) return fail(PeerError::wrong_type, expected);
   const std::string_view text = tape_.text_of(tape_.tokens[index]);
   if (is_plain_integer(text)) {
     if (parse_digits(text, out)) return true;
@@ -184,26 +184,26 @@ bool Decoder::read_integral(std::size_t index, std::uint64_t& out) {
       return true;
     }
   }
-  return fail(ProtocolError::out_of_range,
+  return fail(PeerError::out_of_range,
               std::string(expected) + ", got " + quote_number(text));
 }
 
 bool Decoder::read_double(std::size_t index, double& out) {
-  if (kind(index) != TokenKind::number) return fail(ProtocolError::wrong_type, "expected number");
+  if (kind(index) != TokenKind::number) return fail(PeerError::wrong_type, "expected number");
   const std::string_view text = tape_.text_of(tape_.tokens[index]);
   if (parse_double(text, out)) return true;
-  return fail(ProtocolError::out_of_range, "expected finite number, got " + quote_number(text));
+  return fail(PeerError::out_of_range, "expected finite number, got " + quote_number(text));
 }
 
 bool Decoder::read_string(std::size_t index, std::string& out) {
-  if (kind(index) != TokenKind::string) return fail(ProtocolError::wrong_type, "expected string");
+  if (kind(index) != TokenKind::string) return fail(PeerError::wrong_type, "expected string");
   out.assign(tape_.text_of(tape_.tokens[index]));
   return true;
 }
 
 bool Decoder::read_string_array(std::size_t index, std::vector<std::string>& out) {
   if (kind(index) != TokenKind::array_begin) {
-    return fail(ProtocolError::wrong_type, "expected array of strings");
+    return fail(PeerError::wrong_type, "expected array of strings");
   }
   out.clear();
   const std::size_t end = tape_.tokens[index].end_index;

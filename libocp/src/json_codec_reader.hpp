@@ -24,7 +24,7 @@ class Decoder {
   bool is_null(std::size_t index) const { return kind(index) == TokenKind::null_value; }
 
   // Records the first problem; always returns false so callers can `return fail(...)`.
-  bool fail(ProtocolError code, std::string_view message);
+  bool fail(PeerError code, std::string_view message);
   bool fail_missing(std::string_view field);
   // Adds one path segment while an error unwinds.
   bool in_field(std::string_view field, bool ok);
@@ -62,7 +62,7 @@ class Decoder {
 
  private:
   const Tape& tape_;
-  ProtocolError code_ = ProtocolError::malformed_json;
+  PeerError code_ = PeerError::malformed_json;
   std::string message_;
   std::vector<std::string> path_reversed_;
 };

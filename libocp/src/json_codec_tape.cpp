@@ -367,7 +367,7 @@ InputShape inspect(std::string_view json) {
 }
 
 Error malformed(std::string detail) {
-  return Error{make_error_code(ProtocolError::malformed_json), std::move(detail)};
+  return Error{make_error_code(PeerError::malformed_json), std::move(detail)};
 }
 
 }  // namespace
@@ -413,7 +413,7 @@ namespace {
 
 Status check_root(const Tape& tape, bool require_object) {
   if (require_object && tape.tokens.front().kind != TokenKind::object_begin) {
-    return Error{make_error_code(ProtocolError::not_an_object),
+    return Error{make_error_code(PeerError::not_an_object),
                  "top-level value is not an object"};
   }
   return Ok{};
@@ -427,7 +427,7 @@ Status parse_tape(std::string_view json, Tape& tape, bool require_object,
   TapeHandler<InsituStream<Bounded>> handler(tape, stream, check_surrogates);
   const rapidjson::ParseResult result = reader.Parse<Flags>(stream, handler);
   if (handler.too_deep()) {
-    return Error{make_error_code(ProtocolError::too_deep),
+    return Error{make_error_code(PeerError::too_deep),
                  "nesting deeper than " + std::to_string(max_json_depth) + " levels at offset " +
                      std::to_string(stream.Tell())};
   }

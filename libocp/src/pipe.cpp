@@ -45,11 +45,19 @@ class PipeEnd final : public ByteStream, public std::enable_shared_from_this<Pip
     if (!open_ || bytes.empty()) {
       return;
     }
-    executor_.call_after(one_way_delay_, [peer = peer_, data = std::string(bytes)] {
+    *in_transit_bytes_ += bytes.size();
+    executor_.call_after(one_way_delay_, [peer = peer_, in_transit = in_transit_bytes_,
+                                          data = std::string(bytes)] {
+      *in_transit -= data.size();
       if (auto end = peer.lock()) {
         end->receive(data);
       }
     });
+  }
+
+  std::size_t queued_bytes() const override {
+    const auto peer = peer_.lock();
+    return *in_transit_bytes_ + (peer ? peer->buffered_.size() : 0);
   }
 
   void close() override {
@@ -143,7 +151,8 @@ class PipeEnd final : public ByteStream, public std::enable_shared_from_this<Pip
   std::string peer_name_;
   std::weak_ptr<PipeEnd> peer_;
   std::shared_ptr<const ByteStreamHandlers> handlers_ = std::make_shared<const ByteStreamHandlers>();
-  std::string buffered_;
+  std::string buffered_;   // arrived before the handlers were set (the reader has not started)
+  std::shared_ptr<std::size_t> in_transit_bytes_ = std::make_shared<std::size_t>(0);
   bool reading_ = false;
   bool open_ = true;
   bool peer_closed_ = false;

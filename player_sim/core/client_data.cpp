@@ -2,6 +2,8 @@
 // (§4.2), the latency-loop echo (§5 step 6) and the single tcp client connection.
 #include <utility>
 
+#include <fmt/format.h>
+
 #include "ocp/json_codec.hpp"
 
 #include "player_impl.hpp"
@@ -10,14 +12,17 @@ namespace ocp {
 
 void PlayerCore::Impl::on_client_data(ClientSource source, const ClientOcpShared& data) {
   ++stats.client_messages_received;
+  const bool was_locked = source_lock.locked().has_value();
   if (!source_lock.admit(source, logger)) {
     if (source_lock.conflict_just_happened()) {
       ++stats.source_conflicts;
       stop_all_client_data();
+      if (events.active()) publish(SourceConflict{*source_lock.locked(), source});
     }
     ++stats.client_messages_ignored;
     return;
   }
+  if (!was_locked && events.active()) publish(SourceLocked{source});
   apply_client_data(source, data);
 }
 
@@ -75,9 +80,15 @@ void PlayerCore::Impl::accept_client(std::shared_ptr<ByteStream> stream) {
   if (!stream) return;
   if (client && client->is_open()) {
     ++stats.client_connections_refused;
-    logger.warn("tcp client {} refused: client {} is already connected (one client at a time)",
-                stream->peer_name(), client->peer());
+    const CloseReason reason{LocalError::already_connected,
+                             fmt::format("client {} is already connected (one client at a time)",
+                                         client->peer())};
+    const std::string peer = stream->peer_name();
+    logger.warn("tcp client {} refused: {}", peer, reason.detail);
     stream->close();
+    if (events.active()) {
+      publish(ConnectionEvent{Wire::operator_, ConnectionChange::refused, peer, &reason});
+    }
     return;
   }
   ++stats.client_connections_accepted;
@@ -85,6 +96,11 @@ void PlayerCore::Impl::accept_client(std::shared_ptr<ByteStream> stream) {
   FramedConnection::Options options;
   options.label = "tcp client";
   options.read_timeout = config.client_read_timeout;
+  options.events = &events;
+  options.component = component();
+  options.wire = Wire::operator_;
+  options.inbound_kind = WireMessageKind::client_ocp_shared;
+  options.outbound_kind = WireMessageKind::vehicle_ocp_shared;
   FramedConnection::Counters counters;
   counters.oversized_frames_dropped = &stats.client_oversized_frames;
   FramedConnection::Handlers handlers;
@@ -94,7 +110,7 @@ void PlayerCore::Impl::accept_client(std::shared_ptr<ByteStream> stream) {
     on_client_data(ClientSource::tcp, *message);
     return Ok{};
   };
-  handlers.on_closed = [this](const std::string& reason) { on_client_closed(reason); };
+  handlers.on_closed = [this](const CloseReason& reason) { on_client_closed(reason); };
   client_too_large_warned = false;
   client = FramedConnection::open(executor, logger.child("tcp"), std::move(stream),
                                   std::move(options), counters, std::move(handlers));
@@ -107,7 +123,7 @@ void PlayerCore::Impl::send_to_client(const VehicleOcpShared& shared) {
     ++stats.client_frames_sent;
     return;
   }
-  if (sent.error().code != ProtocolError::frame_too_large) return;
+  if (sent.error().code != LocalError::frame_too_large) return;
   // Never send an oversized frame (SPEC §2); the client simply misses this one. Logged once
   // per connection: it would otherwise repeat every frame.
   ++stats.client_frames_too_large;
@@ -117,7 +133,7 @@ void PlayerCore::Impl::send_to_client(const VehicleOcpShared& shared) {
                            sent.error().message());
 }
 
-void PlayerCore::Impl::on_client_closed(const std::string& reason) {
+void PlayerCore::Impl::on_client_closed(const CloseReason& reason) {
   ++stats.client_connections_closed;
   last_client_close_reason = reason;
   client.reset();  // the connection keeps itself alive until its callback returns

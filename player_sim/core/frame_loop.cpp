@@ -32,6 +32,7 @@ void PlayerCore::Impl::on_frame() {
   ++stats.frames;
   const std::optional<Controller> sample = gamepad.sample(now);
   const std::optional<std::string> active = resolve_active_vehicle();
+  if (events.active()) publish_frame_changes(sample.has_value(), active);
 
   VehicleOcpShared shared;
   for (auto& [name, link] : vehicles) {
@@ -42,7 +43,9 @@ void PlayerCore::Impl::on_frame() {
     inputs.no_feedback_timeout = config.no_feedback_timeout;
     inputs.gamepad_plugged = sample.has_value();
     inputs.is_active = is_active;
+    const FaultSet before = link.sender_faults;
     link.sender_faults = evaluate_sender_faults(link, inputs);
+    if (events.active()) publish_sender_fault_changes(name, before, link.sender_faults);
 
     if (!link.monitor) {
       OperatorControl control;

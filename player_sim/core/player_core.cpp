@@ -56,7 +56,7 @@ void PlayerCore::stop() {
   self.ping_timer.stop();
   if (self.client) {
     auto client = self.client;
-    client->close("player stopped");
+    client->close(CloseReason{LocalError::shut_down, "player stopped"});
   }
 }
 
@@ -160,7 +160,10 @@ std::optional<AckPair> PlayerCore::latest_sei(const std::string& vehicle) const 
 }
 
 bool PlayerCore::client_connected() const { return impl_->client && impl_->client->is_open(); }
-const std::string& PlayerCore::last_client_close_reason() const { return impl_->last_client_close_reason; }
+const std::optional<CloseReason>& PlayerCore::last_client_close_reason() const {
+  return impl_->last_client_close_reason;
+}
+EventBus& PlayerCore::events() { return impl_->events; }
 const PlayerStats& PlayerCore::stats() const { return impl_->stats; }
 
 }  // namespace ocp

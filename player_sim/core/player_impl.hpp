@@ -32,8 +32,15 @@ struct PlayerCore::Impl {
   void stop_all_client_data();
   std::optional<AckPair> echo_pair(const VehicleLink& link) const;
   void accept_client(std::shared_ptr<ByteStream> stream);
-  void on_client_closed(const std::string& reason);
+  void on_client_closed(const CloseReason& reason);
   void send_to_client(const VehicleOcpShared& shared);
+
+  // events.cpp: what the Player publishes (nothing is built while nobody listens).
+  Component component() const { return Component{ComponentKind::player, config.name}; }
+  void publish(EventBody body);
+  void publish_sender_fault_changes(const std::string& vehicle, const FaultSet& before,
+                                    const FaultSet& after);
+  void publish_frame_changes(bool gamepad_plugged, const std::optional<std::string>& active);
 
   Executor& executor;
   PlayerConfig config;
@@ -41,6 +48,10 @@ struct PlayerCore::Impl {
   Micros frame_period;
   Gamepad gamepad;
   PlayerStats stats;
+  EventBus events;
+  // What the last frame published (GamepadChange, ActiveVehicleChange are edges).
+  std::optional<bool> published_gamepad_plugged;
+  std::optional<std::optional<std::string>> published_active_vehicle;
 
   std::map<std::string, VehicleLink> vehicles;  // name order: deterministic iteration
   SimTime started_at{0};
@@ -59,7 +70,7 @@ struct PlayerCore::Impl {
   std::set<std::string> warned_unknown_senders;
 
   std::shared_ptr<FramedConnection> client;      // the tcp source (:4001), one at a time
-  std::string last_client_close_reason;
+  std::optional<CloseReason> last_client_close_reason;
   std::string client_json_buffer;                // reused every frame
   bool client_too_large_warned = false;          // per connection: logged once, not every frame
 };

@@ -3,15 +3,6 @@
 
 namespace ocp {
 
-std::string_view client_source_name(ClientSource source) {
-  switch (source) {
-    case ClientSource::tcp: return "tcp";
-    case ClientSource::webview: return "webview";
-    case ClientSource::plugin: return "plugin";
-  }
-  return "?";
-}
-
 bool SourceLock::admit(ClientSource source, const Logger& logger) {
   conflict_just_happened_ = false;
   if (stopped_) return false;

@@ -8,14 +8,17 @@
 
 namespace ocp {
 
-void StreamerCore::State::on_control_tick(SimTime /*deadline*/) {
+void StreamerCore::State::on_control_tick(SimTime deadline) {
   ++stats.control_ticks;
   // One instant per tick: the faults, the telemetry latency and the issued ack_time agree.
   const SimTime now = executor.now();
   evaluate_tick_faults(now);
-  if (!vehicle) return;
-  build_control_message(now);
-  send_control_message();
+  control_sent = false;
+  if (vehicle) {
+    build_control_message(now);
+    send_control_message();
+  }
+  publish_latency_sample(deadline, now);
 }
 
 void StreamerCore::State::evaluate_tick_faults(SimTime now) {
@@ -50,7 +53,7 @@ void StreamerCore::State::build_control_message(SimTime now) {
 void StreamerCore::State::send_control_message() {
   encode_control_message(outgoing, json_buffer);
   Status sent = vehicle->send(json_buffer);
-  if (!sent && sent.error().code == ProtocolError::frame_too_large) {
+  if (!sent && sent.error().code == LocalError::frame_too_large) {
     // Only oversized client user data can do this; the vehicle still needs its control.
     logger.warn("control message of {} bytes exceeds {} bytes: sent without client_user_data",
                 json_buffer.size(), max_payload_bytes);
@@ -67,7 +70,6 @@ void StreamerCore::State::send_control_message() {
   ++stats.control_frames_sent;
   control_sent = true;
   last_sent_controller = outgoing.controller;
-  if (observer != nullptr) observer->on_control_sent(outgoing);
 }
 
 }  // namespace ocp

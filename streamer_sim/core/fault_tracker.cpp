@@ -10,7 +10,7 @@ void FaultTracker::set(FaultId id, bool active) {
   } else {
     logger_.info("fault cleared: {} ({})", fault_display(id), fault_identifier(id));
   }
-  if (observer_ != nullptr) observer_->on_fault_changed(id, active);
+  on_change_(id, active);
 }
 
 }  // namespace ocp::streamer

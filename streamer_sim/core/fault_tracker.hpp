@@ -1,25 +1,27 @@
 #pragma once
 // The Streamer's vehicle-side fault set. Faults are self-recovering (SPEC §6): callers state
 // each condition every time they evaluate it; the tracker logs a raise or a clear once, with
-// the display string, and tells the observer.
+// the display string, and publishes a FaultEvent.
+#include <functional>
+
 #include "ocp/faults.hpp"
 #include "ocp/log.hpp"
-#include "streamer/streamer_core.hpp"
 
 namespace ocp::streamer {
 
 class FaultTracker {
  public:
-  explicit FaultTracker(const Logger& logger) : logger_(logger) {}
+  using OnChange = std::function<void(FaultId id, bool active)>;
+  FaultTracker(const Logger& logger, OnChange on_change)
+      : logger_(logger), on_change_(std::move(on_change)) {}
 
-  void set_observer(StreamerObserver* observer) { observer_ = observer; }
-  // Records the current truth of one condition; logs and notifies only on a change.
+  // Records the current truth of one condition; logs and reports only on a change.
   void set(FaultId id, bool active);
   const FaultSet& faults() const { return faults_; }
 
  private:
   Logger logger_;
-  StreamerObserver* observer_ = nullptr;
+  OnChange on_change_;
   FaultSet faults_;
 };
 

@@ -12,13 +12,14 @@ AckPair LatencyLoop::issue(SimTime now) {
   return AckPair{ack_time, mac_.compute(ack_time)};
 }
 
-ReturnedPairCheck LatencyLoop::check_returned(const std::optional<AckPair>& returned) {
+ReturnedPairCheck LatencyLoop::check_returned(const std::optional<AckPair>& returned, SimTime now) {
   if (!returned) return ReturnedPairCheck::missing;
   if (!mac_.verify(returned->ack_time, returned->ack_time_mac)) return ReturnedPairCheck::invalid;
   const std::uint64_t issued_elapsed_us = returned->ack_time - ack_time_offset_;
   // A reordered older pair must not make the loop look faster than the newest one.
   if (!newest_valid_elapsed_us_ || issued_elapsed_us > *newest_valid_elapsed_us_) {
     newest_valid_elapsed_us_ = issued_elapsed_us;
+    newest_valid_arrived_at_ = now;
   }
   return ReturnedPairCheck::valid;
 }
@@ -29,6 +30,11 @@ std::optional<Micros> LatencyLoop::latency(SimTime now) const {
   // A valid MAC means we issued it, so it cannot be from the future; guard anyway.
   if (*newest_valid_elapsed_us_ > elapsed_us) return Micros{0};
   return Micros{static_cast<std::int64_t>(elapsed_us - *newest_valid_elapsed_us_)};
+}
+
+std::optional<Micros> LatencyLoop::newest_pair_age(SimTime now) const {
+  if (!newest_valid_elapsed_us_) return std::nullopt;
+  return now - newest_valid_arrived_at_;
 }
 
 std::optional<std::uint64_t> LatencyLoop::latency_ms(SimTime now) const {

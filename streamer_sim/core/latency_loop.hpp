@@ -22,11 +22,13 @@ class LatencyLoop {
 
   [[nodiscard]] AckPair issue(SimTime now);
   // Validates a returned pair; a valid one newer than the newest so far becomes the newest.
-  [[nodiscard]] ReturnedPairCheck check_returned(const std::optional<AckPair>& returned);
+  [[nodiscard]] ReturnedPairCheck check_returned(const std::optional<AckPair>& returned, SimTime now);
 
   // now − issue time of the newest valid pair; nullopt before any valid pair.
   [[nodiscard]] std::optional<Micros> latency(SimTime now) const;
   [[nodiscard]] std::optional<std::uint64_t> latency_ms(SimTime now) const;
+  // now − when the newest valid pair came back; nullopt before any valid pair.
+  [[nodiscard]] std::optional<Micros> newest_pair_age(SimTime now) const;
 
  private:
   AckMac mac_;
@@ -35,6 +37,7 @@ class LatencyLoop {
   // Elapsed µs since start at which the newest valid returned pair was issued. Kept as u64
   // arithmetic on ack_time (never a double): offsets ≥ 2^53 stay exact.
   std::optional<std::uint64_t> newest_valid_elapsed_us_;
+  SimTime newest_valid_arrived_at_{};
 };
 
 }  // namespace ocp::streamer

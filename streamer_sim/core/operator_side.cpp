@@ -51,7 +51,7 @@ void StreamerCore::State::apply_operator_control(streamer::QueuedControl&& queue
   operator_user_data = std::move(message.client_user_data);
   faults.set(FaultId::OperatorStationHasError, !message.sender_faults.empty());
 
-  const auto check = latency_loop.check_returned(message.returned_ack);
+  const auto check = latency_loop.check_returned(message.returned_ack, executor.now());
   if (check != streamer::ReturnedPairCheck::valid) ++stats.invalid_returned_pairs;
   faults.set(FaultId::InvalidMac, check != streamer::ReturnedPairCheck::valid);
   if (check == streamer::ReturnedPairCheck::valid) {

@@ -8,7 +8,7 @@ StreamerCore::State::State(Executor& executor_in, StreamerConfig config_in, Logg
     : executor(executor_in),
       config(std::move(config_in)),
       logger(std::move(logger_in)),
-      faults(logger),
+      faults(logger, [this](FaultId id, bool active) { publish_fault(id, active); }),
       latency_loop(config.mac_key ? *config.mac_key : random_mac_key(), config.ack_time_offset),
       cameras(executor, config.cameras, logger),
       frame_loop(executor, config.frame_rate_hz, [this](Micros took) { on_frame_iteration(took); }),
@@ -43,17 +43,30 @@ void StreamerCore::State::stop() {
   control_timer.stop();
   frame_loop.stop();
   cameras.stop();
-  if (vehicle) vehicle->close("streamer stopped");
+  if (vehicle) vehicle->close(CloseReason{LocalError::shut_down, "streamer stopped"});
   logger.info("streamer {} stopped", config.name);
+}
+
+void StreamerCore::State::publish_fault(FaultId id, bool active) {
+  if (!events.active()) return;
+  events.publish(Event{executor.now(), component(),
+                       FaultEvent{FaultSide::vehicle, id, active, config.name}});
+}
+
+void StreamerCore::State::publish_latency_sample(SimTime deadline, SimTime now) {
+  if (!events.active()) return;
+  LatencySample sample;
+  sample.latency_ms = latency_loop.latency_ms(now);
+  sample.pair_age = latency_loop.newest_pair_age(now);
+  sample.tick_lateness = now - deadline;
+  sample.control_sent = control_sent;
+  events.publish(Event{now, component(), sample});
 }
 
 StreamerCore::StreamerCore(Executor& executor, StreamerConfig config, Logger logger)
     : state_(std::make_unique<State>(executor, std::move(config), std::move(logger))) {}
 
 StreamerCore::~StreamerCore() {
-  // Drop the connection without reporting: the observer may already be gone.
-  state_->observer = nullptr;
-  state_->faults.set_observer(nullptr);
   state_->stop();
 }
 
@@ -88,10 +101,7 @@ void StreamerCore::set_control_thread_stalled(bool stalled) {
   state_->evaluate_inbox_fault();
 }
 
-void StreamerCore::set_observer(StreamerObserver* observer) {
-  state_->observer = observer;
-  state_->faults.set_observer(observer);
-}
+EventBus& StreamerCore::events() { return state_->events; }
 
 const FaultSet& StreamerCore::faults() const { return state_->faults.faults(); }
 

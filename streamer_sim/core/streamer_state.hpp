@@ -29,8 +29,8 @@ struct StreamerCore::State {
 
   // vehicle_side.cpp
   void accept_vehicle(std::shared_ptr<ByteStream> stream);
-  void on_vehicle_response(const VehicleResponseMessage& response);
-  void on_vehicle_closed(const std::string& reason);
+  void on_vehicle_response(VehicleResponseMessage&& response);
+  void on_vehicle_closed(const CloseReason& reason);
 
   // operator_side.cpp
   void handle_link_message(LinkMessage&& message);
@@ -51,11 +51,16 @@ struct StreamerCore::State {
   void send_video_frame(VideoFrame&& frame);
   void send_to_player(LinkMessage&& message);
 
+  // Events (streamer_core.cpp): the component every event of this Streamer carries.
+  Component component() const { return Component{ComponentKind::streamer, config.name}; }
+  void publish_fault(FaultId id, bool active);
+  void publish_latency_sample(SimTime deadline, SimTime now);
+
   Executor& executor;
   StreamerConfig config;
   Logger logger;
   StreamerStats stats;
-  StreamerObserver* observer = nullptr;
+  EventBus events;
   LinkDirection* link = nullptr;
 
   streamer::FaultTracker faults;

@@ -1,5 +1,7 @@
 // The vehicle connection lifecycle (SPEC §3.1): one active connection; a second one is
 // accepted and closed at once; a new connection starts clean.
+#include <fmt/format.h>
+
 #include "ocp/json_codec.hpp"
 #include "streamer_state.hpp"
 
@@ -10,9 +12,14 @@ void StreamerCore::State::accept_vehicle(std::shared_ptr<ByteStream> stream) {
   const std::string peer = stream->peer_name();
   if (vehicle) {
     ++stats.connections_refused;
-    logger.warn("refused vehicle connection from {}: {} is already connected", peer,
-                vehicle->peer());
+    const CloseReason reason{LocalError::already_connected,
+                             fmt::format("{} is already connected", vehicle->peer())};
+    logger.warn("refused vehicle connection from {}: {}", peer, reason.detail);
     stream->close();
+    if (events.active()) {
+      events.publish(Event{executor.now(), component(),
+                           ConnectionEvent{Wire::vehicle, ConnectionChange::refused, peer, &reason}});
+    }
     return;
   }
   ++stats.connections_accepted;
@@ -23,6 +30,12 @@ void StreamerCore::State::accept_vehicle(std::shared_ptr<ByteStream> stream) {
   FramedConnection::Options options;
   options.label = "vehicle";
   options.read_timeout = config.vehicle_read_timeout;
+  options.write_queue_limit_bytes = config.vehicle_write_queue_limit_bytes;
+  options.events = &events;
+  options.component = component();
+  options.wire = Wire::vehicle;
+  options.inbound_kind = WireMessageKind::vehicle_response;
+  options.outbound_kind = WireMessageKind::control;
   FramedConnection::Counters counters;
   counters.bytes_in = &stats.vehicle_bytes_in;
   counters.bytes_out = &stats.vehicle_bytes_out;
@@ -31,39 +44,36 @@ void StreamerCore::State::accept_vehicle(std::shared_ptr<ByteStream> stream) {
   handlers.on_payload = [this](std::string_view payload) -> Status {
     auto response = decode_vehicle_response(payload);
     if (!response) return response.error();
-    on_vehicle_response(*response);
+    on_vehicle_response(std::move(*response));
     return Ok{};
   };
-  handlers.on_closed = [this](const std::string& reason) { on_vehicle_closed(reason); };
+  handlers.on_closed = [this](const CloseReason& reason) { on_vehicle_closed(reason); };
   vehicle = FramedConnection::open(executor, logger.child("vehicle"), std::move(stream),
                                    std::move(options), counters, std::move(handlers));
   if (started) faults.set(FaultId::VehicleNoResponse, false);
-  if (observer != nullptr) observer->on_vehicle_connection(true, peer);
 }
 
-void StreamerCore::State::on_vehicle_response(const VehicleResponseMessage& response) {
+void StreamerCore::State::on_vehicle_response(VehicleResponseMessage&& response) {
   // Responses' pairs are not validated here: they are copied into SEI, and the MAC is checked
   // when the operator returns them.
   ++stats.vehicle_responses_received;
   echoed_pair = response.ack;
   if (response.vehicle_user_data) {
-    vehicle_data = response.vehicle_user_data;
+    vehicle_data = std::move(response.vehicle_user_data);
     vehicle_data_arrived_at = executor.now();
   }
-  if (observer != nullptr) observer->on_vehicle_response(response);
 }
 
-void StreamerCore::State::on_vehicle_closed(const std::string& reason) {
+void StreamerCore::State::on_vehicle_closed(const CloseReason& reason) {
   if (!vehicle) return;
   const std::string peer = vehicle->peer();
   ++stats.connections_closed;
   stats.last_close_reason = reason;
-  logger.info("vehicle disconnected: {} ({})", peer, reason);
+  logger.info("vehicle disconnected: {} ({})", peer, reason.message());
   // Keep the connection object alive until this callback unwinds: the stream callback that
   // led here holds its own reference, so resetting our pointer is safe.
   vehicle.reset();
   if (started) faults.set(FaultId::VehicleNoResponse, true);
-  if (observer != nullptr) observer->on_vehicle_connection(false, peer);
 }
 
 }  // namespace ocp

@@ -126,23 +126,24 @@ TEST_F(OperatorApi, ClientSeesFeedbackForTheVehicleAndItsReturnedPairClosesTheLo
 
 TEST_F(OperatorApi, ClientUserDataReachesTheVehicle) {
   start();
-  struct Watcher : StreamerObserver {
-    std::optional<RawJson> last_user_data;
-    void on_control_sent(const OcpControlMessage& message) override {
-      if (message.client_user_data) last_user_data = message.client_user_data;
+  // What reached the vehicle: the client_user_data of the control frames the Streamer wrote.
+  std::optional<RawJson> last_user_data;
+  const auto subscription = streamer("truck-1").events().subscribe([&](const Event& event) {
+    const auto* frame = std::get_if<WireFrame>(&event.body);
+    if (frame == nullptr || frame->kind != WireMessageKind::control) return;
+    if (auto control = decode_control_message(frame->payload); control && control->client_user_data) {
+      last_user_data = control->client_user_data;
     }
-  } watcher;
-  streamer("truck-1").set_observer(&watcher);
+  });
 
   OperatorClient client(io_);
   ASSERT_TRUE(client.connect(simulation_->port()));
   client.answer_ = [&](const VehicleOcpShared& shared) {
     client.send(echo_all(shared, true, std::string(R"({"mission":"dock-7"})")));
   };
-  ASSERT_TRUE(run_until(io_, [&] { return watcher.last_user_data.has_value(); }));
-  EXPECT_EQ(watcher.last_user_data->text, R"({"mission":"dock-7"})");
+  ASSERT_TRUE(run_until(io_, [&] { return last_user_data.has_value(); }));
+  EXPECT_EQ(last_user_data->text, R"({"mission":"dock-7"})");
   EXPECT_EQ(player().locked_source(), ClientSource::tcp);
-  streamer("truck-1").set_observer(nullptr);
 }
 
 TEST_F(OperatorApi, SecondSourceStopsClientData) {
@@ -203,7 +204,8 @@ TEST_F(OperatorApi, MalformedJsonClosesTheClient) {
   ASSERT_TRUE(run_until(io_, [&] { return player().client_connected(); }));
   client.send_payload("[1, 2, 3]");
   ASSERT_TRUE(run_until(io_, [&] { return client.closed_by_peer(); }));
-  EXPECT_FALSE(player().last_client_close_reason().empty());
+  ASSERT_TRUE(player().last_client_close_reason().has_value());
+  EXPECT_EQ(player().last_client_close_reason()->code, PeerError::not_an_object);
 }
 
 TEST_F(OperatorApi, PortInUseIsAClearError) {

@@ -98,7 +98,8 @@ TEST_F(VehicleApi, TwoSecondsOfSilenceCloseTheConnection) {
   EXPECT_GE(silence, std::chrono::milliseconds(1900));
   EXPECT_LE(silence, std::chrono::milliseconds(6000));
   EXPECT_GT(silent.payload_count(), 50u);   // it was sent control messages all along
-  EXPECT_NE(streamer().stats().last_close_reason.find("read timeout"), std::string::npos);
+  ASSERT_TRUE(streamer().stats().last_close_reason.has_value());
+  EXPECT_EQ(streamer().stats().last_close_reason->code, PeerError::read_timeout);
   EXPECT_TRUE(streamer().faults().contains(FaultId::VehicleNoResponse));
 }
 
@@ -129,7 +130,8 @@ TEST_F(VehicleApi, MalformedJsonClosesTheConnectionWithTheReasonLogged) {
   ASSERT_TRUE(run_until(io_, [&] { return vehicle.closed_by_peer(); }));
   EXPECT_FALSE(streamer().vehicle_connected());
   EXPECT_EQ(streamer().stats().connections_closed, 1u);
-  EXPECT_FALSE(streamer().stats().last_close_reason.empty());
+  ASSERT_TRUE(streamer().stats().last_close_reason.has_value());
+  EXPECT_EQ(streamer().stats().last_close_reason->code, PeerError::malformed_json);
   EXPECT_TRUE(log_.contains("closing vehicle connection 127.0.0.1:"));
 }
 
@@ -138,8 +140,10 @@ TEST_F(VehicleApi, MissingRequiredFieldClosesTheConnection) {
   ASSERT_TRUE(vehicle.connect(port()));
   vehicle.send_payload(R"({"ack_time": 12})");
   ASSERT_TRUE(run_until(io_, [&] { return vehicle.closed_by_peer(); }));
-  EXPECT_NE(streamer().stats().last_close_reason.find("ack_time_mac"), std::string::npos)
-      << streamer().stats().last_close_reason;
+  ASSERT_TRUE(streamer().stats().last_close_reason.has_value());
+  EXPECT_EQ(streamer().stats().last_close_reason->code, PeerError::missing_field);
+  EXPECT_NE(streamer().stats().last_close_reason->detail.find("ack_time_mac"), std::string::npos)
+      << streamer().stats().last_close_reason->message();
 }
 
 TEST_F(VehicleApi, ReconnectGetsFreshMessagesAndNoStaleQueuedOnes) {

@@ -75,7 +75,7 @@ TEST(Frame, AppendFrameRefusesOneByteOverTheLimitAndLeavesOutUntouched) {
   std::string out = "previous";
   const Status status = append_frame(std::string(max_payload_bytes + 1, 'x'), out);
   ASSERT_FALSE(status.ok());
-  EXPECT_EQ(status.error().code, make_error_code(ProtocolError::frame_too_large));
+  EXPECT_EQ(status.error().code, make_error_code(LocalError::frame_too_large));
   EXPECT_EQ(status.error().detail, "payload of 16385 bytes exceeds the limit of 16384 bytes");
   EXPECT_EQ(out, "previous");
   EXPECT_FALSE(append_frame("12345", out, 4).ok()) << "the limit is configurable";
@@ -240,7 +240,7 @@ TEST(Frame, TruncatedStreamIsReportedByFinish) {
     EXPECT_TRUE(decoder.mid_frame());
     const Status status = decoder.finish();
     ASSERT_FALSE(status.ok());
-    EXPECT_EQ(status.error().code, make_error_code(ProtocolError::truncated_frame));
+    EXPECT_EQ(status.error().code, make_error_code(PeerError::truncated_frame));
     EXPECT_EQ(status.error().detail, c.detail);
   }
 }

@@ -29,7 +29,7 @@ std::string framed(std::string_view payload) {
 }
 
 Error bad_payload(std::string detail) {
-  return Error{make_error_code(ProtocolError::malformed_json), std::move(detail)};
+  return Error{make_error_code(PeerError::malformed_json), std::move(detail)};
 }
 
 // One connection on end b of a pipe; the test plays the peer on end a.
@@ -38,7 +38,7 @@ struct Fixture {
   PipeEnds ends = make_pipe(executor, PipeOptions{.name_a = "pipe:peer"});
   std::vector<std::string> log_lines;
   std::vector<std::string> payloads;
-  std::vector<std::string> close_reasons;
+  std::vector<CloseReason> close_reasons;
   std::vector<SimTime> closed_at;
   std::uint64_t bytes_in = 0;
   std::uint64_t bytes_out = 0;
@@ -60,7 +60,7 @@ struct Fixture {
       payloads.emplace_back(payload);
       return Ok{};
     };
-    handlers.on_closed = [this](const std::string& reason) {
+    handlers.on_closed = [this](const CloseReason& reason) {
       close_reasons.push_back(reason);
       closed_at.push_back(executor.now());
       connection.reset();  // owners drop the connection from inside its callback
@@ -98,7 +98,8 @@ TEST(FramedConnection, ClosesAfterExactlyTheReadTimeoutWithoutAByte) {
   fixture.executor.run_until(SimTime{2'500'000});
   ASSERT_EQ(fixture.close_reasons.size(), 1u);
   EXPECT_EQ(fixture.closed_at[0], SimTime{2'500'000});
-  EXPECT_EQ(fixture.close_reasons[0], "read timeout: no data from the widget for 2000 ms");
+  EXPECT_EQ(fixture.close_reasons[0],
+            (CloseReason{PeerError::read_timeout, "no data from the widget for 2000 ms"}));
   EXPECT_TRUE(fixture.logged("WARN closing widget connection pipe:peer: read timeout"));
   fixture.executor.run_until(SimTime{2'500'001});
   EXPECT_TRUE(fixture.peer_closed);
@@ -136,11 +137,11 @@ TEST(FramedConnection, PayloadErrorClosesWithItsReason) {
   Fixture fixture;
   fixture.executor.call_at(SimTime{7000}, [&] { fixture.ends.a->write(framed("bad") + framed("never")); });
   fixture.executor.run_until(20ms);
-  const std::string reason = bad_payload("not json").message();
-  EXPECT_EQ(fixture.close_reasons, (std::vector<std::string>{reason}));
+  const CloseReason reason = bad_payload("not json");
+  EXPECT_EQ(fixture.close_reasons, (std::vector<CloseReason>{reason}));
   EXPECT_EQ(fixture.closed_at[0], SimTime{7000});
   EXPECT_TRUE(fixture.payloads.empty());  // nothing after the bad frame is dispatched
-  EXPECT_TRUE(fixture.logged("WARN closing widget connection pipe:peer: " + reason));
+  EXPECT_TRUE(fixture.logged("WARN closing widget connection pipe:peer: " + reason.message()));
   EXPECT_TRUE(fixture.peer_closed);
 }
 
@@ -156,8 +157,8 @@ TEST(FramedConnection, EndOfStreamInsideAFrameClosesWithTheTruncationReason) {
   fixture.ends.a->write(partial);
   fixture.ends.a->close();
   fixture.executor.run_until(1ms);
-  EXPECT_EQ(fixture.close_reasons, (std::vector<std::string>{expected.error().message()}));
-  EXPECT_NE(fixture.close_reasons[0].find("truncated"), std::string::npos);
+  EXPECT_EQ(fixture.close_reasons, (std::vector<CloseReason>{expected.error()}));
+  EXPECT_EQ(fixture.close_reasons[0].code, PeerError::truncated_frame);
   EXPECT_TRUE(fixture.logged("stream ended inside a frame"));
 }
 
@@ -168,7 +169,7 @@ TEST(FramedConnection, PeerCloseBetweenFramesIsReportedAsPeerClosed) {
   fixture.executor.run_until(1ms);
   EXPECT_EQ(fixture.payloads, (std::vector<std::string>{"last"}));
   ASSERT_EQ(fixture.close_reasons.size(), 1u);
-  EXPECT_EQ(fixture.close_reasons[0].rfind("peer closed: ", 0), 0u) << fixture.close_reasons[0];
+  EXPECT_EQ(fixture.close_reasons[0].code, PeerError::closed_by_peer) << fixture.close_reasons[0].message();
 }
 
 TEST(FramedConnection, SendFramesThePayloadAndRefusesAnOversizedOne) {
@@ -176,7 +177,7 @@ TEST(FramedConnection, SendFramesThePayloadAndRefusesAnOversizedOne) {
   ASSERT_TRUE(fixture.connection->send("hello").ok());
   const Status refused = fixture.connection->send(std::string(max_payload_bytes + 1, 'x'));
   ASSERT_FALSE(refused.ok());
-  EXPECT_EQ(refused.error().code, ProtocolError::frame_too_large);
+  EXPECT_EQ(refused.error().code, LocalError::frame_too_large);
   fixture.executor.run_until(1ms);
   EXPECT_EQ(fixture.peer_received, framed("hello"));  // the oversized one never left
   EXPECT_EQ(fixture.bytes_out, frame_header_bytes + 5);
@@ -186,7 +187,7 @@ TEST(FramedConnection, SendFramesThePayloadAndRefusesAnOversizedOne) {
 TEST(FramedConnection, SendAfterCloseFails) {
   Fixture fixture;
   auto keep = fixture.connection;
-  keep->close("done");
+  keep->close(CloseReason{LocalError::shut_down, "done"});
   const Status sent = keep->send("late");
   EXPECT_FALSE(sent.ok());
   fixture.executor.run_until(1ms);
@@ -196,11 +197,11 @@ TEST(FramedConnection, SendAfterCloseFails) {
 TEST(FramedConnection, OnClosedIsReportedExactlyOnceWhateverClosesIt) {
   Fixture fixture;
   auto keep = fixture.connection;  // survive the fixture's reset inside on_closed
-  keep->close("local");
-  keep->close("again");
+  keep->close(CloseReason{LocalError::shut_down, "local"});
+  keep->close(CloseReason{LocalError::shut_down, "again"});
   fixture.ends.a->close();
   fixture.executor.run_until(10'000ms);  // a read timeout would fire here if still armed
-  EXPECT_EQ(fixture.close_reasons, (std::vector<std::string>{"local"}));
+  EXPECT_EQ(fixture.close_reasons, (std::vector<CloseReason>{{LocalError::shut_down, "local"}}));
   EXPECT_FALSE(keep->is_open());
 }
 
@@ -244,15 +245,16 @@ TEST(FramedConnection, AnAlreadyClosedStreamIsReportedFromTheExecutor) {
   VirtualExecutor executor;
   auto [a, b] = make_pipe(executor);
   b->close();
-  std::vector<std::string> reasons;
+  std::vector<CloseReason> reasons;
   FramedConnection::Handlers handlers;
-  handlers.on_closed = [&](const std::string& reason) { reasons.push_back(reason); };
+  handlers.on_closed = [&](const CloseReason& reason) { reasons.push_back(reason); };
   auto connection = FramedConnection::open(executor, Logger(executor, "test", make_null_sink()), b,
                                            FramedConnection::Options{}, FramedConnection::Counters{},
                                            std::move(handlers));
   EXPECT_TRUE(reasons.empty());  // never from inside open()
   executor.run_until(SimTime{0});
-  EXPECT_EQ(reasons, (std::vector<std::string>{"stream already closed"}));
+  ASSERT_EQ(reasons.size(), 1u);
+  EXPECT_EQ(reasons[0].code, LocalError::stream_closed);
   EXPECT_FALSE(connection->is_open());
 }
 

@@ -90,30 +90,30 @@ TEST(JsonCodecClient, EveryFieldIsOptionalAndNullMeansAbsent) {
 
 TEST(JsonCodecClient, EveryFieldIsTypeChecked) {
   EXPECT_TRUE(fails_with(decode_client_ocp_shared(set_member(sample_text(), "active_vehicle", "1")),
-                         ProtocolError::wrong_type, "active_vehicle: expected string"));
+                         PeerError::wrong_type, "active_vehicle: expected string"));
   EXPECT_TRUE(fails_with(decode_client_ocp_shared(set_member(sample_text(), "client_user_data", "[]")),
-                         ProtocolError::wrong_type, "client_user_data: expected object"));
+                         PeerError::wrong_type, "client_user_data: expected object"));
   EXPECT_TRUE(fails_with(decode_client_ocp_shared(set_member(sample_text(), "truck-1", "true")),
-                         ProtocolError::wrong_type, "client_user_data.truck-1: expected object"));
+                         PeerError::wrong_type, "client_user_data.truck-1: expected object"));
   EXPECT_TRUE(fails_with(
       decode_client_ocp_shared(set_member(sample_text(), "ocp_disable_gamepad", "\"yes\"")),
-      ProtocolError::wrong_type, "client_user_data.truck-1.ocp_disable_gamepad: expected boolean"));
+      PeerError::wrong_type, "client_user_data.truck-1.ocp_disable_gamepad: expected boolean"));
   EXPECT_TRUE(fails_with(
       decode_client_ocp_shared(set_member(sample_text(), "ack_time_returned", "18446744073709551616")),
-      ProtocolError::out_of_range,
+      PeerError::out_of_range,
       "client_user_data.truck-1.ack_time_returned: expected unsigned 64-bit integer, got "
       "18446744073709551616"));
   EXPECT_TRUE(fails_with(
       decode_client_ocp_shared(set_member(sample_text(), "ack_time_returned", "\"1\"")),
-      ProtocolError::wrong_type,
+      PeerError::wrong_type,
       "client_user_data.truck-1.ack_time_returned: expected unsigned 64-bit integer"));
   EXPECT_TRUE(fails_with(
       decode_client_ocp_shared(set_member(sample_text(), "ack_time_mac_returned", "1.5")),
-      ProtocolError::out_of_range,
+      PeerError::out_of_range,
       "client_user_data.truck-1.ack_time_mac_returned: expected unsigned 32-bit integer, got 1.5"));
   EXPECT_TRUE(fails_with(
       decode_client_ocp_shared(set_member(sample_text(), "ack_time_mac_returned", "false")),
-      ProtocolError::wrong_type,
+      PeerError::wrong_type,
       "client_user_data.truck-1.ack_time_mac_returned: expected unsigned 32-bit integer"));
 }
 

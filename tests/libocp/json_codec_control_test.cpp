@@ -99,17 +99,17 @@ TEST(JsonCodecControl, AbsentControllerDecodesToNullopt) {
 
 TEST(JsonCodecControl, ControllerOfWrongTypeFails) {
   EXPECT_TRUE(fails_with(decode_control_message(set_member(sample_text(), "controller", "[]")),
-                         ProtocolError::wrong_type, "controller: expected object"));
+                         PeerError::wrong_type, "controller: expected object"));
 }
 
 TEST(JsonCodecControl, ControllerNeedsButtonsAndAxes) {
   EXPECT_TRUE(fails_with(decode_control_message(remove_member(sample_text(), "buttons")),
-                         ProtocolError::missing_field,
+                         PeerError::missing_field,
                          "controller.buttons: required field missing"));
   EXPECT_TRUE(fails_with(decode_control_message(remove_member(sample_text(), "axes")),
-                         ProtocolError::missing_field, "controller.axes: required field missing"));
+                         PeerError::missing_field, "controller.axes: required field missing"));
   EXPECT_TRUE(fails_with(decode_control_message(set_member(sample_text(), "axes", "true")),
-                         ProtocolError::wrong_type, "controller.axes: expected object"));
+                         PeerError::wrong_type, "controller.axes: expected object"));
 }
 
 TEST(JsonCodecControl, EveryButtonIsARequiredBoolean) {
@@ -117,11 +117,11 @@ TEST(JsonCodecControl, EveryButtonIsARequiredBoolean) {
     SCOPED_TRACE(name);
     const std::string path = std::string("controller.buttons.") + name;
     EXPECT_TRUE(fails_with(decode_control_message(remove_member(sample_text(), name)),
-                           ProtocolError::missing_field, path + ": required field missing"));
+                           PeerError::missing_field, path + ": required field missing"));
     EXPECT_TRUE(fails_with(decode_control_message(set_member(sample_text(), name, "1")),
-                           ProtocolError::wrong_type, path + ": expected boolean"));
+                           PeerError::wrong_type, path + ": expected boolean"));
     EXPECT_TRUE(fails_with(decode_control_message(set_member(sample_text(), name, "null")),
-                           ProtocolError::wrong_type, path + ": expected boolean"));
+                           PeerError::wrong_type, path + ": expected boolean"));
     const auto released = decode_control_message(set_member(sample_text(), name, "false"));
     ASSERT_TRUE(released.ok());
     const auto pressed = decode_control_message(set_member(sample_text(), name, "true"));
@@ -136,9 +136,9 @@ TEST(JsonCodecControl, EveryAxisIsARequiredNumber) {
     SCOPED_TRACE(name);
     const std::string path = std::string("controller.axes.") + name;
     EXPECT_TRUE(fails_with(decode_control_message(remove_member(sample_text(), name)),
-                           ProtocolError::missing_field, path + ": required field missing"));
+                           PeerError::missing_field, path + ": required field missing"));
     EXPECT_TRUE(fails_with(decode_control_message(set_member(sample_text(), name, "\"0.5\"")),
-                           ProtocolError::wrong_type, path + ": expected number"));
+                           PeerError::wrong_type, path + ": expected number"));
     const auto decoded = decode_control_message(set_member(sample_text(), name, "-0.75"));
     ASSERT_TRUE(decoded.ok());
     const Axes& axes = decoded->controller->axes;
@@ -176,25 +176,25 @@ TEST(JsonCodecControl, DoublesRoundTripExactly) {
 
 TEST(JsonCodecControl, TelemetryIsRequired) {
   EXPECT_TRUE(fails_with(decode_control_message(remove_member(sample_text(), "telemetry")),
-                         ProtocolError::missing_field, "telemetry: required field missing"));
+                         PeerError::missing_field, "telemetry: required field missing"));
   EXPECT_TRUE(fails_with(decode_control_message(set_member(sample_text(), "telemetry", "null")),
-                         ProtocolError::wrong_type, "telemetry: expected object"));
+                         PeerError::wrong_type, "telemetry: expected object"));
 }
 
 TEST(JsonCodecControl, TelemetryFieldsAreRequiredAndTyped) {
   EXPECT_TRUE(fails_with(decode_control_message(remove_member(sample_text(), "latency")),
-                         ProtocolError::missing_field, "telemetry.latency: required field missing"));
+                         PeerError::missing_field, "telemetry.latency: required field missing"));
   EXPECT_TRUE(fails_with(decode_control_message(remove_member(sample_text(), "fault")),
-                         ProtocolError::missing_field, "telemetry.fault: required field missing"));
+                         PeerError::missing_field, "telemetry.fault: required field missing"));
   EXPECT_TRUE(fails_with(decode_control_message(remove_member(sample_text(), "fault_reason")),
-                         ProtocolError::missing_field,
+                         PeerError::missing_field,
                          "telemetry.fault_reason: required field missing"));
   EXPECT_TRUE(fails_with(decode_control_message(set_member(sample_text(), "fault", "\"no\"")),
-                         ProtocolError::wrong_type, "telemetry.fault: expected boolean"));
+                         PeerError::wrong_type, "telemetry.fault: expected boolean"));
   EXPECT_TRUE(fails_with(decode_control_message(set_member(sample_text(), "fault_reason", "0")),
-                         ProtocolError::wrong_type, "telemetry.fault_reason: expected string"));
+                         PeerError::wrong_type, "telemetry.fault_reason: expected string"));
   EXPECT_TRUE(fails_with(decode_control_message(set_member(sample_text(), "latency", "\"42\"")),
-                         ProtocolError::wrong_type,
+                         PeerError::wrong_type,
                          "telemetry.latency: expected non-negative integer"));
 }
 
@@ -206,10 +206,10 @@ TEST(JsonCodecControl, LatencyAcceptsWholeNumbersOnly) {
   ASSERT_TRUE(decoded.ok());
   EXPECT_EQ(decoded->telemetry.latency_ms, 18446744073709551615u);
   EXPECT_TRUE(fails_with(decode_control_message(set_member(sample_text(), "latency", "42.5")),
-                         ProtocolError::out_of_range,
+                         PeerError::out_of_range,
                          "telemetry.latency: expected non-negative integer, got 42.5"));
   EXPECT_TRUE(fails_with(decode_control_message(set_member(sample_text(), "latency", "-1")),
-                         ProtocolError::out_of_range,
+                         PeerError::out_of_range,
                          "telemetry.latency: expected non-negative integer, got -1"));
 }
 
@@ -222,10 +222,10 @@ TEST(JsonCodecControl, MissingCamerasIsAnOptionalArrayOfStrings) {
   EXPECT_TRUE(decoded->telemetry.missing_cameras.empty());
   EXPECT_TRUE(fails_with(
       decode_control_message(set_member(sample_text(), "missing_cameras", R"(["a",2])")),
-      ProtocolError::wrong_type, "telemetry.missing_cameras[1]: expected string"));
+      PeerError::wrong_type, "telemetry.missing_cameras[1]: expected string"));
   EXPECT_TRUE(fails_with(
       decode_control_message(set_member(sample_text(), "missing_cameras", R"("front")")),
-      ProtocolError::wrong_type, "telemetry.missing_cameras: expected array of strings"));
+      PeerError::wrong_type, "telemetry.missing_cameras: expected array of strings"));
 }
 
 TEST(JsonCodecControl, AckTimeCoversTheFullU64RangeByteExact) {
@@ -247,14 +247,14 @@ TEST(JsonCodecControl, AckTimeRejectsEverythingButAnUnsignedInteger) {
     SCOPED_TRACE(text);
     // 123.0 is rejected on purpose: an opaque integer must arrive in integer form.
     EXPECT_TRUE(fails_with(decode_control_message(set_member(sample_text(), "ack_time", text)),
-                           ProtocolError::out_of_range, expected + ", got " + text));
+                           PeerError::out_of_range, expected + ", got " + text));
   }
   EXPECT_TRUE(fails_with(decode_control_message(set_member(sample_text(), "ack_time", "\"1\"")),
-                         ProtocolError::wrong_type, expected));
+                         PeerError::wrong_type, expected));
   EXPECT_TRUE(fails_with(decode_control_message(set_member(sample_text(), "ack_time", "null")),
-                         ProtocolError::wrong_type, expected));
+                         PeerError::wrong_type, expected));
   EXPECT_TRUE(fails_with(decode_control_message(remove_member(sample_text(), "ack_time")),
-                         ProtocolError::missing_field, "ack_time: required field missing"));
+                         PeerError::missing_field, "ack_time: required field missing"));
 }
 
 TEST(JsonCodecControl, AckTimeMacIsAnUnsigned32BitInteger) {
@@ -269,12 +269,12 @@ TEST(JsonCodecControl, AckTimeMacIsAnUnsigned32BitInteger) {
   for (const char* text : {"4294967296", "18446744073709551616", "-1", "1.0", "1e3"}) {
     SCOPED_TRACE(text);
     EXPECT_TRUE(fails_with(decode_control_message(set_member(sample_text(), "ack_time_mac", text)),
-                           ProtocolError::out_of_range, expected + ", got " + text));
+                           PeerError::out_of_range, expected + ", got " + text));
   }
   EXPECT_TRUE(fails_with(decode_control_message(set_member(sample_text(), "ack_time_mac", "[]")),
-                         ProtocolError::wrong_type, expected));
+                         PeerError::wrong_type, expected));
   EXPECT_TRUE(fails_with(decode_control_message(remove_member(sample_text(), "ack_time_mac")),
-                         ProtocolError::missing_field, "ack_time_mac: required field missing"));
+                         PeerError::missing_field, "ack_time_mac: required field missing"));
 }
 
 TEST(JsonCodecControl, ClientUserDataIsOptionalAndNullMeansAbsent) {
@@ -336,7 +336,7 @@ TEST(JsonCodecControl, DuplicateKeysAreAllValidatedAndTheLastOneWins) {
 
   text = sample_text();
   text.insert(text.size() - 1, R"(,"ack_time":"late")");
-  EXPECT_TRUE(fails_with(decode_control_message(text), ProtocolError::wrong_type,
+  EXPECT_TRUE(fails_with(decode_control_message(text), PeerError::wrong_type,
                          "ack_time: expected unsigned 64-bit integer"));
 }
 

@@ -104,36 +104,36 @@ TEST(JsonCodecFeedback, RequiredEntryFieldsAreReportedWithTheVehicleName) {
                             "receiver_fault", "ack_time", "ack_time_mac"}) {
     SCOPED_TRACE(field);
     EXPECT_TRUE(fails_with(decode_vehicle_ocp_shared(remove_member(sample_text(), field)),
-                           ProtocolError::missing_field,
+                           PeerError::missing_field,
                            std::string(entry_path).append(field).append(": required field missing")));
   }
   EXPECT_TRUE(fails_with(decode_vehicle_ocp_shared(remove_member(sample_text(), "vehicle_feedback")),
-                         ProtocolError::missing_field, "vehicle_feedback: required field missing"));
+                         PeerError::missing_field, "vehicle_feedback: required field missing"));
 }
 
 TEST(JsonCodecFeedback, EveryFieldIsTypeChecked) {
   struct Case {
     const char* field;
     const char* value;
-    ProtocolError code;
+    PeerError code;
     const char* message;
   };
   const Case cases[] = {
-      {"ping_latency_ms", "-1", ProtocolError::out_of_range,
+      {"ping_latency_ms", "-1", PeerError::out_of_range,
        "expected unsigned 64-bit integer, got -1"},
-      {"message_latency_roundtrip", "\"80\"", ProtocolError::wrong_type,
+      {"message_latency_roundtrip", "\"80\"", PeerError::wrong_type,
        "expected unsigned 64-bit integer"},
-      {"ms_since_last_vehicle_data", "7.5", ProtocolError::out_of_range,
+      {"ms_since_last_vehicle_data", "7.5", PeerError::out_of_range,
        "expected unsigned 64-bit integer, got 7.5"},
-      {"missing_cameras", "[null]", ProtocolError::wrong_type, "expected string"},
-      {"sender_fault", "null", ProtocolError::wrong_type, "expected array of strings"},
-      {"receiver_fault", "{}", ProtocolError::wrong_type, "expected array of strings"},
-      {"vehicle_data", "[]", ProtocolError::wrong_type, "expected object"},
-      {"last_remote_input", "1", ProtocolError::wrong_type, "expected object"},
-      {"ack_time", "-2", ProtocolError::out_of_range, "expected unsigned 64-bit integer, got -2"},
-      {"ack_time_mac", "4294967296", ProtocolError::out_of_range,
+      {"missing_cameras", "[null]", PeerError::wrong_type, "expected string"},
+      {"sender_fault", "null", PeerError::wrong_type, "expected array of strings"},
+      {"receiver_fault", "{}", PeerError::wrong_type, "expected array of strings"},
+      {"vehicle_data", "[]", PeerError::wrong_type, "expected object"},
+      {"last_remote_input", "1", PeerError::wrong_type, "expected object"},
+      {"ack_time", "-2", PeerError::out_of_range, "expected unsigned 64-bit integer, got -2"},
+      {"ack_time_mac", "4294967296", PeerError::out_of_range,
        "expected unsigned 32-bit integer, got 4294967296"},
-      {"is_monitor", "0", ProtocolError::wrong_type, "expected boolean"},
+      {"is_monitor", "0", PeerError::wrong_type, "expected boolean"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.field);
@@ -142,20 +142,20 @@ TEST(JsonCodecFeedback, EveryFieldIsTypeChecked) {
                            c.code, std::string(entry_path).append(c.field).append(suffix).append(": ").append(c.message)));
   }
   EXPECT_TRUE(fails_with(decode_vehicle_ocp_shared(set_member(sample_text(), "last_input", "[]")),
-                         ProtocolError::wrong_type, "last_input: expected object"));
+                         PeerError::wrong_type, "last_input: expected object"));
   EXPECT_TRUE(fails_with(decode_vehicle_ocp_shared(set_member(sample_text(), "vehicle_feedback", "[]")),
-                         ProtocolError::wrong_type, "vehicle_feedback: expected object"));
+                         PeerError::wrong_type, "vehicle_feedback: expected object"));
   EXPECT_TRUE(fails_with(decode_vehicle_ocp_shared(set_member(sample_text(), "vehicle_feedback",
                                                               R"({"t":5})")),
-                         ProtocolError::wrong_type, "vehicle_feedback.t: expected object"));
+                         PeerError::wrong_type, "vehicle_feedback.t: expected object"));
 }
 
 TEST(JsonCodecFeedback, NestedControllerAndVehicleDataErrorsCarryTheFullPath) {
   EXPECT_TRUE(fails_with(decode_vehicle_ocp_shared(set_member(sample_text(), "start", "1")),
-                         ProtocolError::wrong_type,
+                         PeerError::wrong_type,
                          std::string(entry_path) + "last_remote_input.buttons.start: expected boolean"));
   EXPECT_TRUE(fails_with(decode_vehicle_ocp_shared(remove_member(sample_text(), "user_data")),
-                         ProtocolError::missing_field,
+                         PeerError::missing_field,
                          std::string(entry_path) + "vehicle_data.user_data: required field missing"));
 }
 

@@ -17,7 +17,7 @@ using test::fails_with;
 using test::fails_with_code;
 
 // Runs all four decoders on `json` and checks each fails with `code`.
-::testing::AssertionResult all_fail_with(const std::string& json, ProtocolError code) {
+::testing::AssertionResult all_fail_with(const std::string& json, PeerError code) {
   const ::testing::AssertionResult results[] = {
       fails_with_code(decode_control_message(json), code),
       fails_with_code(decode_vehicle_response(json), code),
@@ -48,9 +48,9 @@ std::string control_seed() { return test::read_data_file("seeds/000_control_mess
 TEST(JsonCodecHostile, TopLevelNonObjectsAreNotAnObject) {
   for (const char* json : {"null", "[]", "[{}]", "42", "\"text\"", "true", " 1.5 "}) {
     SCOPED_TRACE(json);
-    EXPECT_TRUE(all_fail_with(json, ProtocolError::not_an_object));
+    EXPECT_TRUE(all_fail_with(json, PeerError::not_an_object));
   }
-  EXPECT_TRUE(fails_with(decode_vehicle_response("[]"), ProtocolError::not_an_object,
+  EXPECT_TRUE(fails_with(decode_vehicle_response("[]"), PeerError::not_an_object,
                          "top-level value is not an object"));
 }
 
@@ -59,27 +59,27 @@ TEST(JsonCodecHostile, SyntaxErrorsAreMalformed) {
                            "{\"a\":1,}", "{\"a\":01}", "{\"a\":1.}", "{\"a\":-}", "{} {}",
                            "{}x", "{\"a\":tru}", "{\"a\":\"\\x\"}", "{/*c*/}", "{\"a\":\"\t\"}"}) {
     SCOPED_TRACE(json);
-    EXPECT_TRUE(all_fail_with(json, ProtocolError::malformed_json));
+    EXPECT_TRUE(all_fail_with(json, PeerError::malformed_json));
   }
 }
 
 // A zero-length frame reaches the decoders as a default-constructed view (null data pointer).
 TEST(JsonCodecHostile, EmptyViewWithNullDataIsMalformed) {
   const std::string_view empty;
-  EXPECT_TRUE(fails_with_code(decode_control_message(empty), ProtocolError::malformed_json));
-  EXPECT_TRUE(fails_with_code(decode_vehicle_response(empty), ProtocolError::malformed_json));
-  EXPECT_TRUE(fails_with_code(decode_vehicle_ocp_shared(empty), ProtocolError::malformed_json));
-  EXPECT_TRUE(fails_with_code(decode_client_ocp_shared(empty), ProtocolError::malformed_json));
+  EXPECT_TRUE(fails_with_code(decode_control_message(empty), PeerError::malformed_json));
+  EXPECT_TRUE(fails_with_code(decode_vehicle_response(empty), PeerError::malformed_json));
+  EXPECT_TRUE(fails_with_code(decode_vehicle_ocp_shared(empty), PeerError::malformed_json));
+  EXPECT_TRUE(fails_with_code(decode_client_ocp_shared(empty), PeerError::malformed_json));
 }
 
 TEST(JsonCodecHostile, NanAndInfinityLiteralsAreMalformed) {
   for (const char* literal : {"NaN", "Infinity", "-Infinity", "nan", "inf"}) {
     SCOPED_TRACE(literal);
     EXPECT_TRUE(all_fail_with(std::string("{\"ack_time\":") + literal + "}",
-                              ProtocolError::malformed_json));
+                              PeerError::malformed_json));
     EXPECT_TRUE(fails_with_code(
         decode_control_message(test::replace_once(control_seed(), "0.0", literal)),
-        ProtocolError::malformed_json));
+        PeerError::malformed_json));
   }
 }
 
@@ -87,7 +87,7 @@ TEST(JsonCodecHostile, NumbersBeyondDoubleRangeAreMalformed) {
   // RapidJSON refuses numbers whose magnitude exceeds a double, even inside user data.
   EXPECT_TRUE(fails_with_code(
       decode_control_message(test::replace_once(control_seed(), "\"manual\"", "1e400")),
-      ProtocolError::malformed_json));
+      PeerError::malformed_json));
 }
 
 TEST(JsonCodecHostile, InvalidUtf8IsMalformedEverywhere) {
@@ -98,16 +98,16 @@ TEST(JsonCodecHostile, InvalidUtf8IsMalformedEverywhere) {
     EXPECT_TRUE(fails_with_code(
         decode_control_message(test::replace_once(control_seed(), "\"fault_reason\": \"",
                                                   "\"fault_reason\": \"" + bad)),
-        ProtocolError::malformed_json));
+        PeerError::malformed_json));
     EXPECT_TRUE(fails_with_code(
         decode_control_message(test::replace_once(control_seed(), "manual", "man" + bad)),
-        ProtocolError::malformed_json));
-    EXPECT_TRUE(all_fail_with("{\"k" + bad + "\":1}", ProtocolError::malformed_json));
+        PeerError::malformed_json));
+    EXPECT_TRUE(all_fail_with("{\"k" + bad + "\":1}", PeerError::malformed_json));
   }
   // A lone surrogate escape is not a character either.
-  EXPECT_TRUE(all_fail_with(R"({"k":"\ud800"})", ProtocolError::malformed_json));
-  EXPECT_TRUE(all_fail_with(R"({"k":"a\udc00"})", ProtocolError::malformed_json));
-  EXPECT_TRUE(all_fail_with(R"({"\udfff":1})", ProtocolError::malformed_json));
+  EXPECT_TRUE(all_fail_with(R"({"k":"\ud800"})", PeerError::malformed_json));
+  EXPECT_TRUE(all_fail_with(R"({"k":"a\udc00"})", PeerError::malformed_json));
+  EXPECT_TRUE(all_fail_with(R"({"\udfff":1})", PeerError::malformed_json));
   // A proper pair is fine, and so is U+D7FF / U+E000 right next to the surrogate range.
   const auto pair = decode_client_ocp_shared(R"({"active_vehicle":"\ud83d\ude97\ud7ff\ue000"})");
   ASSERT_TRUE(pair.ok()) << pair.error().message();
@@ -126,17 +126,17 @@ TEST(JsonCodecHostile, EmbeddedNulBytesAreMalformed) {
   std::string json = control_seed();
   json.push_back('\0');
   json += "{}";
-  EXPECT_TRUE(fails_with_code(decode_control_message(json), ProtocolError::malformed_json));
+  EXPECT_TRUE(fails_with_code(decode_control_message(json), PeerError::malformed_json));
   std::string in_string = test::replace_once(control_seed(), "manual", std::string("ma\0nual", 7));
-  EXPECT_TRUE(fails_with_code(decode_control_message(in_string), ProtocolError::malformed_json));
+  EXPECT_TRUE(fails_with_code(decode_control_message(in_string), PeerError::malformed_json));
 }
 
 TEST(JsonCodecHostile, DeepNestingIsTooDeep) {
-  EXPECT_TRUE(all_fail_with(std::string(100000, '['), ProtocolError::too_deep));
-  EXPECT_TRUE(all_fail_with("{\"x\":" + std::string(100000, '['), ProtocolError::too_deep));
+  EXPECT_TRUE(all_fail_with(std::string(100000, '['), PeerError::too_deep));
+  EXPECT_TRUE(all_fail_with("{\"x\":" + std::string(100000, '['), PeerError::too_deep));
   std::string objects;
   for (int i = 0; i < 100000; ++i) objects += "{\"a\":";
-  EXPECT_TRUE(all_fail_with(objects, ProtocolError::too_deep));
+  EXPECT_TRUE(all_fail_with(objects, PeerError::too_deep));
 }
 
 TEST(JsonCodecHostile, DepthLimitCountsFromTheTopLevelObject) {
@@ -150,7 +150,7 @@ TEST(JsonCodecHostile, DepthLimitCountsFromTheTopLevelObject) {
   };
   EXPECT_TRUE(decode_control_message(with_user_data_depth(max_json_depth - 1)).ok());
   EXPECT_TRUE(fails_with_code(decode_control_message(with_user_data_depth(max_json_depth)),
-                              ProtocolError::too_deep));
+                              PeerError::too_deep));
 }
 
 TEST(JsonCodecHostile, HugeStringsAreHandled) {
@@ -163,7 +163,7 @@ TEST(JsonCodecHostile, HugeStringsAreHandled) {
       test::replace_once(control_seed(), "{", "{\"junk\":\"" + huge + "\","));
   EXPECT_TRUE(decoded.ok());
   EXPECT_TRUE(fails_with_code(decode_control_message("{\"a\":\"" + huge),
-                              ProtocolError::malformed_json));
+                              PeerError::malformed_json));
 }
 
 TEST(JsonCodecHostile, HugeNumbersInTypedFieldsAreOutOfRangeWithAShortDetail) {
@@ -210,8 +210,8 @@ TEST(JsonCodecHostile, SeedSchemasAreValidJsonButNotMessages) {
   for (const char* file : {"seeds/001_control_schema.json", "seeds/001_response_schema.json"}) {
     const std::string schema = test::read_data_file(file);
     EXPECT_TRUE(validate_raw_json(schema).ok()) << file;
-    EXPECT_TRUE(fails_with_code(decode_control_message(schema), ProtocolError::missing_field));
-    EXPECT_TRUE(fails_with_code(decode_vehicle_response(schema), ProtocolError::missing_field));
+    EXPECT_TRUE(fails_with_code(decode_control_message(schema), PeerError::missing_field));
+    EXPECT_TRUE(fails_with_code(decode_vehicle_response(schema), PeerError::missing_field));
   }
 }
 
@@ -222,10 +222,10 @@ TEST(JsonCodecHostile, ValidateRawJsonAcceptsExactlyOneValue) {
   for (const char* json : {"", "1 2", "{", "[1,]", "NaN", "\"\xff\""}) {
     const Status status = validate_raw_json(json);
     ASSERT_FALSE(status.ok()) << json;
-    EXPECT_EQ(status.error().code, make_error_code(ProtocolError::malformed_json)) << json;
+    EXPECT_EQ(status.error().code, make_error_code(PeerError::malformed_json)) << json;
   }
   EXPECT_EQ(validate_raw_json(std::string(1000, '[')).error().code,
-            make_error_code(ProtocolError::too_deep));
+            make_error_code(PeerError::too_deep));
 }
 
 TEST(JsonCodecHostile, EncoderEscapesStringsAndReplacesInvalidUtf8) {
@@ -249,7 +249,7 @@ TEST(JsonCodecHostile, EncoderWritesNonFiniteDoublesAsNull) {
   encode_control_message(message, text);
   EXPECT_NE(text.find(R"("left_x":null,"left_y":null)"), std::string::npos) << text;
   EXPECT_TRUE(validate_raw_json(text).ok()) << "output stays valid JSON";
-  EXPECT_TRUE(fails_with(decode_control_message(text), ProtocolError::wrong_type,
+  EXPECT_TRUE(fails_with(decode_control_message(text), PeerError::wrong_type,
                          "controller.axes.left_x: expected number"));
 }
 

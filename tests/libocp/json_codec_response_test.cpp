@@ -65,20 +65,20 @@ TEST(JsonCodecResponse, RoundTripsThroughEncodeAndDecode) {
 
 TEST(JsonCodecResponse, AckPairIsRequiredAndTyped) {
   EXPECT_TRUE(fails_with(decode_vehicle_response(remove_member(sample_text(), "ack_time")),
-                         ProtocolError::missing_field, "ack_time: required field missing"));
+                         PeerError::missing_field, "ack_time: required field missing"));
   EXPECT_TRUE(fails_with(decode_vehicle_response(remove_member(sample_text(), "ack_time_mac")),
-                         ProtocolError::missing_field, "ack_time_mac: required field missing"));
+                         PeerError::missing_field, "ack_time_mac: required field missing"));
   EXPECT_TRUE(fails_with(decode_vehicle_response(set_member(sample_text(), "ack_time", "1.0")),
-                         ProtocolError::out_of_range,
+                         PeerError::out_of_range,
                          "ack_time: expected unsigned 64-bit integer, got 1.0"));
   EXPECT_TRUE(fails_with(decode_vehicle_response(set_member(sample_text(), "ack_time", "true")),
-                         ProtocolError::wrong_type, "ack_time: expected unsigned 64-bit integer"));
+                         PeerError::wrong_type, "ack_time: expected unsigned 64-bit integer"));
   EXPECT_TRUE(
       fails_with(decode_vehicle_response(set_member(sample_text(), "ack_time_mac", "-5")),
-                 ProtocolError::out_of_range, "ack_time_mac: expected unsigned 32-bit integer, got -5"));
+                 PeerError::out_of_range, "ack_time_mac: expected unsigned 32-bit integer, got -5"));
   EXPECT_TRUE(
       fails_with(decode_vehicle_response(set_member(sample_text(), "ack_time_mac", "\"5\"")),
-                 ProtocolError::wrong_type, "ack_time_mac: expected unsigned 32-bit integer"));
+                 PeerError::wrong_type, "ack_time_mac: expected unsigned 32-bit integer"));
 }
 
 TEST(JsonCodecResponse, AckTimeAboveTwoToThe53SurvivesExactly) {
@@ -100,12 +100,12 @@ TEST(JsonCodecResponse, VehicleUserDataIsOptionalAndNullMeansAbsent) {
   EXPECT_FALSE(decoded->vehicle_user_data.has_value());
   EXPECT_TRUE(fails_with(
       decode_vehicle_response(set_member(sample_text(), "vehicle_user_data", "\"x\"")),
-      ProtocolError::wrong_type, "vehicle_user_data: expected object"));
+      PeerError::wrong_type, "vehicle_user_data: expected object"));
 }
 
 TEST(JsonCodecResponse, UserDataIsRequiredAndMayBeAnyJsonValue) {
   EXPECT_TRUE(fails_with(decode_vehicle_response(remove_member(sample_text(), "user_data")),
-                         ProtocolError::missing_field,
+                         PeerError::missing_field,
                          "vehicle_user_data.user_data: required field missing"));
   for (const char* value : {"null", "3", "\"s\"", "[true]", R"({"n":18446744073709551617})"}) {
     SCOPED_TRACE(value);
@@ -124,17 +124,17 @@ TEST(JsonCodecResponse, PosIsOptionalOrNullElseNeedsNumericLatAndLon) {
   EXPECT_FALSE(decoded->vehicle_user_data->pos.has_value());
 
   EXPECT_TRUE(fails_with(decode_vehicle_response(set_member(sample_text(), "pos", "[]")),
-                         ProtocolError::wrong_type, "vehicle_user_data.pos: expected object"));
+                         PeerError::wrong_type, "vehicle_user_data.pos: expected object"));
   EXPECT_TRUE(fails_with(decode_vehicle_response(remove_member(sample_text(), "lat")),
-                         ProtocolError::missing_field,
+                         PeerError::missing_field,
                          "vehicle_user_data.pos.lat: required field missing"));
   EXPECT_TRUE(fails_with(decode_vehicle_response(remove_member(sample_text(), "lon")),
-                         ProtocolError::missing_field,
+                         PeerError::missing_field,
                          "vehicle_user_data.pos.lon: required field missing"));
   EXPECT_TRUE(fails_with(decode_vehicle_response(set_member(sample_text(), "lat", "\"57\"")),
-                         ProtocolError::wrong_type, "vehicle_user_data.pos.lat: expected number"));
+                         PeerError::wrong_type, "vehicle_user_data.pos.lat: expected number"));
   EXPECT_TRUE(fails_with(decode_vehicle_response(set_member(sample_text(), "lon", "null")),
-                         ProtocolError::wrong_type, "vehicle_user_data.pos.lon: expected number"));
+                         PeerError::wrong_type, "vehicle_user_data.pos.lon: expected number"));
 }
 
 TEST(JsonCodecResponse, EncoderWritesNullPosAndNullForEmptyUserData) {

@@ -86,7 +86,7 @@ inline std::string remove_member(std::string text, std::string_view key) {
 }
 
 template <class T>
-::testing::AssertionResult fails_with(const Result<T>& result, ProtocolError code,
+::testing::AssertionResult fails_with(const Result<T>& result, PeerError code,
                                       std::string_view detail) {
   if (result.ok()) return ::testing::AssertionFailure() << "decoded, expected an error";
   if (result.error().code != make_error_code(code) || result.error().detail != detail) {
@@ -98,7 +98,7 @@ template <class T>
 }
 
 template <class T>
-::testing::AssertionResult fails_with_code(const Result<T>& result, ProtocolError code) {
+::testing::AssertionResult fails_with_code(const Result<T>& result, PeerError code) {
   if (result.ok()) return ::testing::AssertionFailure() << "decoded, expected an error";
   if (result.error().code != make_error_code(code)) {
     return ::testing::AssertionFailure() << "got " << result.error().message();

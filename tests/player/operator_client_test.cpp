@@ -92,7 +92,8 @@ TEST_F(PlayerTcpClient, SilenceClosesAfterExactlyTheReadTimeout) {
   harness.run_until(SimTime{2'500'000});
   EXPECT_TRUE(client.closed);
   EXPECT_EQ(client.closed_at, SimTime{2'500'000});
-  EXPECT_NE(harness.player.last_client_close_reason().find("timeout"), std::string::npos);
+  ASSERT_TRUE(harness.player.last_client_close_reason().has_value());
+  EXPECT_EQ(harness.player.last_client_close_reason()->code, PeerError::read_timeout);
 }
 
 TEST_F(PlayerTcpClient, MalformedJsonClosesWithReason) {
@@ -102,7 +103,8 @@ TEST_F(PlayerTcpClient, MalformedJsonClosesWithReason) {
   EXPECT_TRUE(client.closed);
   EXPECT_EQ(client.closed_at, at_ms(7));
   EXPECT_FALSE(harness.player.client_connected());
-  EXPECT_FALSE(harness.player.last_client_close_reason().empty());
+  ASSERT_TRUE(harness.player.last_client_close_reason().has_value());
+  EXPECT_EQ(harness.player.last_client_close_reason()->code, PeerError::malformed_json);
   EXPECT_TRUE(harness.logged(LogLevel::warn, "closing tcp client"));
   EXPECT_EQ(harness.player.locked_source(), std::nullopt);  // nothing was applied
 }
@@ -150,7 +152,8 @@ TEST_F(PlayerTcpClient, EndOfStreamInsideAFrameIsReportedAsTruncated) {
   });
   harness.run_until(at_ms(10));
   EXPECT_FALSE(harness.player.client_connected());
-  EXPECT_NE(harness.player.last_client_close_reason().find("truncated"), std::string::npos);
+  ASSERT_TRUE(harness.player.last_client_close_reason().has_value());
+  EXPECT_EQ(harness.player.last_client_close_reason()->code, PeerError::truncated_frame);
   EXPECT_TRUE(harness.logged(LogLevel::warn, "inside a frame"));
 }
 
@@ -215,7 +218,7 @@ TEST_F(PlayerTcpClient, StopClosesTheClient) {
   harness.player.stop();
   harness.run_until(at_ms(11));
   EXPECT_TRUE(client.closed);
-  EXPECT_EQ(harness.player.last_client_close_reason(), "player stopped");
+  EXPECT_EQ(harness.player.last_client_close_reason(), (CloseReason{LocalError::shut_down, "player stopped"}));
 }
 
 }  // namespace

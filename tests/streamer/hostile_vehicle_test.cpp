@@ -66,7 +66,7 @@ TEST_P(StreamerBadPayload, ClosesWithTheCodecReason) {
   ASSERT_FALSE(expected.ok());
   EXPECT_TRUE(vehicle.closed);
   EXPECT_EQ(vehicle.closed_at, ms(5));
-  EXPECT_EQ(harness.core.stats().last_close_reason, expected.error().message());
+  EXPECT_EQ(harness.core.stats().last_close_reason, expected.error());
   EXPECT_TRUE(harness.logged(expected.error().message()));
   EXPECT_TRUE(harness.core.faults().contains(FaultId::VehicleNoResponse));
 }
@@ -99,7 +99,7 @@ TEST(StreamerHostileVehicle, EofInsideAFrameClosesWithTheTruncationReason) {
   vehicle.close();
   harness.executor.run_until(ms(50));
   EXPECT_FALSE(harness.core.vehicle_connected());
-  EXPECT_EQ(harness.core.stats().last_close_reason, expected.error().message());
+  EXPECT_EQ(harness.core.stats().last_close_reason, expected.error());
   EXPECT_TRUE(harness.logged(expected.error().message()));
 }
 

@@ -102,22 +102,16 @@ struct Received {
   LinkMessage message;
 };
 
-// Records faults and connections as the observer sees them.
-class RecordingObserver : public StreamerObserver {
+// Records faults, connections and control frames from the Streamer's event stream.
+class RecordingObserver {
  public:
-  explicit RecordingObserver(const Executor& executor) : executor_(executor) {}
+  explicit RecordingObserver(EventBus& events)
+      : subscription_(events.subscribe([this](const Event& event) { record(event); })) {}
   struct FaultChange {
     SimTime at;
     FaultId id;
     bool active;
   };
-  void on_fault_changed(FaultId id, bool active) override {
-    fault_changes.push_back({executor_.now(), id, active});
-  }
-  void on_vehicle_connection(bool connected, const std::string& peer) override {
-    connections.emplace_back(connected, peer);
-  }
-  void on_control_sent(const OcpControlMessage&) override { ++controls_sent; }
   // Times at which `id` changed to `active`.
   std::vector<SimTime> changes(FaultId id, bool active) const {
     std::vector<SimTime> times;
@@ -127,11 +121,23 @@ class RecordingObserver : public StreamerObserver {
     return times;
   }
   std::vector<FaultChange> fault_changes;
-  std::vector<std::pair<bool, std::string>> connections;
+  std::vector<std::pair<bool, std::string>> connections;   // opened (true) / closed, peer
   std::uint64_t controls_sent = 0;
 
  private:
-  const Executor& executor_;
+  void record(const Event& event) {
+    if (const auto* fault = std::get_if<FaultEvent>(&event.body)) {
+      fault_changes.push_back({event.time, fault->id, fault->active});
+    } else if (const auto* connection = std::get_if<ConnectionEvent>(&event.body)) {
+      if (connection->change != ConnectionChange::refused) {
+        connections.emplace_back(connection->change == ConnectionChange::opened,
+                                 std::string(connection->peer));
+      }
+    } else if (const auto* frame = std::get_if<WireFrame>(&event.body)) {
+      if (frame->direction == FrameDirection::out) ++controls_sent;
+    }
+  }
+  EventBus::Subscription subscription_;
 };
 
 class StreamerHarness {
@@ -144,11 +150,10 @@ class StreamerHarness {
                       log_lines.push_back(std::string(log_level_name(record.level)) + " " +
                                           std::string(record.message));
                     })),
-        observer(executor) {
+        observer(core.events()) {
     to_player.set_receiver(
         [this](LinkMessage&& message) { from_streamer.push_back({executor.now(), std::move(message)}); });
     core.set_link(&to_player);
-    core.set_observer(&observer);
   }
 
   // Connects a new test vehicle through a pipe; the Streamer sees `peer_name`.

@@ -49,7 +49,7 @@ TEST(StreamerVehicleConnection, ReconnectStartsCleanWithoutStaleControlMessages)
             std::vector<SimTime>{ms(100)});
   EXPECT_EQ(harness.observer.changes(FaultId::VehicleNoResponse, false),
             std::vector<SimTime>{ms(155)});
-  EXPECT_EQ(harness.core.stats().last_close_reason, "peer closed: closed by peer");
+  EXPECT_EQ(harness.core.stats().last_close_reason, (CloseReason{PeerError::closed_by_peer, "closed by peer"}));
 }
 
 TEST(StreamerVehicleConnection, VehicleNoResponseExactlyWhileNoVehicleIsConnected) {
@@ -81,7 +81,7 @@ TEST(StreamerVehicleConnection, ClosesAfter2000MsWithoutAnyByte) {
   EXPECT_TRUE(vehicle.closed);
   EXPECT_EQ(vehicle.closed_at, ms(2000));
   EXPECT_EQ(harness.core.stats().last_close_reason,
-            "read timeout: no data from the vehicle for 2000 ms");
+            (CloseReason{PeerError::read_timeout, "no data from the vehicle for 2000 ms"}));
   EXPECT_TRUE(harness.logged("read timeout"));
   EXPECT_TRUE(harness.core.faults().contains(FaultId::VehicleNoResponse));
 }
@@ -125,7 +125,7 @@ TEST(StreamerVehicleConnection, StopClosesTheConnection) {
   harness.executor.run_until(ms(100));
   EXPECT_TRUE(vehicle.closed);
   EXPECT_EQ(vehicle.received.size(), 4u);
-  EXPECT_EQ(harness.core.stats().last_close_reason, "streamer stopped");
+  EXPECT_EQ(harness.core.stats().last_close_reason, (CloseReason{LocalError::shut_down, "streamer stopped"}));
 }
 
 }  // namespace

@@ -34,7 +34,7 @@ struct LoopbackWorld {
     config.backoff_max = Micros{80'000};
     auto runner = std::make_unique<TcpRunner>(executor, *client, config,
                                               Logger(executor, "tcp", make_null_sink()));
-    runner->set_on_event([this](const ConnectionEvent& event) { events.push_back(event); });
+    runner->set_on_event([this](const RunnerConnectionEvent& event) { events.push_back(event); });
     return runner;
   }
 
@@ -47,7 +47,7 @@ struct LoopbackWorld {
   boost::asio::io_context io;
   AsioExecutor executor{io};
   std::unique_ptr<VehicleClient> client;
-  std::vector<ConnectionEvent> events;
+  std::vector<RunnerConnectionEvent> events;
   std::vector<std::unique_ptr<FakeStreamer>> streamers;  // one per accepted connection
 };
 
@@ -148,7 +148,7 @@ TEST(VehicleClientTcp, SaysNotAnOcpServerWhenThePeerSpeaksSomethingElse) {
   auto runner = world.make_runner(server.port());
   runner->start();
   ASSERT_TRUE(testing::run_until(world.io, [&] { return world.count(ConnectionEventKind::not_an_ocp_server) >= 1; }));
-  const auto event = std::find_if(world.events.begin(), world.events.end(), [](const ConnectionEvent& e) {
+  const auto event = std::find_if(world.events.begin(), world.events.end(), [](const RunnerConnectionEvent& e) {
     return e.kind == ConnectionEventKind::not_an_ocp_server;
   });
   EXPECT_NE(event->detail.find("not an OCP server"), std::string::npos) << event->detail;
@@ -168,7 +168,7 @@ TEST(VehicleClientTcp, SaysTimedOutWhenTheServerNeverAnswersTheConnect) {
   auto runner = world.make_runner(unanswering.local_endpoint().port(), Micros{150'000});
   runner->start();
   ASSERT_TRUE(testing::run_until(world.io, [&] { return world.count(ConnectionEventKind::timed_out) >= 1; }));
-  const auto event = std::find_if(world.events.begin(), world.events.end(), [](const ConnectionEvent& e) {
+  const auto event = std::find_if(world.events.begin(), world.events.end(), [](const RunnerConnectionEvent& e) {
     return e.kind == ConnectionEventKind::timed_out;
   });
   EXPECT_NE(event->detail.find("timed out after 150 ms"), std::string::npos) << event->detail;

@@ -29,12 +29,15 @@ class WorldBadInput : public ::testing::Test {
 
   // The connection is closed (by the Streamer, with a reason naming the problem), and a new
   // well-behaved connection afterwards gets control frames every 10 ms exactly.
-  void expect_closed_then_next_connection_is_served(const std::string& reason_part) {
+  // `detail_part`: what the detail must name (the field), beside the typed code.
+  void expect_closed_then_next_connection_is_served(PeerError code, const std::string& detail_part) {
     sim.run_for(Millis{10});
     EXPECT_TRUE(peer->closed());
     EXPECT_FALSE(streamer().vehicle_connected());
-    EXPECT_NE(streamer().stats().last_close_reason.find(reason_part), std::string::npos)
-        << "close reason: " << streamer().stats().last_close_reason;
+    const auto& reason = streamer().stats().last_close_reason;
+    ASSERT_TRUE(reason.has_value());
+    EXPECT_EQ(reason->code, code) << reason->message();
+    EXPECT_NE(reason->detail.find(detail_part), std::string::npos) << reason->message();
     auto next = RawVehiclePeer::connect(sim, "truck-1");
     next->echo_automatically = true;
     sim.run_for(Millis{500});
@@ -50,27 +53,27 @@ class WorldBadInput : public ::testing::Test {
 
 TEST_F(WorldBadInput, MalformedJsonClosesTheConnection) {
   peer->write_frame(R"({"ack_time": 1, "ack_time_mac": )");
-  expect_closed_then_next_connection_is_served("malformed");
+  expect_closed_then_next_connection_is_served(PeerError::malformed_json, "");
 }
 
 TEST_F(WorldBadInput, NonObjectJsonClosesTheConnection) {
   peer->write_frame("[1, 2, 3]");
-  expect_closed_then_next_connection_is_served("object");
+  expect_closed_then_next_connection_is_served(PeerError::not_an_object, "");
 }
 
 TEST_F(WorldBadInput, MissingRequiredFieldClosesTheConnection) {
   peer->write_frame(R"({"ack_time_mac": 5})");
-  expect_closed_then_next_connection_is_served("ack_time");
+  expect_closed_then_next_connection_is_served(PeerError::missing_field, "ack_time");
 }
 
 TEST_F(WorldBadInput, WrongTypeClosesTheConnection) {
   peer->write_frame(R"({"ack_time": "123", "ack_time_mac": 5})");
-  expect_closed_then_next_connection_is_served("ack_time");
+  expect_closed_then_next_connection_is_served(PeerError::wrong_type, "ack_time");
 }
 
 TEST_F(WorldBadInput, OutOfRangeIntegersCloseTheConnection) {
   peer->write_frame(R"({"ack_time": 1, "ack_time_mac": 4294967296})");
-  expect_closed_then_next_connection_is_served("ack_time_mac");
+  expect_closed_then_next_connection_is_served(PeerError::out_of_range, "ack_time_mac");
 }
 
 TEST_F(WorldBadInput, DeeplyNestedUserDataClosesTheConnection) {
@@ -81,7 +84,7 @@ TEST_F(WorldBadInput, DeeplyNestedUserDataClosesTheConnection) {
   peer->write_frame(nested);
   sim.run_for(Millis{10});
   EXPECT_TRUE(peer->closed());
-  expect_closed_then_next_connection_is_served("");
+  expect_closed_then_next_connection_is_served(PeerError::too_deep, "");
 }
 
 TEST_F(WorldBadInput, StreamEndingInsideAFrameIsATruncatedFrame) {
@@ -89,8 +92,8 @@ TEST_F(WorldBadInput, StreamEndingInsideAFrameIsATruncatedFrame) {
   peer->close();
   sim.run_for(Millis{10});
   EXPECT_FALSE(streamer().vehicle_connected());
-  EXPECT_NE(streamer().stats().last_close_reason.find("trunc"), std::string::npos)
-      << streamer().stats().last_close_reason;
+  ASSERT_TRUE(streamer().stats().last_close_reason.has_value());
+  EXPECT_EQ(streamer().stats().last_close_reason->code, PeerError::truncated_frame);
   auto next = RawVehiclePeer::connect(sim, "truck-1");
   next->echo_automatically = true;
   sim.run_for(Millis{300});

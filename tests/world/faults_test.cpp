@@ -2,6 +2,8 @@
 // Streamer, in the Player's feedback, and in what the vehicle client receives and does.
 #include <gtest/gtest.h>
 
+#include <rapidjson/document.h>
+
 #include <algorithm>
 
 #include "world_fixture.hpp"
@@ -9,22 +11,21 @@
 namespace ocp::world_test {
 namespace {
 
+// telemetry.latency of the control frame the Streamer wrote at `time`, from the trace.
 std::uint64_t control_latency_at(const TraceRecorder& trace, SimTime time) {
-  const std::string prefix = fmt::format("{:>12} streamer:truck-1 control ", time.count());
-  for (const std::string& line : trace.lines_containing(" control ack=")) {
-    if (line.rfind(prefix, 0) == 0) {
-      const auto at = line.find("latency=");
-      return std::stoull(line.substr(at + 8));
-    }
+  for (const std::string& line : trace.lines_containing(R"("dir":"out","kind":"control")")) {
+    if (TraceRecorder::line_time(line) != time) continue;
+    rapidjson::Document document;
+    document.Parse(line.c_str());
+    const auto control = decode_control_message(document["payload"].GetString());
+    if (control) return control->telemetry.latency_ms;
   }
   ADD_FAILURE() << "no control frame at " << time.count() << " µs";
   return 0;
 }
 
 TEST(WorldFaults, HighLatencyFollowsTheLinkDelayAcrossTheLimit) {
-  TraceOptions options;
-  options.messages = true;
-  VirtualWorld sim(one_vehicle_config(), options);
+  VirtualWorld sim(one_vehicle_config());
   ASSERT_TRUE(sim.start());
   sim.world().player().gamepad().set_constant(driving_controller());
   sim.run_for(Millis{1000});
@@ -76,7 +77,7 @@ TEST(WorldFaults, NoControlMessageAtTheFirstTickAfterOneSecondOfSilenceAndClears
   EXPECT_FALSE(streamer.faults().contains(FaultId::NoControlMessage));
   sim.run_until(expected);
   EXPECT_TRUE(streamer.faults().contains(FaultId::NoControlMessage)) << "expected at " << expected.count();
-  EXPECT_EQ(first_trace_time(sim.trace(), "fault NoControlMessage raised"), expected);
+  EXPECT_EQ(first_trace_time(sim.trace(), R"("fault":"NoControlMessage","active":true)"), expected);
 
   // While a control-path fault is active the vehicle gets the default controller and its
   // safety layer holds the safe state.
@@ -96,7 +97,7 @@ TEST(WorldFaults, NoControlMessageAtTheFirstTickAfterOneSecondOfSilenceAndClears
   const std::uint64_t received = operator_messages();
   ASSERT_TRUE(sim.run_until_condition([&] { return operator_messages() != received; }, Millis{100}));
   EXPECT_FALSE(streamer.faults().contains(FaultId::NoControlMessage));
-  EXPECT_EQ(first_trace_time(sim.trace(), "fault NoControlMessage cleared", recovery_start), sim.now());
+  EXPECT_EQ(first_trace_time(sim.trace(), R"("fault":"NoControlMessage","active":false)", recovery_start), sim.now());
   sim.run_for(Millis{500});
   EXPECT_TRUE(streamer.faults().empty()) << streamer.faults().fault_reason();
   EXPECT_EQ(tap->last_control()->controller, driving_controller());

@@ -65,7 +65,7 @@ TEST(WorldClientData, SecondSourceStopsAllClientDataAndTheLoopBreaksVisibly) {
   EXPECT_FALSE(tap->last_control()->client_user_data.has_value()) << "user data must stop too";
   EXPECT_NE(tap->last_control()->telemetry.fault_reason.find("Latency Loop Not Closed"), std::string::npos);
   EXPECT_TRUE(sim.world().vehicle_client("truck-1")->safety().safe_state);
-  EXPECT_FALSE(sim.trace().lines_containing(" player ERROR: ").empty()) << "the conflict is logged as an error";
+  EXPECT_FALSE(sim.log().lines_containing(" player ERROR: ").empty()) << "the conflict is logged as an error";
 }
 
 // Active vehicle selection by a web view that sends every frame.

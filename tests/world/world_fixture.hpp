@@ -80,11 +80,11 @@ inline SimTime first_tick_after(SimTime time) {
   return SimTime{(time.count() / tick.count() + 1) * tick.count()};
 }
 
-// Time of the first trace line containing `needle`, or nullopt.
+// Time of the first JSON trace line containing `needle` (at or after not_before), or nullopt.
 inline std::optional<SimTime> first_trace_time(const TraceRecorder& trace, const std::string& needle,
                                                SimTime not_before = SimTime{0}) {
   for (const std::string& line : trace.lines_containing(needle)) {
-    const SimTime time{std::stoll(line.substr(0, 12))};
+    const SimTime time = TraceRecorder::line_time(line);
     if (time >= not_before) return time;
   }
   return std::nullopt;

@@ -68,7 +68,7 @@ int main(int argc, char** argv) {
     executor.call_after(ocp::Micros{static_cast<std::int64_t>(*options.duration_s * 1e6)},
                         [&] { shutdown(0, "--duration-s elapsed"); });
   }
-  runner.set_on_event([&](const ocp::ConnectionEvent& event) {
+  runner.set_on_event([&](const ocp::RunnerConnectionEvent& event) {
     if (event.kind == ocp::ConnectionEventKind::stopped && !options.runner.reconnect) {
       shutdown(1, "connection ended and --no-reconnect is set");
     }

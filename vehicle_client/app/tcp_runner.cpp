@@ -94,7 +94,7 @@ TcpRunner::~TcpRunner() {
   client_.set_on_disconnected(nullptr);
 }
 
-void TcpRunner::set_on_event(std::function<void(const ConnectionEvent&)> callback) {
+void TcpRunner::set_on_event(std::function<void(const RunnerConnectionEvent&)> callback) {
   on_event_ = std::move(callback);
 }
 
@@ -106,7 +106,7 @@ void TcpRunner::emit(ConnectionEventKind kind, std::string detail, Micros retry_
     case ConnectionEventKind::retry_scheduled: logger_.debug("{}", detail); break;
     default: logger_.warn("{}", detail); break;
   }
-  if (on_event_) on_event_(ConnectionEvent{kind, std::move(detail), retry_in});
+  if (on_event_) on_event_(RunnerConnectionEvent{kind, std::move(detail), retry_in});
 }
 
 void TcpRunner::start() {

@@ -21,11 +21,9 @@ LogSink combine(LogSink first, LogSink second) {
 }  // namespace
 
 VirtualWorld::VirtualWorld(WorldConfig config, TraceOptions trace_options, LogSink extra_sink)
-    : trace_(executor_, trace_options),
-      world_(executor_, with_deterministic_keys(std::move(config)),
-             combine(trace_.sink(), std::move(extra_sink))) {
-  trace_.observe(world_);
-}
+    : world_(executor_, with_deterministic_keys(std::move(config)),
+             combine(log_.sink(), std::move(extra_sink))),
+      trace_(world_.events(), trace_options) {}
 
 Status VirtualWorld::start() { return world_.start(); }
 

@@ -28,7 +28,9 @@ World::World(Executor& executor, WorldConfig config, LogSink sink)
       sink_(std::move(sink)),
       logger_(executor, "world", sink_),
       player_(std::make_unique<PlayerCore>(executor, config_.player,
-                                           Logger(executor, config_.player.name, sink_))) {}
+                                           Logger(executor, config_.player.name, sink_))) {
+  player_->events().set_parent(&events_);
+}
 
 World::~World() { stop(); }
 
@@ -73,16 +75,19 @@ Status World::start() {
       streamer_config.mac_key = derive_mac_key(config_.seed, spec.name);
     }
     vehicle->link = std::make_unique<ComChannel>(
-        executor_, derive_seed(config_.seed, "link:" + spec.name), "link:" + spec.name);
+        executor_, derive_seed(config_.seed, "link:" + spec.name), spec.name);
+    vehicle->link->events().set_parent(&events_);
     vehicle->link->to_streamer().set_impairments(spec.to_streamer);
     vehicle->link->to_player().set_impairments(spec.to_player);
     vehicle->streamer = std::make_unique<StreamerCore>(
         executor_, streamer_config, Logger(executor_, "streamer:" + spec.name, sink_));
     vehicle->streamer->set_link(&vehicle->link->to_player());
+    vehicle->streamer->events().set_parent(&events_);
 
     Status linked = player_->add_vehicle(spec.name, &vehicle->link->to_streamer(), spec.monitor);
     if (!linked) {
       vehicles_.clear();
+      by_name_.clear();
       return linked;
     }
     if (spec.in_process_client) {
@@ -92,6 +97,7 @@ Status World::start() {
         vehicle->tap = std::make_unique<StreamTap>(executor_);
       }
     }
+    by_name_.emplace(spec.name, vehicle.get());
     vehicles_.push_back(std::move(vehicle));
   }
 
@@ -115,7 +121,6 @@ Status World::start() {
     }
   }
 
-  if (on_built_) on_built_(*this);
   running_ = true;
   for (auto& vehicle : vehicles_) vehicle->streamer->start();
   player_->start();
@@ -141,8 +146,6 @@ void World::stop() {
   logger_.info("stopped");
 }
 
-void World::set_on_built(std::function<void(World&)> hook) { on_built_ = std::move(hook); }
-
 bool World::running() const { return running_; }
 Executor& World::executor() const { return executor_; }
 const WorldConfig& World::config() const { return config_; }
@@ -157,9 +160,7 @@ std::vector<std::string> World::vehicles() const {
 PlayerCore& World::player() { return *player_; }
 
 World::Vehicle& World::find(std::string_view name) const {
-  for (const auto& vehicle : vehicles_) {
-    if (vehicle->spec.name == name) return *vehicle;
-  }
+  if (const auto found = by_name_.find(name); found != by_name_.end()) return *found->second;
   // Asking for a vehicle the world was not built with is a bug in the caller.
   std::fprintf(stderr, "World: no vehicle named '%.*s' (was start() called?)\n",
                static_cast<int>(name.size()), name.data());

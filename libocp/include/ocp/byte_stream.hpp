@@ -2,6 +2,7 @@
 // One end of a duplex byte connection. Two interchangeable implementations: an in-memory
 // pipe (either time; pipe.hpp) and a TCP socket (real time; tcp_stream.hpp). The reference
 // vehicle client and the Streamer's connection handling run over either unchanged.
+#include <cstddef>
 #include <functional>
 #include <memory>
 #include <string>
@@ -30,6 +31,10 @@ class ByteStream {
   virtual std::string peer_name() const = 0;
   // Optional TCP_NODELAY etc.; no-op for pipes.
   virtual void set_no_delay(bool) {}
+  // Bytes accepted by write() that the peer has not taken yet (still in our queue; for a pipe,
+  // also those the peer has not read). A writer that limits its queue checks this: it is how
+  // a peer that stopped reading is detected before it can grow our memory.
+  virtual std::size_t queued_bytes() const { return 0; }
 };
 
 }  // namespace ocp

@@ -9,31 +9,14 @@
 #include <memory>
 #include <random>
 #include <string>
+#include <string_view>
 
+#include "ocp/event_bus.hpp"
 #include "ocp/executor.hpp"
+#include "ocp/impairments.hpp"
 #include "ocp/link_messages.hpp"
 
 namespace ocp {
-
-struct Impairments {
-  Micros delay{0};                   // fixed one-way delay
-  enum class JitterKind { none, uniform, normal };
-  JitterKind jitter_kind = JitterKind::none;
-  Micros jitter{0};                  // uniform: ±jitter; normal: standard deviation
-  double loss_probability = 0.0;     // independent random loss, 0..1
-  // Gilbert–Elliott burst loss: two-state Markov chain (good/bad), evaluated per message.
-  bool burst_loss = false;
-  double good_to_bad_probability = 0.0;
-  double bad_to_good_probability = 1.0;
-  double loss_in_good = 0.0;
-  double loss_in_bad = 1.0;
-  double bandwidth_bits_per_second = 0.0;  // 0 = unlimited; otherwise FIFO serialisation queue
-  std::size_t queue_limit_bytes = 0;       // 0 = unlimited; tail-drop beyond it
-  double duplicate_probability = 0.0;
-  double reorder_probability = 0.0;        // a reordered message gets `reorder_extra_delay`
-  Micros reorder_extra_delay{0};
-  bool down = false;                       // outage: everything sent while down is lost
-};
 
 struct DirectionCounters {
   std::uint64_t sent = 0;
@@ -51,6 +34,9 @@ class LinkDirection {
  public:
   using Receiver = std::function<void(LinkMessage&&)>;
   LinkDirection(Executor& executor, std::uint64_t seed);
+  // Who this direction is, for the events it publishes (ComChannel sets it; a bare direction
+  // publishes as an unnamed link, route to_streamer). `name` must outlive the direction.
+  void set_identity(std::string_view name, LinkRoute route);
   // Pending deliveries hold a liveness token, not the direction: destroying it with messages
   // in flight is safe (they are dropped). Not copyable, since in-flight deliveries refer to it.
   ~LinkDirection();
@@ -65,14 +51,21 @@ class LinkDirection {
   void outage_for(Micros duration);
   // Counters as of now (queue depth is computed from the serialiser's backlog).
   const DirectionCounters& counters() const;
+  // LinkEvent per message sent, delivered or dropped; ImpairmentChange on set_impairments.
+  EventBus& events() { return events_; }
 
  private:
   bool is_down() const;
-  bool lost_in_transit();
+  DropReason lost_in_transit();   // none: not lost
   Micros jitter_sample();
   double uniform_unit();  // [0, 1) from 53 random bits
   std::size_t backlog_bytes(SimTime now) const;
-  void schedule_delivery(SimTime deliver_at, LinkMessage message, std::size_t size_bytes);
+  void schedule_delivery(SimTime deliver_at, LinkMessage message, std::size_t size_bytes,
+                         std::uint64_t message_id);
+  void publish(LinkOutcome outcome, const LinkMessage& message, std::size_t size_bytes,
+               std::uint64_t message_id, DropReason reason = DropReason::none);
+  void drop(const LinkMessage& message, std::size_t size_bytes, std::uint64_t message_id,
+            DropReason reason);
 
   Executor& executor_;
   std::mt19937_64 random_;
@@ -84,20 +77,30 @@ class LinkDirection {
   SimTime last_delivery_at_{};  // keeps FIFO order unless reordering is requested
   SimTime outage_until_{};      // outage_for(): down while now < outage_until_
   std::shared_ptr<bool> alive_ = std::make_shared<bool>(true);
+  EventBus events_;
+  std::string_view name_;
+  LinkRoute route_ = LinkRoute::to_streamer;
+  std::uint64_t next_message_id_ = 1;
 };
 
 // A Player ⇄ Streamer link.
 class ComChannel {
  public:
+  // `name` identifies the link in events (the World uses the vehicle's name).
   ComChannel(Executor& executor, std::uint64_t seed, std::string name = "link");
+  ComChannel(const ComChannel&) = delete;
+  ComChannel& operator=(const ComChannel&) = delete;
   LinkDirection& to_streamer() { return to_streamer_; }
   LinkDirection& to_player() { return to_player_; }
   const std::string& name() const { return name_; }
   // Sets the same impairments on both directions.
   void set_impairments(const Impairments& impairments);
+  // Both directions' events.
+  EventBus& events() { return events_; }
 
  private:
   std::string name_;
+  EventBus events_;   // before the directions: they name it as their parent
   LinkDirection to_streamer_;
   LinkDirection to_player_;
 };

@@ -25,11 +25,15 @@
 
 #include "ocp/byte_stream.hpp"
 #include "ocp/error.hpp"
+#include "ocp/event_bus.hpp"
 #include "ocp/executor.hpp"
 #include "ocp/frame.hpp"
 #include "ocp/log.hpp"
 
 namespace ocp {
+
+// 1 MiB: about 3 000 control frames, 30 s of a vehicle that stopped reading.
+inline constexpr std::size_t default_write_queue_limit_bytes = 1024 * 1024;
 
 class FramedConnection : public std::enable_shared_from_this<FramedConnection> {
  public:
@@ -39,6 +43,14 @@ class FramedConnection : public std::enable_shared_from_this<FramedConnection> {
     // No byte for this long closes the connection; zero (or negative) disables the rule.
     Micros read_timeout{2'000'000};
     std::size_t payload_limit_bytes = max_payload_bytes;
+    // Bytes we may have queued for a peer that is not reading before we disconnect it.
+    std::size_t write_queue_limit_bytes = default_write_queue_limit_bytes;
+    // Where frame and connection events go (nullptr: none), and how they are labelled.
+    EventBus* events = nullptr;
+    Component component{};
+    Wire wire = Wire::vehicle;
+    WireMessageKind inbound_kind = WireMessageKind::vehicle_response;
+    WireMessageKind outbound_kind = WireMessageKind::control;
   };
 
   // Where the connection adds what it counts. Each member points into the owner's stats, so
@@ -52,10 +64,10 @@ class FramedConnection : public std::enable_shared_from_this<FramedConnection> {
 
   struct Handlers {
     // Decodes and dispatches one complete payload (valid only during the call). An error
-    // closes the connection with error.message() as the reason.
+    // closes the connection with that error as the reason.
     std::function<Status(std::string_view payload)> on_payload;
     // Called exactly once, whatever closed the connection.
-    std::function<void(const std::string& reason)> on_closed;
+    std::function<void(const CloseReason& reason)> on_closed;
   };
 
   // Takes over `stream`, starts reading from it and arms the read timeout. A stream that is
@@ -68,11 +80,13 @@ class FramedConnection : public std::enable_shared_from_this<FramedConnection> {
   FramedConnection(const FramedConnection&) = delete;
   FramedConnection& operator=(const FramedConnection&) = delete;
 
-  // Frames and writes one encoded payload. Fails with frame_too_large (nothing written) when
-  // the payload is over the limit, and with not_connected once the connection is closed.
+  // Frames and writes one encoded payload. Fails with LocalError::frame_too_large (nothing
+  // written) when the payload is over the limit, and with LocalError::not_connected once the
+  // connection is closed. A peer whose queue would overflow is disconnected (not_reading) and
+  // the send fails with that reason.
   [[nodiscard]] Status send(std::string_view payload);
-  // Local close: logs `reason` as a warning, closes the stream, reports on_closed.
-  void close(const std::string& reason);
+  // Closes with `reason` (logged as a warning), closes the stream, reports on_closed.
+  void close(CloseReason reason);
 
   bool is_open() const { return open_; }
   const std::string& peer() const { return peer_; }
@@ -86,7 +100,10 @@ class FramedConnection : public std::enable_shared_from_this<FramedConnection> {
   void handle_peer_closed(const std::string& transport_reason);
   void arm_read_timer(SimTime deadline);
   void on_read_timer();
-  void finish(const std::string& reason);
+  void finish(const CloseReason& reason);
+  void publish_frame(FrameDirection direction, WireMessageKind kind, std::uint32_t length_prefix,
+                     std::string_view payload, bool drained);
+  void publish_connection(ConnectionChange change, const CloseReason* reason);
 
   Executor& executor_;
   Logger logger_;

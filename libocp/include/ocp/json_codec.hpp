@@ -24,7 +24,7 @@
 
 namespace ocp {
 
-// Nesting limit for any decoded document (user data included); deeper → ProtocolError::too_deep.
+// Nesting limit for any decoded document (user data included); deeper → PeerError::too_deep.
 inline constexpr int max_json_depth = 64;
 
 Result<OcpControlMessage> decode_control_message(std::string_view json);

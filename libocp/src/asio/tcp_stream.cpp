@@ -63,6 +63,7 @@ class TcpStream final : public ByteStream, public std::enable_shared_from_this<T
 
   bool is_open() const override { return open_; }
   std::string peer_name() const override { return peer_name_; }
+  std::size_t queued_bytes() const override { return pending_.size() + in_flight_.size(); }
 
   void set_no_delay(bool enabled) override {
     error_code ignored;

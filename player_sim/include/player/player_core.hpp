@@ -41,8 +41,10 @@
 #include <vector>
 
 #include "ocp/byte_stream.hpp"
+#include "ocp/client_source.hpp"
 #include "ocp/com_channel.hpp"
 #include "ocp/error.hpp"
+#include "ocp/event_bus.hpp"
 #include "ocp/executor.hpp"
 #include "ocp/faults.hpp"
 #include "ocp/link_messages.hpp"
@@ -52,8 +54,6 @@
 
 namespace ocp {
 
-enum class ClientSource { tcp, webview, plugin };
-std::string_view client_source_name(ClientSource source);  // "tcp" | "webview" | "plugin"
 
 inline constexpr double max_player_frame_rate_hz = 100.0;
 
@@ -138,7 +138,11 @@ class PlayerCore {
   std::optional<std::string> active_vehicle() const;
   std::optional<AckPair> latest_sei(const std::string& vehicle) const;
   bool client_connected() const;        // a tcp client is attached
-  const std::string& last_client_close_reason() const;
+  const std::optional<CloseReason>& last_client_close_reason() const;
+  // Everything the Player does, as typed events: sender FaultEvents per vehicle, GamepadChange,
+  // ActiveVehicleChange, SourceLocked / SourceConflict, and the :4001 client's WireFrames and
+  // ConnectionEvents. Nothing is built while nobody subscribes.
+  EventBus& events();
   const PlayerStats& stats() const;
 
  private:

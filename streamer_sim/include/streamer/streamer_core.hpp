@@ -7,7 +7,7 @@
 // Call order:
 //   StreamerCore core(executor, config, logger);
 //   core.set_link(&channel.to_player());         // where feedback, video and pongs go
-//   core.set_observer(&observer);                 // optional
+//   auto subscription = core.events().subscribe(…); // optional, at any time
 //   core.start();                                 // control ticker, frame loop, cameras
 //   … core.accept_vehicle_connection(stream) whenever a vehicle connects (TCP front / pipe)
 //   … core.handle_link_message(message) for everything the Player sends (OperatorControl, Ping)
@@ -58,6 +58,11 @@
 //   sent without client_user_data, with a warning.
 // * Vehicle read timeout: the connection is closed when no byte arrived for
 //   vehicle_read_timeout (between frames as well as inside one).
+// * A vehicle that stops reading is closed (PeerError::not_reading) once the control frames
+//   queued for it would exceed vehicle_write_queue_limit_bytes; the Streamer carries on.
+// * Events (events()): WireFrame for every control frame out and response in, FaultEvent on
+//   every vehicle-side fault change, ConnectionEvent on open / close / refuse, and one
+//   LatencySample per control tick. Nothing is built while nobody subscribes.
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -68,6 +73,9 @@
 
 #include "ocp/byte_stream.hpp"
 #include "ocp/com_channel.hpp"
+#include "ocp/error.hpp"
+#include "ocp/event_bus.hpp"
+#include "ocp/framed_connection.hpp"
 #include "ocp/executor.hpp"
 #include "ocp/faults.hpp"
 #include "ocp/link_messages.hpp"
@@ -98,6 +106,7 @@ struct StreamerConfig {
   std::size_t control_queue_limit = 20;          // ControlThreadChannelSlow backlog N
   Micros control_queue_max_age{100'000};
   std::uint64_t ack_time_offset = 0;             // conformance runs use ≥ 2^53
+  std::size_t vehicle_write_queue_limit_bytes = default_write_queue_limit_bytes;
   std::optional<MacKey> mac_key;                 // nullopt → random_mac_key()
 };
 
@@ -112,7 +121,7 @@ struct StreamerStats {
   std::uint64_t connections_accepted = 0;
   std::uint64_t connections_refused = 0;         // second connection while one was active
   std::uint64_t connections_closed = 0;          // active connections that ended (any reason)
-  std::string last_close_reason;
+  std::optional<CloseReason> last_close_reason;
   // Operator side.
   std::uint64_t operator_messages_received = 0;
   std::uint64_t invalid_returned_pairs = 0;
@@ -121,15 +130,6 @@ struct StreamerStats {
   std::uint64_t pongs_sent = 0;
   std::uint64_t control_ticks = 0;
   std::uint64_t frame_loop_iterations = 0;
-};
-
-class StreamerObserver {
- public:
-  virtual ~StreamerObserver() = default;
-  virtual void on_control_sent(const OcpControlMessage&) {}
-  virtual void on_vehicle_response(const VehicleResponseMessage&) {}
-  virtual void on_fault_changed(FaultId, bool /*active*/) {}
-  virtual void on_vehicle_connection(bool /*connected*/, const std::string& /*peer*/) {}
 };
 
 class StreamerCore {
@@ -149,7 +149,8 @@ class StreamerCore {
   void set_camera_stalled(std::string_view camera, bool stalled);
   void inject_frame_loop_stall(Micros duration);
   void set_control_thread_stalled(bool stalled);      // lets the control queue back up
-  void set_observer(StreamerObserver* observer);
+  // Everything this Streamer does, as typed events (see the header comment).
+  EventBus& events();
 
   const FaultSet& faults() const;                     // vehicle-side (receiver) faults
   std::optional<std::uint64_t> latency_ms() const;    // nullopt until a valid pair returned

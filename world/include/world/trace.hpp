@@ -1,68 +1,64 @@
 #pragma once
-// TraceRecorder: a text event trace of a world run, one line per event:
-//   "<time µs, 12 wide> <component> <event>"
-// Sources: every log line (through sink()), every Streamer's fault changes, vehicle
-// connections and (with `messages`) every control frame and vehicle response, and the
-// Player's per-vehicle sender/receiver fault changes seen in its VehicleOcpShared. In virtual
-// time the same seed gives the same trace byte for byte, so determinism is asserted by
-// comparing two traces (or their digests, which are kept even when the text is not).
+// TraceRecorder: the trace of a run as JSON Lines — one event of the event stream per line,
+// with stable field names (docs/trace-format.md, format version trace_format_version). It
+// subscribes to an EventBus (usually World::events()); log lines are not part of it, so
+// rewording a log message never changes a trace. In virtual time the same seed gives the
+// same trace byte for byte: determinism is asserted by comparing traces (or their digests,
+// kept even when the lines are not). The human-readable text form is rendered from the JSON
+// Lines (render_trace_text), never written separately.
 #include <cstdint>
-#include <map>
-#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include "ocp/executor.hpp"
-#include "ocp/log.hpp"
+#include "ocp/event_bus.hpp"
+#include "ocp/time.hpp"
 
 namespace ocp {
 
-class World;
+inline constexpr int trace_format_version = 1;
 
 struct TraceOptions {
-  bool keep_text = true;                 // false: only the digest and line count (long runs)
-  bool messages = false;                 // also one line per control frame / vehicle response
-  LogLevel minimum_log_level = LogLevel::debug;
+  bool keep_lines = true;        // false: only the digest and line count (long runs)
+  bool frames = true;            // WireFrame events (every frame on both TCP APIs)
+  bool frame_payloads = true;    // … with their payload bytes
+  bool link_messages = true;     // LinkEvent per com-channel message sent / delivered / dropped
+  bool latency_samples = true;   // LatencySample per Streamer control tick
 };
+
+// One event as one JSON line (with its '\n'), appended to `out`. Fields: docs/trace-format.md.
+void append_trace_line(const Event& event, const TraceOptions& options, std::string& out);
+// The first line of every trace: {"t_us":0,"source":"trace","event":"trace_format","version":N}.
+std::string trace_header_line();
+
+// The text form, one line per JSON line: "<time µs, 12 wide> <source> <what happened>".
+// Lines that are not trace JSON are rendered as "? <line>" (never dropped silently).
+std::string render_trace_text(std::string_view jsonl);
 
 class TraceRecorder {
  public:
-  explicit TraceRecorder(const Executor& executor, TraceOptions options = {});
-  ~TraceRecorder();
+  TraceRecorder(EventBus& bus, TraceOptions options = {});
   TraceRecorder(const TraceRecorder&) = delete;
   TraceRecorder& operator=(const TraceRecorder&) = delete;
 
-  // A LogSink that records log lines (pass it to World, or wrap it with another sink).
-  LogSink sink();
-  // Installs observers on the world's Streamers and Player. Before start() (preferred) this
-  // goes through World::set_on_built, so the first events of the run are recorded too; after
-  // start() it installs them at once. Call once. The recorder must outlive the world's run.
-  void observe(World& world);
-
-  // Appends one event (also usable by tests and scenario scripts for their own markers).
-  void record(std::string_view component, std::string_view event);
-
-  const std::string& text() const { return text_; }
-  std::uint64_t digest() const { return digest_; }    // FNV-1a over every line recorded
+  const std::string& jsonl() const { return jsonl_; }   // empty unless keep_lines
+  std::string text() const { return render_trace_text(jsonl_); }
+  std::uint64_t digest() const { return digest_; }     // FNV-1a over every line recorded
   std::uint64_t lines() const { return lines_; }
-  // Lines containing `needle` (for assertions); needs keep_text.
+  // JSON lines containing `needle` (for assertions); needs keep_lines.
   std::vector<std::string> lines_containing(std::string_view needle) const;
+  // The "t_us" of one of its lines.
+  static SimTime line_time(std::string_view line);
 
  private:
-  class StreamerWatcher;
-  class PlayerWatcher;
-  void append_line();
-  void install(World& world);
+  void append(const std::string& line);
 
-  const Executor& executor_;
   TraceOptions options_;
-  std::string text_;
-  std::string line_;                     // reused buffer for one line
+  std::string jsonl_;
+  std::string line_;   // reused buffer for one line
   std::uint64_t digest_;
   std::uint64_t lines_ = 0;
-  std::vector<std::unique_ptr<StreamerWatcher>> streamer_watchers_;
-  std::unique_ptr<PlayerWatcher> player_watcher_;
+  EventBus::Subscription subscription_;
 };
 
 }  // namespace ocp

@@ -1,5 +1,6 @@
 #pragma once
-// VirtualWorld: a World on its own VirtualExecutor with a TraceRecorder — the harness tests,
+// VirtualWorld: a World on its own VirtualExecutor with a TraceRecorder (the JSON Lines event
+// trace) and a LogCapture (the log lines, kept apart from the trace) — the harness tests,
 // benchmarks and scenarios drive (quinn's Pair / TigerBeetle's simulator, in small).
 //
 //   VirtualWorld sim(config);              // deterministic_keys forced on
@@ -11,6 +12,7 @@
 #include <functional>
 
 #include "ocp/virtual_executor.hpp"
+#include "world/log_capture.hpp"
 #include "world/trace.hpp"
 #include "world/world.hpp"
 
@@ -22,7 +24,7 @@ class VirtualWorld {
   explicit VirtualWorld(WorldConfig config, TraceOptions trace_options = {},
                         LogSink extra_sink = {});
 
-  [[nodiscard]] Status start();   // the trace observes the world from its first event
+  [[nodiscard]] Status start();   // the trace records the world from its first event
 
   SimTime now() const { return executor_.now(); }
   bool step() { return executor_.step(); }
@@ -35,11 +37,13 @@ class VirtualWorld {
   VirtualExecutor& executor() { return executor_; }
   World& world() { return world_; }
   TraceRecorder& trace() { return trace_; }
+  const LogCapture& log() const { return log_; }
 
  private:
   VirtualExecutor executor_;
-  TraceRecorder trace_;
+  LogCapture log_;
   World world_;
+  TraceRecorder trace_;
 };
 
 }  // namespace ocp

@@ -21,6 +21,7 @@
 // derived from the seed as well (virtual-time runs); otherwise each Streamer draws a CSPRNG key.
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -30,6 +31,7 @@
 #include "ocp/byte_stream.hpp"
 #include "ocp/com_channel.hpp"
 #include "ocp/error.hpp"
+#include "ocp/event_bus.hpp"
 #include "ocp/executor.hpp"
 #include "ocp/log.hpp"
 #include "player/player_core.hpp"
@@ -77,9 +79,9 @@ class World {
   // or duplicate vehicle names, two vehicles without PlayerConfig::fleet, no vehicle, bad
   // client config) → error, and nothing is left running. Calling start() twice is an error.
   [[nodiscard]] Status start();
-  // Called inside start() after every core is built and before any of them starts (so the
-  // very first events are seen): install observers here. Only one hook; set before start().
-  void set_on_built(std::function<void(World&)> hook);
+  // Every event of every part of this world (Player, Streamers, links): each part's bus has
+  // this one as its parent. Subscribe before start() to see the very first events.
+  EventBus& events() { return events_; }
 
   // Stops every timer and closes every connection. Safe to call twice; the destructor calls it.
   void stop();
@@ -117,9 +119,10 @@ class World {
   WorldConfig config_;
   LogSink sink_;
   Logger logger_;
+  EventBus events_;   // before the parts: they name it as their parent, so it outlives them
   std::unique_ptr<PlayerCore> player_;
   std::vector<std::unique_ptr<Vehicle>> vehicles_;
-  std::function<void(World&)> on_built_;
+  std::map<std::string, Vehicle*, std::less<>> by_name_;   // find() at fleet scale
   bool started_ = false;
   bool running_ = false;
 };

@@ -46,7 +46,7 @@ enum class ConnectionEventKind : std::uint8_t {
 };
 std::string_view connection_event_name(ConnectionEventKind kind);
 
-struct ConnectionEvent {
+struct RunnerConnectionEvent {
   ConnectionEventKind kind;
   std::string detail;   // human-readable, ready to print
   Micros retry_in{0};   // for retry_scheduled
@@ -74,7 +74,7 @@ class TcpRunner {
   // Cancels any attempt or retry and detaches the client. Safe to call twice.
   void stop();
   bool running() const { return running_; }
-  void set_on_event(std::function<void(const ConnectionEvent&)> callback);
+  void set_on_event(std::function<void(const RunnerConnectionEvent&)> callback);
   const TcpRunnerStats& stats() const { return stats_; }
   Micros current_backoff() const { return backoff_; }
 
@@ -92,7 +92,7 @@ class TcpRunner {
   TcpRunnerConfig config_;
   Logger logger_;
   TcpRunnerStats stats_;
-  std::function<void(const ConnectionEvent&)> on_event_;
+  std::function<void(const RunnerConnectionEvent&)> on_event_;
   std::shared_ptr<Attempt> attempt_;
   Executor::TimerId retry_timer_ = 0;
   Micros backoff_;

@@ -1,0 +1,30 @@
+#pragma once
+// Impairments of one direction of the fake com channel (com_channel.hpp), changeable at any
+// moment. Kept apart so that events (events.hpp) can describe a change without the channel.
+#include <cstddef>
+
+#include "ocp/time.hpp"
+
+namespace ocp {
+
+struct Impairments {
+  Micros delay{0};                   // fixed one-way delay
+  enum class JitterKind { none, uniform, normal };
+  JitterKind jitter_kind = JitterKind::none;
+  Micros jitter{0};                  // uniform: ±jitter; normal: standard deviation
+  double loss_probability = 0.0;     // independent random loss, 0..1
+  // Gilbert–Elliott burst loss: two-state Markov chain (good/bad), evaluated per message.
+  bool burst_loss = false;
+  double good_to_bad_probability = 0.0;
+  double bad_to_good_probability = 1.0;
+  double loss_in_good = 0.0;
+  double loss_in_bad = 1.0;
+  double bandwidth_bits_per_second = 0.0;  // 0 = unlimited; otherwise FIFO serialisation queue
+  std::size_t queue_limit_bytes = 0;       // 0 = unlimited; tail-drop beyond it
+  double duplicate_probability = 0.0;
+  double reorder_probability = 0.0;        // a reordered message gets `reorder_extra_delay`
+  Micros reorder_extra_delay{0};
+  bool down = false;                       // outage: everything sent while down is lost
+};
+
+}  // namespace ocp
