@@ -59,7 +59,12 @@ int main(int argc, char** argv) {
 
   PlayerSimOptions options;
   options.vehicle_tcp_ports = *vehicle_tcp_ports;
-  if (!no_webview) options.webview = WebviewOptions{static_cast<std::uint16_t>(webview_port), false, webview_root};
+  if (!no_webview) {
+    WebviewOptions webview;   // allow_remote follows ocp_tcp_allow_remote (PlayerSimulation)
+    webview.port = static_cast<std::uint16_t>(webview_port);
+    webview.root = webview_root;
+    options.webview = webview;
+  }
   options.vehicles = vehicles;
   options.plugin_params = common.plugin_params;
   options.cameras = common.cameras;

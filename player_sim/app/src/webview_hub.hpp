@@ -26,7 +26,7 @@ using tcp = boost::asio::ip::tcp;
 class WebsocketSession;
 
 struct WebviewServer::Hub : std::enable_shared_from_this<WebviewServer::Hub> {
-  Hub(AsioExecutor& executor, WebviewOptions options, Logger logger, WebviewLimits limits);
+  Hub(AsioExecutor& executor, WebviewOptions options, Logger logger);
 
   void accept_next();
   void on_frame(const VehicleOcpShared& shared);

@@ -17,12 +17,11 @@ Error listen_error(const boost::system::error_code& error, const std::string& ad
 
 }  // namespace
 
-WebviewServer::Hub::Hub(AsioExecutor& executor_in, WebviewOptions options_in, Logger logger_in,
-                        WebviewLimits limits_in)
+WebviewServer::Hub::Hub(AsioExecutor& executor_in, WebviewOptions options_in, Logger logger_in)
     : executor(executor_in),
       options(std::move(options_in)),
       logger(std::move(logger_in)),
-      limits(limits_in),
+      limits(options.limits),
       acceptor(executor_in.io()) {}
 
 void WebviewServer::Hub::accept_next() {
@@ -114,8 +113,8 @@ void WebviewServer::Hub::on_message(WebsocketSession& session, std::string_view 
   player->handle_client_data(ClientSource::webview, *data);
 }
 
-WebviewServer::WebviewServer(AsioExecutor& executor, WebviewOptions options, Logger logger, WebviewLimits limits)
-    : hub_(std::make_shared<Hub>(executor, std::move(options), std::move(logger), limits)) {}
+WebviewServer::WebviewServer(AsioExecutor& executor, WebviewOptions options, Logger logger)
+    : hub_(std::make_shared<Hub>(executor, std::move(options), std::move(logger))) {}
 
 WebviewServer::~WebviewServer() { stop(); }
 

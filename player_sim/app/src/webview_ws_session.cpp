@@ -22,6 +22,9 @@ WebsocketSession::WebsocketSession(std::shared_ptr<WebviewServer::Hub> hub, tcp:
 
 void WebsocketSession::start(http::request<http::string_body> request) {
   hub_->sessions[id_] = weak_from_this();
+  beast::error_code ignored;
+  beast::get_lowest_layer(ws_).socket().set_option(
+      boost::asio::socket_base::send_buffer_size(hub_->limits.socket_send_buffer_bytes), ignored);
   websocket::stream_base::timeout timeouts = websocket::stream_base::timeout::suggested(beast::role_type::server);
   // Pings find pages that vanished without a close (a killed browser) within ~30 s.
   timeouts.idle_timeout = std::chrono::seconds(30);

@@ -32,19 +32,24 @@
 
 namespace ocp {
 
-struct WebviewOptions {
-  std::uint16_t port = 4002;          // 0 = a free port chosen by the system (see port())
-  bool allow_remote = false;          // ocp_tcp_allow_remote: 0.0.0.0 instead of 127.0.0.1
-  std::filesystem::path root;         // static files; must be a folder
-};
-
 struct WebviewLimits {
   std::size_t max_clients = 16;                 // WebSocket clients at once; more get HTTP 503
   std::size_t max_http_connections = 64;        // plain HTTP connections at once; more are closed
   std::size_t max_queued_messages = 256;        // per WebSocket client (~2.5 s of frames)
   double max_messages_per_second = 500.0;       // per WebSocket client, bursts of the same size
   std::size_t hard_message_limit_bytes = 16u << 20;   // bigger: the connection is closed
+  // SO_SNDBUF of each WebSocket: small enough that a page that stops reading fills it (and
+  // then max_queued_messages) within seconds instead of parking megabytes in the kernel.
+  int socket_send_buffer_bytes = 64 * 1024;
 };
+
+struct WebviewOptions {
+  std::uint16_t port = 4002;          // 0 = a free port chosen by the system (see port())
+  bool allow_remote = false;          // ocp_tcp_allow_remote: 0.0.0.0 instead of 127.0.0.1
+  std::filesystem::path root;         // static files; must be a folder
+  WebviewLimits limits;
+};
+
 
 struct WebviewStats {
   std::uint64_t http_requests = 0;
@@ -63,7 +68,7 @@ struct WebviewStats {
 
 class WebviewServer {
  public:
-  WebviewServer(AsioExecutor& executor, WebviewOptions options, Logger logger, WebviewLimits limits = {});
+  WebviewServer(AsioExecutor& executor, WebviewOptions options, Logger logger);
   ~WebviewServer();   // stops
   WebviewServer(const WebviewServer&) = delete;
   WebviewServer& operator=(const WebviewServer&) = delete;
