@@ -112,7 +112,7 @@
       scales: { x: { time: true }, y: { range: (u, min, max) => [0, Math.max(100, max * 1.2)] } },
       series: [{}, { label: "latency ms", stroke: "#38bdf8", width: 2, fill: "rgba(56,189,248,0.08)", points: { show: false } },
                { label: "ping ms", stroke: "#a78bfa", width: 1.5, points: { show: false } }],
-      axes: [axis, { ...axis, size: 45 }],
+      axes: [axis, { ...axis, size: 58 }],
       legend: { live: false },
     }, card.series, card.chartBox);
   }
