@@ -172,7 +172,7 @@ TEST(Executables, SigtermShutsDownCleanlyWithExitZero) {
 }
 
 TEST(Executables, DurationRunsPrintsStatusLinesAndExitsZero) {
-  const ProcessRun result = run({player_sim, "--plugin-param", "ocp_player_tcp_port", "0", "--vehicle", "truck-1",
+  const ProcessRun result = run({player_sim, "--plugin-param", "ocp_player_tcp_port", "0", "--webview-port", "0", "--vehicle", "truck-1",
                           "--vehicle", "truck-2", "--duration-s", "2.2"});
   EXPECT_EQ(result.exit_code, 0) << result.output;
   EXPECT_NE(result.output.find("operator API listening on 127.0.0.1:"), std::string::npos) << result.output;

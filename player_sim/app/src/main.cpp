@@ -6,6 +6,7 @@
 #include <set>
 
 #include "player_app/player_simulation.hpp"
+#include "player_app/vehicle_tcp_option.hpp"
 #include "sim_app/common_options.hpp"
 #include "sim_app/console.hpp"
 #include "sim_app/exit_codes.hpp"
@@ -26,6 +27,19 @@ int main(int argc, char** argv) {
       ->group("Player");
   app.add_option("--frame-rate-hz", frame_rate_hz, "Player frame rate (capped at 100)")
       ->capture_default_str()->check(CLI::Range(1.0, 100.0))->group("Player");
+  std::vector<std::string> vehicle_tcp_texts;
+  app.add_option("--vehicle-tcp", vehicle_tcp_texts,
+                 "NAME=PORT: that vehicle's Streamer serves the vehicle TCP API on 127.0.0.1:PORT for an external "
+                 "vehicle client instead of the in-process one (repeatable; PORT 0 = a free port)")
+      ->group("Player");
+  int webview_port = 4002;
+  std::string webview_root = OCP_WEBVIEW_DEFAULT_ROOT;
+  bool no_webview = false;
+  app.add_option("--webview-port", webview_port, "web view HTTP + WebSocket port (0 = a free port, logged)")
+      ->capture_default_str()->check(CLI::Range(0, 65535))->group("Web view");
+  app.add_option("--webview-root", webview_root, "folder of the web view's static files (default: the built-in dashboard)")
+      ->capture_default_str()->check(CLI::ExistingDirectory)->group("Web view");
+  app.add_flag("--no-webview", no_webview, "do not serve the web view")->group("Web view");
   if (const auto exit_code = sim::parse_command_line(app, argc, argv, common)) return *exit_code;
 
   if (vehicles.empty()) vehicles.push_back("vehicle");
@@ -37,7 +51,20 @@ int main(int argc, char** argv) {
     }
   }
 
+  const auto vehicle_tcp_ports = parse_vehicle_tcp(vehicle_tcp_texts, vehicles);
+  if (!vehicle_tcp_ports) {
+    std::cerr << "player_sim: " << vehicle_tcp_ports.error().detail << "\n";
+    return sim::exit_usage_error;
+  }
+
   PlayerSimOptions options;
+  options.vehicle_tcp_ports = *vehicle_tcp_ports;
+  if (!no_webview) {
+    WebviewOptions webview;   // allow_remote follows ocp_tcp_allow_remote (PlayerSimulation)
+    webview.port = static_cast<std::uint16_t>(webview_port);
+    webview.root = webview_root;
+    options.webview = webview;
+  }
   options.vehicles = vehicles;
   options.plugin_params = common.plugin_params;
   options.cameras = common.cameras;

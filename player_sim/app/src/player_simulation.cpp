@@ -23,7 +23,9 @@ WorldConfig make_world_config(const PlayerSimOptions& options) {
     if (!options.cameras.empty()) vehicle.streamer.cameras = options.cameras;
     vehicle.to_streamer = options.link;
     vehicle.to_player = options.link;
-    vehicle.in_process_client = true;   // the reference vehicle client, over an in-memory pipe
+    // The reference vehicle client over an in-memory pipe, unless an external one connects
+    // over TCP (--vehicle-tcp).
+    vehicle.in_process_client = !options.vehicle_tcp_ports.contains(name);
     config.vehicles.push_back(std::move(vehicle));
   }
   return config;
@@ -36,7 +38,22 @@ PlayerSimulation::PlayerSimulation(AsioExecutor& executor, PlayerSimOptions opti
       options_(std::move(options)),
       logger_(executor, "player_sim", sink),
       world_(executor, make_world_config(options_), sink),
-      front_(executor, world_, Logger(executor, "player:tcp", sink)) {}
+      front_(executor, world_, Logger(executor, "player:tcp", sink)) {
+  for (const auto& [name, port] : options_.vehicle_tcp_ports) {
+    vehicle_fronts_[name] = std::make_unique<StreamerFront>(executor, world_, name,
+                                                            Logger(executor, "streamer:" + name + ":tcp", sink));
+  }
+  if (options_.webview) {
+    WebviewOptions webview = *options_.webview;
+    webview.allow_remote = options_.plugin_params.ocp_tcp_allow_remote;
+    webview_ = std::make_unique<WebviewServer>(executor, std::move(webview), Logger(executor, "player:webview", sink));
+  }
+}
+
+std::uint16_t PlayerSimulation::vehicle_port(const std::string& vehicle) const {
+  const auto found = vehicle_fronts_.find(vehicle);
+  return found == vehicle_fronts_.end() ? 0 : found->second->port();
+}
 
 PlayerSimulation::~PlayerSimulation() { stop(); }
 
@@ -44,13 +61,32 @@ Status PlayerSimulation::start() {
   const TcpServerOptions listen_options{options_.plugin_params.ocp_player_tcp_port,
                                         options_.plugin_params.ocp_tcp_allow_remote};
   if (auto status = front_.listen(listen_options); !status) return status;
+  for (const auto& [name, front] : vehicle_fronts_) {
+    const TcpServerOptions vehicle_options{options_.vehicle_tcp_ports.at(name), options_.plugin_params.ocp_tcp_allow_remote};
+    if (auto status = front->listen(vehicle_options); !status) {
+      stop();
+      return status;
+    }
+  }
+  if (webview_) {
+    if (auto status = webview_->listen(); !status) {
+      stop();
+      return status;
+    }
+  }
   if (auto status = world_.start(); !status) {
-    front_.stop();
+    stop();
     return status;
   }
+  if (webview_) webview_->attach(world_.player());
   sim::apply_gamepad_script(world_.player().gamepad(), options_.gamepad, executor_.now());
   std::string names;
-  for (const auto& name : options_.vehicles) names += (names.empty() ? "" : ", ") + name;
+  for (const auto& name : options_.vehicles) {
+    names += (names.empty() ? "" : ", ") + name;
+    if (const auto front = vehicle_fronts_.find(name); front != vehicle_fronts_.end()) {
+      names += " (external vehicle client on " + front->second->address() + ")";
+    }
+  }
   logger_.info("simulated vehicles: {} ({}); gamepad '{}', link delay {} ms, jitter ±{} ms, loss {}",
                names, options_.vehicles.size() > 1 ? "fleet" : "single vehicle",
                options_.gamepad.description, to_whole_ms(options_.link.delay),
@@ -60,6 +96,8 @@ Status PlayerSimulation::start() {
 }
 
 void PlayerSimulation::stop() {
+  if (webview_) webview_->stop();
+  for (auto& [name, front] : vehicle_fronts_) front->stop();
   front_.stop();
   if (world_.running()) world_.stop();
 }

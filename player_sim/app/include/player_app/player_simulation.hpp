@@ -5,6 +5,8 @@
 // it directly; the executable adds the command line and signals.
 #include <cstdint>
 #include <map>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,8 +15,10 @@
 #include "ocp/log.hpp"
 #include "ocp/plugin_params.hpp"
 #include "player_app/player_front.hpp"
+#include "player_app/webview_server.hpp"
 #include "world/world.hpp"
 #include "sim_app/gamepad_script.hpp"
+#include "streamer_app/streamer_front.hpp"
 
 namespace ocp {
 
@@ -26,6 +30,10 @@ struct PlayerSimOptions {
   std::uint64_t seed = 1;
   sim::GamepadScript gamepad;            // the operator station's gamepad (default: drive)
   double frame_rate_hz = 100.0;          // Player frame rate (capped at 100)
+  // --vehicle-tcp: these vehicles get a vehicle-side TCP API on the port (0 = free port)
+  // instead of the in-process reference vehicle client.
+  std::map<std::string, std::uint16_t> vehicle_tcp_ports;
+  std::optional<WebviewOptions> webview;  // the web view endpoint; nullopt = none
 };
 
 class PlayerSimulation {
@@ -42,6 +50,10 @@ class PlayerSimulation {
 
   std::uint16_t port() const { return front_.port(); }
   std::string address() const { return front_.address(); }
+  // The web view port (0 without one) and a --vehicle-tcp vehicle's port (0 for others).
+  std::uint16_t webview_port() const { return webview_ ? webview_->port() : 0; }
+  WebviewServer* webview() { return webview_.get(); }
+  std::uint16_t vehicle_port(const std::string& vehicle) const;
   World& world() { return world_; }
   PlayerCore& player() { return world_.player(); }
 
@@ -54,6 +66,8 @@ class PlayerSimulation {
   Logger logger_;
   World world_;
   PlayerFront front_;
+  std::map<std::string, std::unique_ptr<StreamerFront>> vehicle_fronts_;
+  std::unique_ptr<WebviewServer> webview_;
   struct Previous {
     SimTime time{0};
     std::uint64_t client_frames_sent = 0;

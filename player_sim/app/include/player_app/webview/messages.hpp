@@ -1,0 +1,57 @@
+#pragma once
+// The web view wire protocol (docs/webview.md): WebSocket text messages, both directions,
+//   {"name": "<message name>", "data": <any JSON>}
+// Browser → Player: ocp_client_user_data (ClientOcpShared without the pair, SPEC §4.2).
+// Player → browser: ocp_vehicle_user_data (VehicleOcpShared, SPEC §4.1, every Player frame),
+//                   ocp_webview_status (the client-data source lock, on connect and on change),
+//                   ocp_webview_error (why a message of this page was dropped; first of a kind).
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "ocp/error.hpp"
+#include "ocp/messages.hpp"
+
+namespace ocp::webview {
+
+inline constexpr std::string_view vehicle_data_name = "ocp_vehicle_user_data";
+inline constexpr std::string_view client_data_name = "ocp_client_user_data";
+inline constexpr std::string_view status_name = "ocp_webview_status";
+inline constexpr std::string_view error_name = "ocp_webview_error";
+
+// Largest inbound WebSocket message (browser → Player) taken in; bigger ones are drained and
+// dropped. A ClientOcpShared must fit a 16 KiB control frame anyway (SPEC §2).
+inline constexpr std::size_t max_message_bytes = 64 * 1024;
+
+struct InboundMessage {
+  std::string name;
+  std::string data_json;   // the "data" value re-serialized (integers stay exact)
+};
+
+// Parses the envelope. Errors (malformed JSON, not an object, "name" missing or not a string,
+// "data" missing) carry a detail for the log.
+[[nodiscard]] Result<InboundMessage> parse_envelope(std::string_view text);
+
+// {"name":"<name>","data":<data_json>}; data_json must already be valid JSON.
+std::string make_envelope(std::string_view name, std::string_view data_json);
+
+// SPEC §4.2 Decision: no active_vehicle and no entry with any field — it must not lock the
+// source (a page that only keeps itself alive is still listen-only).
+bool is_keep_alive(const ClientOcpShared& data);
+
+// What a page needs to show the source-locking banner (SPEC §4.3).
+struct Status {
+  std::optional<std::string> locked_source;   // "tcp" | "webview" | "plugin"; null = self-echo
+  bool client_data_stopped = false;           // a source conflict stopped client data
+  std::optional<std::string> active_vehicle;  // the vehicle that gets gamepad input now
+  std::vector<std::string> vehicles;
+  std::size_t webview_clients = 0;
+  bool operator==(const Status&) const = default;
+};
+std::string encode_status(const Status& status);    // the "data" object
+
+std::string encode_error(std::string_view kind, std::string_view detail);   // the "data" object
+
+}  // namespace ocp::webview

@@ -1,0 +1,98 @@
+// The web view envelope: parsing and building {"name": …, "data": …} with RapidJSON.
+#include <rapidjson/document.h>
+#include <rapidjson/error/en.h>
+#include <rapidjson/stringbuffer.h>
+#include <rapidjson/writer.h>
+
+#include "player_app/webview/messages.hpp"
+
+namespace ocp::webview {
+namespace {
+
+Error malformed(std::string detail) {
+  return Error{make_error_code(PeerError::malformed_json), std::move(detail)};
+}
+
+void write_string(rapidjson::Writer<rapidjson::StringBuffer>& writer, std::string_view text) {
+  writer.String(text.data(), static_cast<rapidjson::SizeType>(text.size()));
+}
+
+}  // namespace
+
+Result<InboundMessage> parse_envelope(std::string_view text) {
+  rapidjson::Document document;
+  // Iterative parsing: nesting depth cannot exhaust the stack (the message is ≤ 64 KiB).
+  document.Parse<rapidjson::kParseIterativeFlag | rapidjson::kParseValidateEncodingFlag>(text.data(), text.size());
+  if (document.HasParseError()) {
+    return malformed(std::string("not JSON: ") + rapidjson::GetParseError_En(document.GetParseError()) +
+                     " at offset " + std::to_string(document.GetErrorOffset()));
+  }
+  if (!document.IsObject()) return Error{make_error_code(PeerError::not_an_object), "expected {\"name\": …, \"data\": …}"};
+  const auto name = document.FindMember("name");
+  if (name == document.MemberEnd()) return Error{make_error_code(PeerError::missing_field), "name: missing"};
+  if (!name->value.IsString()) return Error{make_error_code(PeerError::wrong_type), "name: expected string"};
+  const auto data = document.FindMember("data");
+  if (data == document.MemberEnd()) return Error{make_error_code(PeerError::missing_field), "data: missing"};
+  InboundMessage message;
+  message.name.assign(name->value.GetString(), name->value.GetStringLength());
+  rapidjson::StringBuffer buffer;
+  rapidjson::Writer<rapidjson::StringBuffer> writer(buffer);
+  data->value.Accept(writer);
+  message.data_json.assign(buffer.GetString(), buffer.GetSize());
+  return message;
+}
+
+std::string make_envelope(std::string_view name, std::string_view data_json) {
+  std::string out;
+  out.reserve(name.size() + data_json.size() + 20);
+  out += "{\"name\":\"";
+  out += name;   // our own constant names: no escaping needed
+  out += "\",\"data\":";
+  out += data_json;
+  out += '}';
+  return out;
+}
+
+bool is_keep_alive(const ClientOcpShared& data) {
+  if (data.active_vehicle) return false;
+  for (const auto& [name, entry] : data.client_user_data) {
+    if (entry.user_data || entry.ocp_disable_gamepad || entry.ack_time_returned || entry.ack_time_mac_returned) {
+      return false;
+    }
+  }
+  return true;
+}
+
+std::string encode_status(const Status& status) {
+  rapidjson::StringBuffer buffer;
+  rapidjson::Writer<rapidjson::StringBuffer> writer(buffer);
+  writer.StartObject();
+  writer.Key("locked_source");
+  if (status.locked_source) write_string(writer, *status.locked_source); else writer.Null();
+  writer.Key("client_data_stopped");
+  writer.Bool(status.client_data_stopped);
+  writer.Key("active_vehicle");
+  if (status.active_vehicle) write_string(writer, *status.active_vehicle); else writer.Null();
+  writer.Key("vehicles");
+  writer.StartArray();
+  for (const auto& vehicle : status.vehicles) write_string(writer, vehicle);
+  writer.EndArray();
+  writer.Key("webview_clients");
+  writer.Uint64(status.webview_clients);
+  writer.EndObject();
+  return {buffer.GetString(), buffer.GetSize()};
+}
+
+std::string encode_error(std::string_view kind, std::string_view detail) {
+  rapidjson::StringBuffer buffer;
+  rapidjson::Writer<rapidjson::StringBuffer> writer(buffer);
+  writer.StartObject();
+  writer.Key("kind");
+  write_string(writer, kind);
+  writer.Key("detail");
+  write_string(writer, detail);
+  writer.EndObject();
+  return {buffer.GetString(), buffer.GetSize()};
+}
+
+}  // namespace ocp::webview

@@ -1,0 +1,105 @@
+// player_sim's web view and --vehicle-tcp options, run as a user would: every bad value is a
+// clear error with exit code 2.
+#include <gtest/gtest.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+extern char** environ;
+
+namespace ocp {
+namespace {
+
+#if defined(OCP_PLAYER_SIM_PATH)
+
+struct ProgramRun {
+  int exit_code = -1;
+  std::string output;
+};
+
+// Runs player_sim to completion (killed after 30 s), stdout and stderr together.
+ProgramRun run_player_sim(std::vector<std::string> arguments) {
+  arguments.insert(arguments.begin(), OCP_PLAYER_SIM_PATH);
+  char path[] = "/tmp/ocp_webview_options_XXXXXX";
+  const int fd = mkstemp(path);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_adddup2(&actions, fd, STDOUT_FILENO);
+  posix_spawn_file_actions_adddup2(&actions, fd, STDERR_FILENO);
+  std::vector<char*> argv;
+  for (auto& argument : arguments) argv.push_back(argument.data());
+  argv.push_back(nullptr);
+  pid_t pid = -1;
+  ProgramRun run;
+  if (posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ) == 0) {
+    int status = 0;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (waitpid(pid, &status, WNOHANG) != pid) {
+      if (std::chrono::steady_clock::now() > deadline) {
+        kill(pid, SIGKILL);
+        waitpid(pid, &status, 0);
+        break;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+  posix_spawn_file_actions_destroy(&actions);
+  close(fd);
+  std::stringstream text;
+  text << std::ifstream(path).rdbuf();
+  run.output = text.str();
+  std::remove(path);
+  return run;
+}
+
+TEST(PlayerSimOptions, BadWebviewAndVehicleTcpValuesExitTwo) {
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases{
+      {{"--webview-port", "-1"}, "--webview-port"},
+      {{"--webview-port", "65536"}, "--webview-port"},
+      {{"--webview-port", "nan"}, "--webview-port"},
+      {{"--webview-port", ""}, "--webview-port"},
+      {{"--webview-root", "/no/such/folder"}, "--webview-root"},
+      {{"--webview-root", ""}, "--webview-root"},
+      {{"--vehicle", "truck-1", "--vehicle-tcp", "truck-2=4000"}, "unknown vehicle 'truck-2'"},
+      {{"--vehicle", "truck-1", "--vehicle-tcp", "truck-1=70000"}, "expected a port number 0..65535, got '70000'"},
+      {{"--vehicle", "truck-1", "--vehicle-tcp", "truck-1"}, "expected NAME=PORT"},
+      {{"--vehicle", "truck-1", "--vehicle-tcp", "truck-1=-5"}, "expected a port number"},
+  };
+  for (const auto& [arguments, expected] : cases) {
+    const ProgramRun run = run_player_sim(arguments);
+    EXPECT_EQ(run.exit_code, 2) << arguments[0] << " " << arguments[1] << "\n" << run.output;
+    EXPECT_NE(run.output.find(expected), std::string::npos) << run.output;
+  }
+}
+
+TEST(PlayerSimOptions, HelpDocumentsTheWebviewOptions) {
+  const ProgramRun run = run_player_sim({"--help"});
+  EXPECT_EQ(run.exit_code, 0);
+  for (const char* option : {"--webview-port", "--webview-root", "--no-webview", "--vehicle-tcp"}) {
+    EXPECT_NE(run.output.find(option), std::string::npos) << option;
+  }
+}
+
+TEST(PlayerSimOptions, ServesTheWebviewAndAnExternalVehiclePortPickedByTheSystem) {
+  const ProgramRun run = run_player_sim({"--vehicle", "truck-1", "--vehicle-tcp", "truck-1=0", "--webview-port", "0",
+                                  "--plugin-param", "ocp_player_tcp_port", "0", "--duration-s", "0.5"});
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("web view on http://127.0.0.1:"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("vehicle API listening on 127.0.0.1:"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("truck-1 (external vehicle client on 127.0.0.1:"), std::string::npos) << run.output;
+}
+
+#else
+TEST(PlayerSimOptions, NotBuilt) { GTEST_SKIP() << "player_sim not available"; }
+#endif
+
+}  // namespace
+}  // namespace ocp

@@ -1,0 +1,203 @@
+// End-to-end test of the web view in a real browser (Debian's chromium, driven by
+// playwright-core; no browser download). Run by ctest:
+//   node web/tests/browser_test.mjs --player-sim build/player_sim/app/player_sim --artifacts build/artifacts
+// 1. player_sim with a fleet (truck-1 on an external vehicle TCP port, truck-2 in-process) and
+//    a fake vehicle on truck-1's port; the dashboard shows latency, selects truck-1, sends
+//    on-screen commands that arrive at the vehicle as client_user_data; screenshot.
+// 2. A fresh player_sim: a minimal page using only the SDK shim listens, the loop closes by the
+//    auto-echo and the source stays unlocked; then a :4001 client takes the source and the
+//    dashboard shows the lock banner; screenshot.
+// Every port is chosen by the system (0) and read from player_sim's log; every wait is bounded;
+// child processes are killed on every path.
+import { spawn } from "node:child_process";
+import fs from "node:fs";
+import net from "node:net";
+import path from "node:path";
+import { chromium } from "playwright-core";
+import { FakeVehicle } from "./fake_vehicle.mjs";
+
+const TEST_TIMEOUT_MS = 120_000;
+const WAIT_MS = 20_000;
+const CHROMIUM = process.env.OCP_CHROMIUM || "/usr/bin/chromium";
+
+const args = Object.fromEntries(process.argv.slice(2).reduce((pairs, value, index, all) =>
+  (index % 2 === 0 ? [...pairs, [value.replace(/^--/, ""), all[index + 1]]] : pairs), []));
+const playerSimPath = args["player-sim"];
+const artifacts = args.artifacts || "artifacts";
+if (!playerSimPath) {
+  console.error("usage: browser_test.mjs --player-sim PATH [--artifacts DIR]");
+  process.exit(2);
+}
+
+const children = new Set();
+const cleanups = [];
+function killChildren() {
+  for (const child of children) child.kill("SIGKILL");
+  children.clear();
+}
+process.on("exit", killChildren);
+for (const signal of ["SIGINT", "SIGTERM"]) process.on(signal, () => { killChildren(); process.exit(1); });
+const watchdog = setTimeout(() => {
+  console.error(`browser test: timed out after ${TEST_TIMEOUT_MS} ms`);
+  killChildren();
+  process.exit(1);
+}, TEST_TIMEOUT_MS);
+
+let passed = 0;
+function check(condition, what) {
+  if (!condition) throw new Error(`check failed: ${what}`);
+  passed += 1;
+  console.log(`ok ${passed} - ${what}`);
+}
+
+async function waitFor(what, predicate, timeoutMs = WAIT_MS) {
+  const deadline = Date.now() + timeoutMs;
+  while (Date.now() < deadline) {
+    const value = await predicate();
+    if (value) return value;
+    await new Promise((resolve) => setTimeout(resolve, 50));
+  }
+  throw new Error(`timed out waiting for: ${what}`);
+}
+
+// Starts player_sim on system-chosen ports; resolves once it listens, with the ports it logged.
+async function startPlayerSim(extraArgs) {
+  const child = spawn(playerSimPath, ["--plugin-param", "ocp_player_tcp_port", "0", "--webview-port", "0", ...extraArgs],
+                      { stdio: ["ignore", "pipe", "pipe"] });
+  children.add(child);
+  let output = "";
+  child.stdout.on("data", (chunk) => { output += chunk; });
+  child.stderr.on("data", (chunk) => { output += chunk; });
+  child.on("exit", () => children.delete(child));
+  await waitFor("player_sim to listen", () => /simulated vehicles:/.test(output) || child.exitCode !== null);
+  if (child.exitCode !== null) throw new Error(`player_sim exited ${child.exitCode}:\n${output}`);
+  const port = (pattern) => Number((pattern.exec(output) || [])[1]);
+  return {
+    child,
+    output: () => output,
+    webview: port(/web view on http:\/\/127\.0\.0\.1:(\d+)\//),
+    operator: port(/operator API listening on 127\.0\.0\.1:(\d+)/),
+    vehicle: port(/vehicle API listening on 127\.0\.0\.1:(\d+) \(vehicle truck-1\)/),
+  };
+}
+
+async function stopPlayerSim(sim) {
+  sim.child.kill("SIGTERM");
+  await waitFor("player_sim to exit", () => sim.child.exitCode !== null, 10_000);
+  return sim.child.exitCode;
+}
+
+// A :4001 operator client that sends one ClientOcpShared with user data (locks the tcp source).
+function lockWithTcpClient(port) {
+  return new Promise((resolve, reject) => {
+    const socket = net.connect({ host: "127.0.0.1", port }, () => {
+      const body = Buffer.from(JSON.stringify({ client_user_data: { "truck-1": { user_data: { from: "tcp" } } } }));
+      const header = Buffer.alloc(4);
+      header.writeUInt32LE(body.length, 0);
+      socket.write(Buffer.concat([header, body]));
+      resolve(socket);
+    });
+    socket.on("data", () => {});
+    socket.once("error", reject);
+  });
+}
+
+async function dashboardScenario(browser) {
+  const sim = await startPlayerSim(["--vehicle", "truck-1", "--vehicle", "truck-2", "--vehicle-tcp", "truck-1=0"]);
+  const vehicle = new FakeVehicle(sim.vehicle);
+  cleanups.push(() => vehicle.close());
+  await vehicle.connect();
+
+  const page = await browser.newPage({ viewport: { width: 1500, height: 1300 } });
+  const errors = [];
+  page.on("pageerror", (error) => errors.push(String(error)));
+  await page.goto(`http://127.0.0.1:${sim.webview}/dashboard/`);
+  const latency = page.locator('[data-vehicle="truck-1"] .latency');
+  await waitFor("a latency on truck-1's card", async () => /^\d+ ms$/.test(await latency.textContent()));
+  const first = await latency.textContent();
+  check(true, `dashboard shows truck-1 latency (${first})`);
+  check(await page.locator('[data-vehicle="truck-2"]').count() === 1, "dashboard has a card for truck-2");
+  await waitFor("the chart to gather samples",
+                () => page.evaluate(() => window.dashboard.vehicles.get("truck-1").series[0].length > 20));
+  check(true, "latency chart is being fed");
+  const receiverFaults = await page.locator('[data-vehicle="truck-1"] .receiver-faults').textContent();
+  check(/none|Vehicle Control Inactive|No Control Message/.test(receiverFaults) || receiverFaults.length > 0,
+        `fault list rendered (${receiverFaults.trim()})`);
+  check(await page.locator('[data-vehicle="truck-1"] .sender-faults').textContent().then((t) => t.includes("VehicleControlInactive")),
+        "before a selection, truck-1 shows the operator fault Vehicle Control Inactive with its id");
+
+  await page.selectOption("#vehicle-select", "truck-1");
+  await waitFor("truck-1 to become the active vehicle", () =>
+    page.evaluate(() => window.dashboard.status && window.dashboard.status.active_vehicle === "truck-1"));
+  check(true, "selecting truck-1 sets active_vehicle");
+  await waitFor("the web view to hold the source",
+                () => page.evaluate(() => window.dashboard.status.locked_source === "webview"));
+  check(true, "the page is the locked client-data source (webview)");
+
+  await page.click("#btn-enable");
+  await page.click("#btn-forward");
+  await page.click("#btn-left");
+  const command = await waitFor("the command at the vehicle", () =>
+    vehicle.clientUserData.find((data) => data.throttle === 0.3 && data.steer === -0.25));
+  check(command.brake === 0, `vehicle received client_user_data ${JSON.stringify(command)}`);
+  check(vehicle.clientUserData.some((data) => data.enable === true), "the Enable pulse reached the vehicle");
+  await waitFor("InvalidMac to stay clear while the page echoes", async () => {
+    const text = await page.locator('[data-vehicle="truck-1"] .receiver-faults').textContent();
+    return !text.includes("InvalidMac") && /^\d+ ms$/.test(await latency.textContent());
+  });
+  check(true, "the latency loop stays closed through the page's messages");
+  check(await page.locator("#banner").isHidden(), "no lock banner while this page holds the source");
+
+  await page.waitForTimeout(2500);   // let the chart and the track grow for the screenshot
+  fs.mkdirSync(artifacts, { recursive: true });
+  await page.screenshot({ path: path.join(artifacts, "dashboard.png"), fullPage: true });
+  check(errors.length === 0, `no page errors (${errors.join("; ")})`);
+  await page.close();
+  vehicle.close();
+  check(await stopPlayerSim(sim) === 0, "player_sim exits 0 on SIGTERM");
+}
+
+async function minimalPageScenario(browser) {
+  const sim = await startPlayerSim(["--vehicle", "truck-1"]);
+  const page = await browser.newPage();
+  await page.goto(`http://127.0.0.1:${sim.webview}/minimal/`);
+  const feedback = await waitFor("a measured latency without InvalidMac on the minimal page", () => page.evaluate(() => {
+    const truck = window.latest && window.latest.vehicle_feedback["truck-1"];
+    return truck && truck.message_latency_roundtrip !== null && !truck.receiver_fault.includes("InvalidMac") ? truck : null;
+  }));
+  check(true, `minimal SDK page: loop closed by the auto-echo, latency ${feedback.message_latency_roundtrip} ms`);
+  check(!/client data source locked/.test(sim.output()), "a listening page never locks the client-data source");
+
+  const tcp = await lockWithTcpClient(sim.operator);
+  cleanups.push(() => tcp.destroy());
+  await waitFor("the tcp source to lock", () => /client data source locked: tcp/.test(sim.output()));
+  const dashboard = await browser.newPage({ viewport: { width: 1500, height: 1100 } });
+  await dashboard.goto(`http://127.0.0.1:${sim.webview}/dashboard/`);
+  const banner = dashboard.locator("#banner");
+  await waitFor("the lock banner", async () => /locked by the tcp client/.test(await banner.textContent()));
+  check(await banner.isVisible(), "dashboard shows the banner: source locked by the tcp client");
+  check(await dashboard.locator("#btn-forward").isDisabled(), "controls are disabled while another source holds the lock");
+  await dashboard.screenshot({ path: path.join(artifacts, "dashboard_locked.png") });
+  tcp.destroy();
+  await page.close();
+  await dashboard.close();
+  check(await stopPlayerSim(sim) === 0, "player_sim exits 0 on SIGTERM");
+}
+
+let browser = null;
+let failed = 0;
+try {
+  browser = await chromium.launch({ executablePath: CHROMIUM, headless: true, args: ["--no-sandbox"] });
+  await dashboardScenario(browser);
+  await minimalPageScenario(browser);
+} catch (error) {
+  failed = 1;
+  console.error(`not ok - ${error.stack || error}`);
+} finally {
+  for (const cleanup of cleanups) cleanup();
+  if (browser) await browser.close().catch(() => {});
+  killChildren();
+  clearTimeout(watchdog);
+}
+console.log(`browser: ${passed} passed, ${failed} failed`);
+process.exit(failed ? 1 : 0);
