@@ -82,6 +82,9 @@ void FramedConnection::handle_bytes(std::string_view bytes) {
   if (!open_ || bytes.empty()) return;
   add(counters_.bytes_in, bytes.size());
   last_byte_at_ = executor_.now();
+  if (auto diagnosis = sniffer_.observe(bytes)) {
+    logger_.warn("{} {}: {}", options_.label, peer_, *diagnosis);
+  }
   // The decoder never buffers more than one payload (≤ the limit) and drains oversized
   // frames, so a hostile peer cannot grow memory here whatever it sends.
   while (!bytes.empty() && open_) {
@@ -149,8 +152,10 @@ void FramedConnection::close(const std::string& reason) {
   finish(reason);
 }
 
-void FramedConnection::finish(const std::string& reason) {
+void FramedConnection::finish(const std::string& plain_reason) {
   if (!open_) return;
+  const std::string reason =
+      sniffer_.diagnosis() ? plain_reason + "; " + *sniffer_.diagnosis() : plain_reason;
   // The owner usually drops its reference inside on_closed; stay alive until we return.
   const auto self = shared_from_this();
   open_ = false;
