@@ -14,6 +14,12 @@ std::string quoted(std::string_view text) {
   return fmt::format("'{}'", text);
 }
 
+// 60000 rather than 60000.000000 or 6e+04; fractions as they are (0.01).
+std::string bound(double value) {
+  if (value == std::floor(value) && std::abs(value) < 1e15) return fmt::format("{:.0f}", value);
+  return fmt::format("{}", value);
+}
+
 }  // namespace
 
 std::optional<double> parse_finite_number(std::string_view text) {
@@ -39,7 +45,7 @@ std::optional<std::uint64_t> parse_unsigned_number(std::string_view text) {
 std::optional<std::string> check_real_text(std::string_view text, double min, double max) {
   const auto value = parse_finite_number(text);
   if (!value || *value < min || *value > max) {
-    return fmt::format("expected a number in {:g}..{:g}, got {}", min, max, quoted(text));
+    return fmt::format("expected a number in {}..{}, got {}", bound(min), bound(max), quoted(text));
   }
   return std::nullopt;
 }
@@ -47,7 +53,7 @@ std::optional<std::string> check_real_text(std::string_view text, double min, do
 std::optional<std::string> check_positive_real_text(std::string_view text, double max) {
   const auto value = parse_finite_number(text);
   if (!value || !(*value > 0.0) || *value > max) {
-    return fmt::format("expected a number above 0 and at most {:g}, got {}", max, quoted(text));
+    return fmt::format("expected a number above 0 and at most {}, got {}", bound(max), quoted(text));
   }
   return std::nullopt;
 }

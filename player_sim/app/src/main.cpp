@@ -1,56 +1,21 @@
 // player_sim: a Player on 127.0.0.1:4001 (ocp_player_tcp_port) linked to in-process simulated
 // vehicles, for developing operator-side clients and dashboards.
 // Exit codes: 0 normal end, 1 runtime error (port in use), 2 usage error.
-#include <CLI/CLI.hpp>
-#include <iostream>
-#include <set>
-
+#include "player_app/player_cli.hpp"
 #include "player_app/player_simulation.hpp"
-#include "sim_app/common_options.hpp"
 #include "sim_app/console.hpp"
-#include "sim_app/exit_codes.hpp"
 #include "sim_app/run_simulation.hpp"
 
 int main(int argc, char** argv) {
   using namespace ocp;
-  CLI::App app{
-      "OCP Player simulator: serves the operator-side TCP API (SPEC §4) on 127.0.0.1:4001,\n"
-      "linked through fake com channels to simulated vehicles (Streamer + reference vehicle\n"
-      "client, in-process). Connect your operator-side client to it.",
-      "player_sim"};
-  sim::CommonOptions common;
-  sim::add_common_options(app, common);
-  std::vector<std::string> vehicles;
-  double frame_rate_hz = 100.0;
-  app.add_option("--vehicle", vehicles, "simulated vehicle name (repeatable; several form a fleet; default: vehicle)")
-      ->group("Player");
-  app.add_option("--frame-rate-hz", frame_rate_hz, "Player frame rate (capped at 100)")
-      ->capture_default_str()->check(CLI::Range(1.0, 100.0))->group("Player");
-  if (const auto exit_code = sim::parse_command_line(app, argc, argv, common)) return *exit_code;
+  PlayerCli cli;
+  if (const auto exit_code = parse_player_cli(argc, argv, cli)) return *exit_code;
 
-  if (vehicles.empty()) vehicles.push_back("vehicle");
-  std::set<std::string> unique;
-  for (const auto& name : vehicles) {
-    if (name.empty() || !unique.insert(name).second) {
-      std::cerr << "player_sim: --vehicle '" << name << "': names must be non-empty and unique\n";
-      return sim::exit_usage_error;
-    }
-  }
-
-  PlayerSimOptions options;
-  options.vehicles = vehicles;
-  options.plugin_params = common.plugin_params;
-  options.cameras = common.cameras;
-  options.link = common.link_impairments();
-  options.seed = common.seed;
-  options.gamepad = common.gamepad;
-  options.frame_rate_hz = frame_rate_hz;
-
-  const LogSink sink = make_console_sink(common.log_level);
+  const LogSink sink = make_console_sink(cli.common.log_level);
   sim::RealTimeRunner runner;   // first: the io_context outlives every socket below
   const Logger logger(runner.executor(), "player_sim", sink);
-  PlayerSimulation simulation(runner.executor(), options, sink);
-  return sim::run_simulation("player_sim", "ocp_player_tcp_port", common, runner, logger, simulation, [&] {
+  PlayerSimulation simulation(runner.executor(), cli.simulation_options(), sink);
+  return sim::run_simulation("player_sim", "ocp_player_tcp_port", cli.common, runner, logger, simulation, [&] {
     const PlayerStats& stats = simulation.player().stats();
     return fmt::format("{} frames, {} feedback objects to the client, {} client messages, {} clients accepted, {} refused",
                        stats.frames, stats.client_frames_sent, stats.client_messages_received,

@@ -10,6 +10,7 @@
 
 #include "ocp/asio_executor.hpp"
 #include "ocp/com_channel.hpp"
+#include "ocp/latency_window.hpp"
 #include "ocp/log.hpp"
 #include "ocp/plugin_params.hpp"
 #include "player_app/player_front.hpp"
@@ -26,6 +27,7 @@ struct PlayerSimOptions {
   std::uint64_t seed = 1;
   sim::GamepadScript gamepad;            // the operator station's gamepad (default: drive)
   double frame_rate_hz = 100.0;          // Player frame rate (capped at 100)
+  std::uint64_t ack_time_offset = 0;     // added to every ack_time of every Streamer (SPEC §5)
 };
 
 class PlayerSimulation {
@@ -45,7 +47,10 @@ class PlayerSimulation {
   World& world() { return world_; }
   PlayerCore& player() { return world_.player(); }
 
-  // The once-per-second status line; rates are per second since the previous call.
+  // The once-per-second status line; rates are per second since the previous call. Per
+  // vehicle it keeps two views apart: the simulated Streamer's own (latency min/avg/max over
+  // the second, its faults) and what the operator client is sent (receiver_fault and
+  // sender_fault of the last VehicleOcpShared) — they differ when the link loses feedback.
   std::string status_line();
 
  private:
@@ -54,6 +59,8 @@ class PlayerSimulation {
   Logger logger_;
   World world_;
   PlayerFront front_;
+  PeriodicTimer latency_sampler_;
+  std::map<std::string, LatencyWindow> latency_windows_;
   struct Previous {
     SimTime time{0};
     std::uint64_t client_frames_sent = 0;
