@@ -38,7 +38,7 @@ std::string help_footer() {
          "  latency_limit         500      1..3600000 ms: HighLatency above it\n"
          "\n"
          "--gamepad FILE: the recording format is described in docs/usage.md (\"Gamepad recordings\").\n"
-         "--ack-time-offset high = 2^53 + 12345 (a client that passes ack_time through a double breaks).\n"
+         "--ack-time-offset high = 2^62 + 12345 (a client that passes ack_time through a double breaks).\n"
          "\n"
          "Exit codes: 0 normal end (--duration-s elapsed, SIGINT/SIGTERM, --help),\n"
          "            1 could not start (e.g. port in use), 2 bad command line.\n"
@@ -115,7 +115,7 @@ void add_common_options(CLI::App& app, CommonOptions& options) {
   app.add_option("--seed", options.seed, "seed for every random choice (link jitter and loss)")
       ->type_name("N")->capture_default_str()->check(cli::whole())->group(general);
   app.add_option("--ack-time-offset", options.ack_time_offset_text,
-                 "added to every ack_time the Streamer issues: 0..2^64-1, or 'high' (2^53 + 12345)")
+                 "added to every ack_time the Streamer issues: 0..2^64-1, or 'high' (2^62 + 12345)")
       ->type_name("N|high")->capture_default_str()->group(general);
   app.add_option("--log-level", options.log_level_text, "debug, info, warn or error")
       ->type_name("LEVEL")->capture_default_str()->group(general);

@@ -56,9 +56,11 @@ struct CommonOptions {
   std::optional<Micros> duration() const;  // nullopt = run until a signal
 };
 
-// `high`: an ack_time offset above 2^53, where a client passing ack_time through a double
-// loses the low bits (2^53 + 12345: odd, so the rounding shows).
-inline constexpr std::uint64_t high_ack_time_offset = (std::uint64_t{1} << 53) + 12345;
+// `high`: an ack_time offset far above 2^53, where a client passing ack_time through a double
+// loses the low bits. At 2^62 doubles are 1024 apart, so a rounded ack_time is wrong for 1023
+// pairs in 1024 (just above 2^53 only odd values break: half the pairs, and InvalidMac would
+// flap instead of staying up); below 2^63, so a signed 64-bit reader is not what breaks.
+inline constexpr std::uint64_t high_ack_time_offset = (std::uint64_t{1} << 62) + 12345;
 [[nodiscard]] Result<std::uint64_t> parse_ack_time_offset(const std::string& text);
 
 // Also sets the --help footer: the plugin parameters with defaults and ranges, the exit codes,
