@@ -108,8 +108,9 @@ TEST_F(OperatorApi, ClientSeesFeedbackForTheVehicleAndItsReturnedPairClosesTheLo
   // Before any client data the Player self-echoes: the loop is closed.
   ASSERT_TRUE(run_until(io_, [&] { return !streamer("truck-1").faults().contains(FaultId::InvalidMac); }));
 
-  // Client data without pairs locks the tcp source: self-echo stops, so the loop opens.
-  client.answer_ = [&](const VehicleOcpShared& shared) { client.send(echo_all(shared, false)); };
+  // Client data without pairs locks the tcp source: self-echo stops, so the loop opens. (It
+  // must carry some field: an entry with none is a keep-alive, SPEC §4.2.)
+  client.answer_ = [&](const VehicleOcpShared& shared) { client.send(echo_all(shared, false, R"({"tool":"none"})")); };
   ASSERT_TRUE(run_until(io_, [&] {
     return player().locked_source() == ClientSource::tcp &&
            streamer("truck-1").faults().contains(FaultId::InvalidMac);
@@ -192,7 +193,7 @@ TEST_F(OperatorApi, SecondSourceStopsClientData) {
 
   // A web view starts sending too: everything stops, the loop visibly breaks.
   ClientOcpShared webview;
-  webview.client_user_data["truck-1"] = ClientVehicleEntry{};
+  webview.client_user_data["truck-1"].user_data = RawJson{R"({"from":"webview"})"};  // data, not a keep-alive
   player().handle_client_data(ClientSource::webview, webview);
   EXPECT_TRUE(player().client_data_stopped());
   const std::uint64_t ignored = player().stats().client_messages_ignored;
