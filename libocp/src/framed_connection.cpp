@@ -137,6 +137,9 @@ void FramedConnection::handle_bytes(std::string_view bytes) {
   if (!open_ || bytes.empty()) return;
   add(counters_.bytes_in, bytes.size());
   last_byte_at_ = executor_.now();
+  if (auto diagnosis = sniffer_.observe(bytes)) {
+    logger_.warn("{} {}: {}", options_.label, peer_, *diagnosis);
+  }
   // The decoder never buffers more than one payload (≤ the limit) and drains oversized
   // frames, so a hostile peer cannot grow memory here whatever it sends.
   while (!bytes.empty() && open_) {
@@ -212,8 +215,11 @@ void FramedConnection::close(CloseReason reason) {
   finish(reason);
 }
 
-void FramedConnection::finish(const CloseReason& reason) {
+void FramedConnection::finish(const CloseReason& plain_reason) {
   if (!open_) return;
+  // A peer that never spoke OCP framing: the detail says what it looked like instead.
+  CloseReason reason = plain_reason;
+  if (sniffer_.diagnosis()) reason.detail += "; " + *sniffer_.diagnosis();
   // The owner usually drops its reference inside on_closed; stay alive until we return.
   const auto self = shared_from_this();
   open_ = false;

@@ -12,6 +12,11 @@ namespace ocp {
 
 void PlayerCore::Impl::on_client_data(ClientSource source, const ClientOcpShared& data) {
   ++stats.client_messages_received;
+  if (is_keep_alive(data)) {
+    // Its bytes already reset the :4001 read timer; it carries nothing to apply or lock on.
+    ++stats.client_keep_alives;
+    return;
+  }
   const bool was_locked = source_lock.locked().has_value();
   if (!source_lock.admit(source, logger)) {
     if (source_lock.conflict_just_happened()) {
@@ -28,7 +33,11 @@ void PlayerCore::Impl::on_client_data(ClientSource source, const ClientOcpShared
 
 void PlayerCore::Impl::apply_client_data(ClientSource source, const ClientOcpShared& data) {
   if (data.active_vehicle) {
-    if (!vehicles.contains(*data.active_vehicle)) {
+    if (vehicles.contains(*data.active_vehicle)) {
+      warned_unknown_active.reset();
+    } else if (warned_unknown_active != data.active_vehicle) {
+      // Once per episode: a client repeats its selection in every message (100 Hz).
+      warned_unknown_active = data.active_vehicle;
       logger.warn("active_vehicle '{}' from {} is not a linked vehicle; no vehicle is active",
                   *data.active_vehicle, client_source_name(source));
     }

@@ -68,6 +68,7 @@ struct PlayerCore::Impl {
   // Names already warned about, so a client or link repeating them at 100 Hz logs once.
   std::set<std::string> warned_unknown_entries;
   std::set<std::string> warned_unknown_senders;
+  std::optional<std::string> warned_unknown_active;  // until a linked vehicle is selected
 
   std::shared_ptr<FramedConnection> client;      // the tcp source (:4001), one at a time
   std::optional<CloseReason> last_client_close_reason;

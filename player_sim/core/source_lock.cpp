@@ -3,6 +3,14 @@
 
 namespace ocp {
 
+bool is_keep_alive(const ClientOcpShared& data) {
+  if (data.active_vehicle) return false;
+  for (const auto& [name, entry] : data.client_user_data) {
+    if (entry != ClientVehicleEntry{}) return false;
+  }
+  return true;
+}
+
 bool SourceLock::admit(ClientSource source, const Logger& logger) {
   conflict_just_happened_ = false;
   if (stopped_) return false;

@@ -3,13 +3,22 @@
 namespace ocp::streamer {
 
 void FaultTracker::set(FaultId id, bool active) {
-  if (faults_.contains(id) == active) return;
+  std::optional<FlapSummariser>& flaps = flaps_[static_cast<std::size_t>(id)];
+  if (faults_.contains(id) == active) {
+    if (flaps && flaps->flapping()) {
+      if (auto line = flaps->on_steady(logger_.now())) logger_.warn("{}", *line);
+    }
+    return;
+  }
   faults_.set(id, active);
-  if (active) {
+  if (!flaps) flaps.emplace(std::string(fault_identifier(id)));
+  const FlapSummariser::Verdict verdict = flaps->on_edge(active, logger_.now());
+  if (verdict.log_edge && active) {
     logger_.warn("fault raised: {} ({})", fault_display(id), fault_identifier(id));
-  } else {
+  } else if (verdict.log_edge) {
     logger_.info("fault cleared: {} ({})", fault_display(id), fault_identifier(id));
   }
+  if (verdict.summary) logger_.warn("{}", *verdict.summary);
   on_change_(id, active);
 }
 

@@ -1,10 +1,14 @@
 #pragma once
 // The Streamer's vehicle-side fault set. Faults are self-recovering (SPEC §6): callers state
 // each condition every time they evaluate it; the tracker logs a raise or a clear once, with
-// the display string, and publishes a FaultEvent.
+// the display string, and publishes a FaultEvent. Subscribers see every edge; the log
+// summarises a flapping fault instead of repeating it (flap_summariser.hpp).
+#include <array>
 #include <functional>
+#include <optional>
 
 #include "ocp/faults.hpp"
+#include "ocp/flap_summariser.hpp"
 #include "ocp/log.hpp"
 
 namespace ocp::streamer {
@@ -23,6 +27,8 @@ class FaultTracker {
   Logger logger_;
   OnChange on_change_;
   FaultSet faults_;
+  // Per fault, from its first edge on; an array because set() runs for every fault every tick.
+  std::array<std::optional<FlapSummariser>, fault_count> flaps_;
 };
 
 }  // namespace ocp::streamer

@@ -177,7 +177,8 @@ TEST(Executables, DurationRunsPrintsStatusLinesAndExitsZero) {
   EXPECT_EQ(result.exit_code, 0) << result.output;
   EXPECT_NE(result.output.find("operator API listening on 127.0.0.1:"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("status: operator client none"), std::string::npos) << result.output;
-  EXPECT_NE(result.output.find("truck-2: latency"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("truck-2: simulated Streamer: latency"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("operator client sees: receiver_fault"), std::string::npos) << result.output;
 }
 
 #else

@@ -108,8 +108,9 @@ TEST_F(OperatorApi, ClientSeesFeedbackForTheVehicleAndItsReturnedPairClosesTheLo
   // Before any client data the Player self-echoes: the loop is closed.
   ASSERT_TRUE(run_until(io_, [&] { return !streamer("truck-1").faults().contains(FaultId::InvalidMac); }));
 
-  // Client data without pairs locks the tcp source: self-echo stops, so the loop opens.
-  client.answer_ = [&](const VehicleOcpShared& shared) { client.send(echo_all(shared, false)); };
+  // Client data without pairs locks the tcp source: self-echo stops, so the loop opens. (It
+  // must carry some field: an entry with none is a keep-alive, SPEC §4.2.)
+  client.answer_ = [&](const VehicleOcpShared& shared) { client.send(echo_all(shared, false, R"({"tool":"none"})")); };
   ASSERT_TRUE(run_until(io_, [&] {
     return player().locked_source() == ClientSource::tcp &&
            streamer("truck-1").faults().contains(FaultId::InvalidMac);
@@ -122,6 +123,41 @@ TEST_F(OperatorApi, ClientSeesFeedbackForTheVehicleAndItsReturnedPairClosesTheLo
            streamer("truck-1").latency_ms().has_value();
   }));
   EXPECT_FALSE(player().client_data_stopped());
+}
+
+TEST_F(OperatorApi, DashboardKeepAlivesKeepItConnectedWithoutTakingTheLoop) {
+  // SPEC §4.2: `{}` resets the read timer and locks nothing. Sent every 500 ms for 2.5 s: past
+  // the 2 s read timeout, with 1.5 s of slack for a loaded machine. The exact timing rule is
+  // tested in virtual time (tests/player/keep_alive_test.cpp).
+  start();
+  OperatorClient dashboard(io_);
+  ASSERT_TRUE(dashboard.connect(simulation_->port()));
+  ASSERT_TRUE(run_until(io_, [&] {
+    const auto& feedback = dashboard.latest().vehicle_feedback;
+    const auto found = feedback.find("truck-1");
+    return found != feedback.end() && found->second.message_latency_roundtrip.has_value() &&
+           found->second.receiver_fault.empty();
+  }));
+  std::size_t invalid_mac_seen = 0;
+  dashboard.answer_ = [&](const VehicleOcpShared& shared) {
+    const auto& faults = shared.vehicle_feedback.at("truck-1").receiver_fault;
+    if (std::find(faults.begin(), faults.end(), "InvalidMac") != faults.end()) ++invalid_mac_seen;
+  };
+  int keep_alives = 0;
+  PeriodicTimer keep_alive(executor_, Micros{500'000}, [&](SimTime) {
+    dashboard.send(ClientOcpShared{});
+    ++keep_alives;
+  });
+  keep_alive.start(executor_.now());
+  ASSERT_TRUE(run_until(io_, [&] { return keep_alives >= 6; }));
+  keep_alive.stop();
+  testing::run_for(io_, std::chrono::milliseconds(100));
+  EXPECT_FALSE(dashboard.client().closed_by_peer());
+  EXPECT_TRUE(player().client_connected());
+  EXPECT_EQ(player().locked_source(), std::nullopt);
+  EXPECT_GE(player().stats().client_keep_alives, 5u);
+  EXPECT_EQ(invalid_mac_seen, 0u);
+  EXPECT_FALSE(streamer("truck-1").faults().contains(FaultId::InvalidMac));
 }
 
 TEST_F(OperatorApi, ClientUserDataReachesTheVehicle) {
@@ -158,7 +194,7 @@ TEST_F(OperatorApi, SecondSourceStopsClientData) {
 
   // A web view starts sending too: everything stops, the loop visibly breaks.
   ClientOcpShared webview;
-  webview.client_user_data["truck-1"] = ClientVehicleEntry{};
+  webview.client_user_data["truck-1"].user_data = RawJson{R"({"from":"webview"})"};  // data, not a keep-alive
   player().handle_client_data(ClientSource::webview, webview);
   EXPECT_TRUE(player().client_data_stopped());
   const std::uint64_t ignored = player().stats().client_messages_ignored;

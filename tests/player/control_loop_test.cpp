@@ -114,8 +114,11 @@ TEST(Player, DisabledGamepadSendsNullControllerAndSuppressesInputLost) {
   EXPECT_FALSE(has_fault(*control, FaultId::InputLost));
   EXPECT_EQ(harness.player.last_shared().last_input, std::nullopt);
 
-  // Re-enabling (an entry without the flag) brings InputLost back while unplugged.
-  harness.player.handle_client_data(ClientSource::plugin, client_entry("truck-1", {}));
+  // Re-enabling brings InputLost back while unplugged. (An entry with no field at all would be
+  // a keep-alive, SPEC §4.2, and change nothing; the flag must be sent as false.)
+  ClientVehicleEntry enable;
+  enable.ocp_disable_gamepad = false;
+  harness.player.handle_client_data(ClientSource::plugin, client_entry("truck-1", enable));
   harness.run_until(at_ms(110));
   const auto enabled = harness.control_at("truck-1", at_ms(110));
   ASSERT_TRUE(enabled.has_value());

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "ocp/asio_executor.hpp"
+#include "ocp/latency_window.hpp"
 #include "ocp/log.hpp"
 #include "options.hpp"
 #include "vehicle_client/tcp_runner.hpp"
@@ -14,7 +15,8 @@
 
 namespace {
 
-std::string status_line(const ocp::VehicleClient& client) {
+// `latency`: the telemetry latencies of the second (see the sampler in main).
+std::string status_line(const ocp::VehicleClient& client, const ocp::LatencyWindow& latency) {
   const ocp::VehicleClientStats& stats = client.stats();
   const ocp::SafetyOutput& safety = client.safety();
   const ocp::VehicleState& vehicle = client.vehicle();
@@ -24,8 +26,9 @@ std::string status_line(const ocp::VehicleClient& client) {
     reasons += name;
   }
   return fmt::format(
-      "status: {} | latency {} ms | fault: {} | drive: {} | safe: {} | {:.2f} m/s heading {:.1f} | rx {} tx {}",
-      client.connected() ? "connected" : "NOT connected", stats.last_latency_ms,
+      "status: {} | latency {} | fault: {} | drive: {} | safe: {} | {:.2f} m/s heading {:.1f} | rx {} tx {}",
+      client.connected() ? "connected" : "NOT connected",
+      client.connected() ? latency.format() : std::string("n/a (no loop running)"),
       stats.last_telemetry_fault ? stats.last_fault_reason : "none", ocp::drive_state_name(safety.drive_state),
       safety.safe_state ? reasons : "no", vehicle.speed_mps, vehicle.heading_deg(),
       stats.control_messages_received, stats.responses_sent);
@@ -48,14 +51,27 @@ int main(int argc, char** argv) {
 
   int exit_code = 0;
   bool stopping = false;
-  ocp::PeriodicTimer status_timer(executor, ocp::Micros{1'000'000},
-                                  [&](ocp::SimTime) { logger.info("{}", status_line(client)); });
+  // Every control message's telemetry latency goes into the second's min/avg/max; sampled on
+  // the control period so the core needs no status hook.
+  ocp::LatencyWindow latency;
+  std::uint64_t sampled_messages = 0;
+  ocp::PeriodicTimer latency_sampler(executor, ocp::Micros{10'000}, [&](ocp::SimTime) {
+    const auto& stats = client.stats();
+    if (stats.control_messages_received == sampled_messages) return;
+    sampled_messages = stats.control_messages_received;
+    latency.add(stats.last_latency_ms);
+  });
+  ocp::PeriodicTimer status_timer(executor, ocp::Micros{1'000'000}, [&](ocp::SimTime) {
+    logger.info("{}", status_line(client, latency));
+    latency.reset();
+  });
   const auto shutdown = [&](int code, const std::string& why) {
     if (stopping) return;
     stopping = true;
     exit_code = code;
     logger.info("shutting down: {}", why);
     status_timer.stop();
+    latency_sampler.stop();
     runner.stop();
     signals.cancel();
     io.stop();  // the model timer and stream handlers would keep the loop alive
@@ -73,7 +89,10 @@ int main(int argc, char** argv) {
       shutdown(1, "connection ended and --no-reconnect is set");
     }
   });
-  if (options.status_line) status_timer.start(executor.now() + ocp::Micros{1'000'000});
+  if (options.status_line) {
+    status_timer.start(executor.now() + ocp::Micros{1'000'000});
+    latency_sampler.start(executor.now() + ocp::Micros{10'000});
+  }
 
   logger.info("vehicle client for {} (watchdog {} ms, start {:.6f},{:.6f})", options.runner.server.to_string(),
               ocp::to_whole_ms(options.client.safety.watchdog), options.client.start.lat, options.client.start.lon);

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <iostream>
 
+#include "ocp/cli_checks.hpp"
+
 namespace ocp {
 namespace {
 
@@ -11,7 +13,7 @@ Micros from_ms(double ms) { return Micros{static_cast<std::int64_t>(std::llround
 
 }  // namespace
 
-ParseOutcome parse_program_options(int argc, char** argv) {
+ParseOutcome parse_program_options(int argc, const char* const* argv) {
   ProgramOptions options;
   VehicleClientConfig& client = options.client;
   SafetyConfig& safety = client.safety;
@@ -24,55 +26,59 @@ ParseOutcome parse_program_options(int argc, char** argv) {
       "kinematic bicycle model, and reports position and state as vehicle_user_data.",
       "vehicle_client"};
   app.get_formatter()->column_width(40);
+  app.footer(
+      "Exit codes: 0 normal end (--duration-s elapsed, SIGINT/SIGTERM, --help),\n"
+      "            1 the connection ended or failed with --no-reconnect, 2 bad command line.\n"
+      "More: docs/vehicle_client.md\n");
 
   std::string server = "127.0.0.1:4000";
   app.add_option("server", server, "Streamer vehicle API as host:port")->capture_default_str();
 
   double watchdog_ms = 300.0;
   app.add_option("--watchdog-ms", watchdog_ms, "Command timeout: safe state when no control message for this long")
-      ->capture_default_str()->check(CLI::Range(1.0, 60000.0))->group("Safety");
+      ->capture_default_str()->check(cli::real(1.0, 60000.0))->group("Safety");
   app.add_option("--max-throttle", safety.max_throttle, "Throttle cap [0,1]")
-      ->capture_default_str()->check(CLI::Range(0.0, 1.0))->group("Safety");
+      ->capture_default_str()->check(cli::real(0.0, 1.0))->group("Safety");
   app.add_option("--max-brake", safety.max_brake, "Operator brake cap [0,1]")
-      ->capture_default_str()->check(CLI::Range(0.0, 1.0))->group("Safety");
+      ->capture_default_str()->check(cli::real(0.0, 1.0))->group("Safety");
   app.add_option("--max-steer", safety.max_steer, "Steering cap, fraction of max angle [0,1]")
-      ->capture_default_str()->check(CLI::Range(0.0, 1.0))->group("Safety");
+      ->capture_default_str()->check(cli::real(0.0, 1.0))->group("Safety");
   app.add_option("--throttle-rate", safety.throttle_rate_per_s, "Throttle rise limit per second")
-      ->capture_default_str()->check(CLI::Range(0.01, 1000.0))->group("Safety");
+      ->capture_default_str()->check(cli::real(0.01, 1000.0))->group("Safety");
   app.add_option("--brake-rate", safety.brake_rate_per_s, "Brake change limit per second")
-      ->capture_default_str()->check(CLI::Range(0.01, 1000.0))->group("Safety");
+      ->capture_default_str()->check(cli::real(0.01, 1000.0))->group("Safety");
   app.add_option("--steer-rate", safety.steer_rate_per_s, "Steering change limit per second")
-      ->capture_default_str()->check(CLI::Range(0.01, 1000.0))->group("Safety");
+      ->capture_default_str()->check(cli::real(0.01, 1000.0))->group("Safety");
   app.add_option("--safe-brake", safety.safe_brake, "Brake level of the safe state (0,1]")
-      ->capture_default_str()->check(CLI::Range(0.0, 1.0))->group("Safety");
+      ->capture_default_str()->check(cli::real(0.0, 1.0))->group("Safety");
 
   app.add_option("--start-lat", client.start.lat, "Start latitude, degrees")
-      ->capture_default_str()->check(CLI::Range(-89.0, 89.0))->group("Vehicle");
+      ->capture_default_str()->check(cli::real(-89.0, 89.0))->group("Vehicle");
   app.add_option("--start-lon", client.start.lon, "Start longitude, degrees")
-      ->capture_default_str()->check(CLI::Range(-180.0, 180.0))->group("Vehicle");
+      ->capture_default_str()->check(cli::real(-180.0, 180.0))->group("Vehicle");
   app.add_option("--start-heading-deg", client.start_heading_deg, "Start compass heading (0 = north)")
-      ->capture_default_str()->group("Vehicle");
+      ->capture_default_str()->check(cli::real(-360.0, 360.0))->group("Vehicle");
   app.add_option("--wheelbase-m", vehicle.wheelbase_m, "Wheelbase")
-      ->capture_default_str()->check(CLI::Range(0.1, 50.0))->group("Vehicle");
+      ->capture_default_str()->check(cli::real(0.1, 50.0))->group("Vehicle");
   app.add_option("--max-steer-rad", vehicle.max_steer_rad, "Road-wheel angle at full steering")
-      ->capture_default_str()->check(CLI::Range(0.01, 1.5))->group("Vehicle");
+      ->capture_default_str()->check(cli::real(0.01, 1.5))->group("Vehicle");
   app.add_option("--max-speed-mps", vehicle.max_speed_mps, "Top speed")
-      ->capture_default_str()->check(CLI::Range(0.1, 100.0))->group("Vehicle");
+      ->capture_default_str()->check(cli::real(0.1, 100.0))->group("Vehicle");
 
   double connect_timeout_ms = 2000.0;
   bool no_reconnect = false;
   std::string log_level = "info";
   double response_period_ms = 10.0;
   app.add_option("--response-period-ms", response_period_ms, "Longest gap between two responses")
-      ->capture_default_str()->check(CLI::Range(1.0, 1000.0))->group("Connection");
+      ->capture_default_str()->check(cli::real(1.0, 1000.0))->group("Connection");
   app.add_option("--connect-timeout-ms", connect_timeout_ms, "Give up one connect attempt after this long")
-      ->capture_default_str()->check(CLI::Range(1.0, 600000.0))->group("Connection");
+      ->capture_default_str()->check(cli::real(1.0, 600000.0))->group("Connection");
   app.add_flag("--no-reconnect", no_reconnect, "Exit (code 1) when the connection fails or ends")
       ->group("Connection");
   app.add_option("--log-level", log_level, "debug | info | warn | error")
       ->capture_default_str()->check(CLI::IsMember({"debug", "info", "warn", "warning", "error"}));
   app.add_option("--duration-s", options.duration_s, "Run this many seconds, then exit 0")
-      ->check(CLI::Range(0.001, 1e7));
+      ->check(cli::real(0.001, 1e7));
   bool no_status = false;
   app.add_flag("--no-status", no_status, "Do not print the once-per-second status line");
 
@@ -84,7 +90,7 @@ ParseOutcome parse_program_options(int argc, char** argv) {
                "Echo a wrong ack_time_mac (Streamer: InvalidMac)")->group(misbehave_group);
   app.add_option("--misbehave-delay-responses-ms", delay_ms,
                  "Send every response this late (latency grows)")
-      ->check(CLI::Range(0.0, 60000.0))->group(misbehave_group);
+      ->check(cli::real(0.0, 60000.0))->group(misbehave_group);
   app.add_flag("--misbehave-oversized-frames", misbehave.oversized_frames,
                "Send >16 KiB responses (drained; InvalidMac)")->group(misbehave_group);
   app.add_flag("--misbehave-ack-through-double", misbehave.ack_through_double,
@@ -101,7 +107,8 @@ ParseOutcome parse_program_options(int argc, char** argv) {
   } catch (const CLI::CallForAllHelp& help) {
     return {std::nullopt, app.exit(help)};
   } catch (const CLI::ParseError& error) {
-    (void)app.exit(error);  // prints the message and a --help hint
+    // Same shape as the simulators' errors: "vehicle_client: …" then a hint.
+    std::cerr << "vehicle_client: " << error.what() << "\nRun with --help for more information.\n";
     return {std::nullopt, 2};
   }
 

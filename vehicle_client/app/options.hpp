@@ -23,6 +23,6 @@ struct ParseOutcome {
   std::optional<ProgramOptions> options;
   int exit_code = 0;
 };
-ParseOutcome parse_program_options(int argc, char** argv);
+ParseOutcome parse_program_options(int argc, const char* const* argv);
 
 }  // namespace ocp

@@ -2,23 +2,10 @@
 // encoding (including the misbehaviour switches) lives in response_writer.cpp.
 #include "vehicle_client/vehicle_client.hpp"
 
-#include <cctype>
-
+#include "ocp/framing_diagnosis.hpp"
 #include "ocp/json_codec.hpp"
 
 namespace ocp {
-namespace {
-
-// First bytes of a non-OCP peer, printable, for the "not an OCP server" message.
-std::string printable_prefix(std::string_view bytes) {
-  std::string text;
-  for (char c : bytes.substr(0, 16)) {
-    text += std::isprint(static_cast<unsigned char>(c)) ? c : '.';
-  }
-  return text;
-}
-
-}  // namespace
 
 std::string_view disconnect_kind_name(DisconnectKind kind) {
   switch (kind) {
@@ -169,16 +156,14 @@ bool VehicleClient::check_first_header(std::string_view bytes) {
   // means the peer speaks something else (HTTP's "HTTP" reads as ~1.3 GB): say so at once
   // instead of silently draining gigabytes.
   if (first_header_.size() >= frame_header_bytes) return true;
-  first_header_.append(bytes.substr(0, frame_header_bytes - first_header_.size()));
-  if (first_header_.size() < frame_header_bytes) return true;
-  std::uint32_t length = 0;
-  for (std::size_t index = 0; index < frame_header_bytes; ++index) {
-    length |= static_cast<std::uint32_t>(static_cast<unsigned char>(first_header_[index])) << (8 * index);
-  }
-  if (length <= max_payload_bytes) return true;
+  const std::size_t had = first_header_.size();
+  first_header_.append(bytes.substr(0, frame_header_bytes - had));
+  const auto length = declared_frame_length(first_header_);
+  if (!length || *length <= max_payload_bytes) return true;
+  const std::string first_bytes = first_header_ + std::string(bytes.substr(frame_header_bytes - had));
   close_with(DisconnectKind::not_an_ocp_server,
-             fmt::format("not an OCP server: first frame declares {} bytes (limit {}); peer sent \"{}\"",
-                         length, max_payload_bytes, printable_prefix(bytes)));
+             fmt::format("not an OCP server: first frame declares {} bytes (limit {}); {}", *length,
+                         max_payload_bytes, describe_non_ocp_bytes(first_bytes)));
   return false;
 }
 
@@ -210,13 +195,20 @@ void VehicleClient::handle_control_message(const OcpControlMessage& message) {
   stats_.last_latency_ms = message.telemetry.latency_ms;
   if (message.telemetry.fault != stats_.last_telemetry_fault ||
       (message.telemetry.fault && message.telemetry.fault_reason != stats_.last_fault_reason)) {
-    if (message.telemetry.fault) {
+    const FlapSummariser::Verdict verdict = fault_flaps_.on_edge(message.telemetry.fault, now);
+    if (verdict.log_edge && message.telemetry.fault) {
       logger_.warn("Streamer reports fault: {}", message.telemetry.fault_reason);
-    } else {
+    } else if (verdict.log_edge) {
       logger_.info("Streamer faults cleared");
+    }
+    if (verdict.summary) {
+      logger_.warn("{} (now: {})", *verdict.summary,
+                   message.telemetry.fault ? message.telemetry.fault_reason : std::string("no fault"));
     }
     stats_.last_telemetry_fault = message.telemetry.fault;
     stats_.last_fault_reason = message.telemetry.fault_reason;  // display only
+  } else if (fault_flaps_.flapping()) {
+    if (auto line = fault_flaps_.on_steady(now)) logger_.warn("{}", *line);
   }
   safety_.on_control_message(message, now);
 }

@@ -10,7 +10,9 @@
 //   * `send` frames an already-encoded payload and refuses (frame_too_large) to send one over
 //     the limit — an oversized frame never leaves.
 // Every close path — peer, timeout, bad input, local close() — reports `on_closed` exactly
-// once and is logged with its reason.
+// once and is logged with its reason. When the first bytes of the connection are not OCP
+// framing at all (text, HTTP; framing_diagnosis.hpp) a warning says so at once and every
+// later close reason repeats it; the bytes are still drained as SPEC §2 asks.
 //
 // Lifetime: open() returns the only shared_ptr the owner needs. Stream and timer callbacks
 // hold weak pointers and lock them for the duration of a callback, so the owner may drop the
@@ -28,6 +30,7 @@
 #include "ocp/event_bus.hpp"
 #include "ocp/executor.hpp"
 #include "ocp/frame.hpp"
+#include "ocp/framing_diagnosis.hpp"
 #include "ocp/log.hpp"
 
 namespace ocp {
@@ -113,6 +116,7 @@ class FramedConnection : public std::enable_shared_from_this<FramedConnection> {
   Counters counters_;
   Handlers handlers_;
   FrameDecoder decoder_;
+  FramingSniffer sniffer_;    // says so when the peer does not speak OCP framing at all
   std::string frame_buffer_;  // reused by send(): no allocation per frame in steady state
   bool open_ = true;
   SimTime last_byte_at_{};

@@ -56,6 +56,8 @@ class Logger {
   }
 
   const std::string& component() const { return component_; }
+  // The clock the lines are stamped with (for log-rate limiting, see flap_summariser.hpp).
+  SimTime now() const { return executor_->now(); }
   const LogSink& sink() const { return sink_; }
   // A logger for a sub-component sharing the same sink and clock.
   Logger child(std::string_view suffix) const {

@@ -10,6 +10,13 @@ namespace ocp {
 
 namespace {
 
+std::string format_identifiers(const std::vector<std::string>& identifiers) {
+  if (identifiers.empty()) return "[]";
+  std::string text;
+  for (const auto& identifier : identifiers) text += (text.empty() ? "" : ",") + identifier;
+  return "[" + text + "]";
+}
+
 WorldConfig make_world_config(const PlayerSimOptions& options) {
   WorldConfig config;
   config.seed = options.seed;
@@ -20,6 +27,7 @@ WorldConfig make_world_config(const PlayerSimOptions& options) {
     VehicleSpec vehicle;
     vehicle.name = name;
     vehicle.streamer.latency_limit = options.plugin_params.latency_limit;
+    vehicle.streamer.ack_time_offset = options.ack_time_offset;
     if (!options.cameras.empty()) vehicle.streamer.cameras = options.cameras;
     vehicle.to_streamer = options.link;
     vehicle.to_player = options.link;
@@ -38,7 +46,15 @@ PlayerSimulation::PlayerSimulation(AsioExecutor& executor, PlayerSimOptions opti
       options_(std::move(options)),
       logger_(executor, "player_sim", sink),
       world_(executor, make_world_config(options_), sink),
-      front_(executor, world_, Logger(executor, "player:tcp", sink)) {
+      front_(executor, world_, Logger(executor, "player:tcp", sink)),
+      latency_sampler_(executor, Micros{10'000}, [this](SimTime) {
+        for (const auto& name : options_.vehicles) {
+          const StreamerCore& streamer = world_.streamer(name);
+          if (const auto latency = streamer.latency_ms(); latency && streamer.vehicle_connected()) {
+            latency_windows_[name].add(*latency);
+          }
+        }
+      }) {
   for (const auto& [name, port] : options_.vehicle_tcp_ports) {
     vehicle_fronts_[name] = std::make_unique<StreamerFront>(executor, world_, name,
                                                             Logger(executor, "streamer:" + name + ":tcp", sink));
@@ -92,12 +108,14 @@ Status PlayerSimulation::start() {
                options_.gamepad.description, to_whole_ms(options_.link.delay),
                to_whole_ms(options_.link.jitter), options_.link.loss_probability);
   previous_ = Previous{executor_.now(), 0, 0};
+  latency_sampler_.start(executor_.now() + latency_sampler_.period());
   return Ok{};
 }
 
 void PlayerSimulation::stop() {
   if (webview_) webview_->stop();
   for (auto& [name, front] : vehicle_fronts_) front->stop();
+  latency_sampler_.stop();
   front_.stop();
   if (world_.running()) world_.stop();
 }
@@ -121,9 +139,17 @@ std::string PlayerSimulation::status_line() {
       stats.client_messages_received);
   for (const auto& name : options_.vehicles) {
     const StreamerCore& streamer = world_.streamer(name);
-    line += fmt::format(" | {}: latency {}, faults {}, operator faults {}", name,
-                        sim::format_latency(streamer.latency_ms()), sim::format_faults(streamer.faults()),
-                        sim::format_faults(core.sender_faults(name)));
+    LatencyWindow& latency = latency_windows_[name];
+    std::string client_view = "nothing sent yet";
+    const auto& feedback = core.last_shared().vehicle_feedback;
+    if (const auto found = feedback.find(name); found != feedback.end()) {
+      client_view = fmt::format("receiver_fault {}, sender_fault {}", format_identifiers(found->second.receiver_fault),
+                                format_identifiers(found->second.sender_fault));
+    }
+    line += fmt::format(" | {}: simulated Streamer: latency {}, faults {}; operator client sees: {}", name,
+                        streamer.vehicle_connected() ? latency.format() : std::string("n/a (no loop running)"),
+                        sim::format_faults(streamer.faults()), client_view);
+    latency.reset();
   }
   previous_ = Previous{now, stats.client_frames_sent, stats.client_messages_received};
   return line;

@@ -54,6 +54,10 @@
 
 namespace ocp {
 
+// A ClientOcpShared carrying no client data — no active_vehicle and no client_user_data entry
+// with any field, e.g. {} — is a keep-alive (SPEC §4.2): a read-only dashboard sends it to
+// stay connected, so it neither locks a source nor counts as that source's data (§4.3).
+bool is_keep_alive(const ClientOcpShared& data);
 
 inline constexpr double max_player_frame_rate_hz = 100.0;
 
@@ -79,6 +83,7 @@ struct PlayerStats {
   std::uint64_t shared_published = 0;           // VehicleOcpShared objects built
   std::uint64_t client_messages_received = 0;   // decoded ClientOcpShared, all sources
   std::uint64_t client_messages_ignored = 0;    // dropped because client data is stopped
+  std::uint64_t client_keep_alives = 0;         // ClientOcpShared without client data (§4.2)
   std::uint64_t client_oversized_frames = 0;    // drained inbound frames on :4001
   std::uint64_t client_connections_accepted = 0;
   std::uint64_t client_connections_refused = 0; // second client while one is active

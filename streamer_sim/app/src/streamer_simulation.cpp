@@ -18,6 +18,7 @@ WorldConfig make_world_config(const StreamerSimOptions& options) {
   VehicleSpec vehicle;
   vehicle.name = options.vehicle;
   vehicle.streamer.latency_limit = options.plugin_params.latency_limit;
+  vehicle.streamer.ack_time_offset = options.ack_time_offset;
   if (!options.cameras.empty()) vehicle.streamer.cameras = options.cameras;
   vehicle.to_streamer = options.link;
   vehicle.to_player = options.link;
@@ -33,7 +34,11 @@ StreamerSimulation::StreamerSimulation(AsioExecutor& executor, StreamerSimOption
       options_(std::move(options)),
       logger_(executor, "streamer_sim", sink),
       world_(executor, make_world_config(options_), sink),
-      front_(executor, world_, options_.vehicle, Logger(executor, "streamer:" + options_.vehicle + ":tcp", sink)) {}
+      front_(executor, world_, options_.vehicle, Logger(executor, "streamer:" + options_.vehicle + ":tcp", sink)),
+      latency_sampler_(executor, Micros{10'000}, [this](SimTime) {
+        const StreamerCore& core = streamer();
+        if (const auto latency = core.latency_ms(); latency && core.vehicle_connected()) latency_window_.add(*latency);
+      }) {}
 
 StreamerSimulation::~StreamerSimulation() { stop(); }
 
@@ -46,15 +51,18 @@ Status StreamerSimulation::start() {
     return status;
   }
   sim::apply_gamepad_script(world_.player().gamepad(), options_.gamepad, executor_.now());
-  logger_.info("simulated operator: gamepad '{}', link delay {} ms, jitter ±{} ms, loss {}, latency_limit {} ms",
+  logger_.info("simulated operator: gamepad '{}', link delay {} ms, jitter ±{} ms, loss {}, latency_limit {} ms, "
+               "ack_time offset {}",
                options_.gamepad.description, to_whole_ms(options_.link.delay),
                to_whole_ms(options_.link.jitter), options_.link.loss_probability,
-               options_.plugin_params.latency_limit.count());
+               options_.plugin_params.latency_limit.count(), options_.ack_time_offset);
+  latency_sampler_.start(executor_.now() + latency_sampler_.period());
   previous_ = Previous{executor_.now(), 0, 0, 0};
   return Ok{};
 }
 
 void StreamerSimulation::stop() {
+  latency_sampler_.stop();
   front_.stop();
   if (world_.running()) world_.stop();
 }
@@ -65,11 +73,14 @@ std::string StreamerSimulation::status_line() {
   const SimTime now = executor_.now();
   const Micros elapsed = now - previous_.time;
   const std::string vehicle = core.vehicle_connected() ? core.vehicle_peer() : std::string("none");
-  const auto latency = core.latency_ms();
+  // Without a vehicle client no loop runs: the last measured latency would be stale.
+  const std::string latency =
+      core.vehicle_connected() ? latency_window_.format() : std::string("n/a (no loop running)");
+  latency_window_.reset();
   std::string line = fmt::format(
       "status: vehicle client {} | latency {} | faults {} | control out {:.0f}/s ({} total) | "
       "responses in {:.0f}/s ({} total) | operator msgs in {:.0f}/s",
-      vehicle, sim::format_latency(latency), sim::format_faults(core.faults()),
+      vehicle, latency, sim::format_faults(core.faults()),
       sim::per_second(stats.control_frames_sent, previous_.control_frames_sent, elapsed),
       stats.control_frames_sent,
       sim::per_second(stats.vehicle_responses_received, previous_.vehicle_responses_received, elapsed),

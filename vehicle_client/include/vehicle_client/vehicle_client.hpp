@@ -26,6 +26,7 @@
 
 #include "ocp/byte_stream.hpp"
 #include "ocp/executor.hpp"
+#include "ocp/flap_summariser.hpp"
 #include "ocp/frame.hpp"
 #include "ocp/log.hpp"
 #include "ocp/messages.hpp"
@@ -139,6 +140,7 @@ class VehicleClient {
   std::string first_header_;                   // first 4 bytes of a connection ("not OCP" check)
   std::function<void(const std::string&)> on_disconnected_;
   VehicleClientStats stats_;
+  FlapSummariser fault_flaps_{"Streamer-reported fault"};  // the log line, not the decisions
   bool seen_valid_control_ = false;
   std::optional<AckPair> echo_pair_;           // the pair responses carry
   std::optional<SimTime> last_response_time_;

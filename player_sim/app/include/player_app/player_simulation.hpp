@@ -12,6 +12,7 @@
 
 #include "ocp/asio_executor.hpp"
 #include "ocp/com_channel.hpp"
+#include "ocp/latency_window.hpp"
 #include "ocp/log.hpp"
 #include "ocp/plugin_params.hpp"
 #include "player_app/player_front.hpp"
@@ -34,6 +35,7 @@ struct PlayerSimOptions {
   // instead of the in-process reference vehicle client.
   std::map<std::string, std::uint16_t> vehicle_tcp_ports;
   std::optional<WebviewOptions> webview;  // the web view endpoint; nullopt = none
+  std::uint64_t ack_time_offset = 0;     // added to every ack_time of every Streamer (SPEC §5)
 };
 
 class PlayerSimulation {
@@ -57,7 +59,10 @@ class PlayerSimulation {
   World& world() { return world_; }
   PlayerCore& player() { return world_.player(); }
 
-  // The once-per-second status line; rates are per second since the previous call.
+  // The once-per-second status line; rates are per second since the previous call. Per
+  // vehicle it keeps two views apart: the simulated Streamer's own (latency min/avg/max over
+  // the second, its faults) and what the operator client is sent (receiver_fault and
+  // sender_fault of the last VehicleOcpShared) — they differ when the link loses feedback.
   std::string status_line();
 
  private:
@@ -68,6 +73,8 @@ class PlayerSimulation {
   PlayerFront front_;
   std::map<std::string, std::unique_ptr<StreamerFront>> vehicle_fronts_;
   std::unique_ptr<WebviewServer> webview_;
+  PeriodicTimer latency_sampler_;
+  std::map<std::string, LatencyWindow> latency_windows_;
   struct Previous {
     SimTime time{0};
     std::uint64_t client_frames_sent = 0;

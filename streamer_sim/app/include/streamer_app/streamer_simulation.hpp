@@ -10,6 +10,7 @@
 
 #include "ocp/asio_executor.hpp"
 #include "ocp/com_channel.hpp"
+#include "ocp/latency_window.hpp"
 #include "ocp/log.hpp"
 #include "ocp/plugin_params.hpp"
 #include "world/world.hpp"
@@ -26,6 +27,7 @@ struct StreamerSimOptions {
   std::uint64_t seed = 1;
   sim::GamepadScript gamepad;            // the simulated operator's gamepad (default: drive)
   double operator_frame_rate_hz = 100.0;
+  std::uint64_t ack_time_offset = 0;     // added to every ack_time (SPEC §5)
 };
 
 class StreamerSimulation {
@@ -47,7 +49,8 @@ class StreamerSimulation {
   PlayerCore& player() { return world_.player(); }
   StreamerFront& front() { return front_; }
 
-  // The once-per-second status line; rates are per second since the previous call.
+  // The once-per-second status line; rates are per second since the previous call, latency
+  // min/avg/max over the samples since then (every control tick while a vehicle is connected).
   std::string status_line();
 
  private:
@@ -56,6 +59,8 @@ class StreamerSimulation {
   Logger logger_;
   World world_;
   StreamerFront front_;
+  PeriodicTimer latency_sampler_;
+  LatencyWindow latency_window_;
   struct Previous {
     SimTime time{0};
     std::uint64_t control_frames_sent = 0;

@@ -4,6 +4,9 @@
 //   --link-delay-ms, --link-jitter-ms, --link-loss   (the fake com channel, both directions)
 //   --seed, --log-level, --camera NAME[:FPS] (repeatable), --duration-s
 //   --gamepad idle|drive|FILE   (the simulated operator's gamepad)
+//   --ack-time-offset N|high    (added to every ack_time the Streamer issues, SPEC §5)
+// Every numeric value is checked strictly (ocp/cli_checks.hpp): NaN, infinities, negative or
+// out-of-range and empty values are usage errors (exit code 2).
 //
 //   CLI::App app{"…"};
 //   sim::CommonOptions options;
@@ -37,18 +40,36 @@ struct CommonOptions {
   std::vector<std::string> camera_texts;   // NAME or NAME:FPS
   double duration_s = 0.0;           // 0 = run until SIGINT/SIGTERM
   std::string gamepad_text = "drive";
+  std::string ack_time_offset_text = "0";  // N (0..2^64-1) or "high"
 
   // Filled by parse_command_line from the texts above.
   PluginParams plugin_params;
   LogLevel log_level = LogLevel::info;
   std::vector<CameraConfig> cameras;       // empty when no --camera was given
   GamepadScript gamepad;
+  std::uint64_t ack_time_offset = 0;
+  // Printed to stderr by parse_command_line too: --plugin-param names that do nothing in this
+  // executable (the other simulator's port).
+  std::vector<std::string> warnings;
 
   Impairments link_impairments() const;    // delay / jitter / loss, for both directions
   std::optional<Micros> duration() const;  // nullopt = run until a signal
 };
 
+// `high`: an ack_time offset far above 2^53, where a client passing ack_time through a double
+// loses the low bits. At 2^62 doubles are 1024 apart, so a rounded ack_time is wrong for 1023
+// pairs in 1024 (just above 2^53 only odd values break: half the pairs, and InvalidMac would
+// flap instead of staying up); below 2^63, so a signed 64-bit reader is not what breaks.
+inline constexpr std::uint64_t high_ack_time_offset = (std::uint64_t{1} << 62) + 12345;
+[[nodiscard]] Result<std::uint64_t> parse_ack_time_offset(const std::string& text);
+
+// Also sets the --help footer: the plugin parameters with defaults and ranges, the exit codes,
+// where the gamepad recording format is documented.
 void add_common_options(CLI::App& app, CommonOptions& options);
+
+// Warnings for --plugin-param names that have no effect in `program` ("streamer_sim",
+// "player_sim"), naming the executable they belong to. Other program names: none.
+std::vector<std::string> plugin_param_warnings(std::string_view program, const CommonOptions& options);
 
 // Checks and converts what CLI11 cannot: plugin parameters, log level, cameras, ranges.
 [[nodiscard]] Status finish_common_options(CommonOptions& options);
