@@ -454,10 +454,18 @@ Status tokenize(std::string_view json, Tape& tape, bool require_object) {
   if (json.size() >= std::numeric_limits<std::uint32_t>::max()) {
     return malformed("document larger than 4 GiB");
   }
-  tape.text.assign(json);  // the in-situ work copy; never resized while parsing
-  if (FastTokenizer(json, tape).run()) return check_root(tape, require_object);
-  tape.tokens.clear();
+  if (tokenize_fast_path(json, tape)) return check_root(tape, require_object);
   return tokenize_with_rapidjson(json, tape, require_object);
+}
+
+bool tokenize_fast_path(std::string_view json, Tape& tape) {
+  tape.source = json;
+  tape.tokens.clear();
+  if (json.size() >= std::numeric_limits<std::uint32_t>::max()) return false;
+  tape.text.assign(json);  // the in-situ work copy; never resized while parsing
+  if (FastTokenizer(json, tape).run()) return true;
+  tape.tokens.clear();
+  return false;
 }
 
 Status tokenize_with_rapidjson(std::string_view json, Tape& tape, bool require_object) {
