@@ -14,7 +14,8 @@ namespace {
 // In-situ stream over the tape's private copy of the input. In-situ parsing decodes strings
 // in place and hands out numbers as pointers into the copy, so RapidJSON never needs its
 // internal stack (whose first growth is undefined behaviour in RapidJSON 1.1: it offsets a
-// null pointer) and nothing is copied twice. Writes always trail the read position.
+// null pointer) and nothing is copied twice. Writes trail the read position (and never pass
+// the end, see Put).
 //
 // Bounded: past the end it reads '\0', which RapidJSON treats as end of input. Needed when
 // encoding validation is on: RapidJSON's UTF-8 decoder takes continuation bytes without
@@ -45,7 +46,17 @@ class InsituStream {
   std::size_t Tell() const { return static_cast<std::size_t>(current_ - begin_); }
 
   Ch* PutBegin() { return write_ = current_; }
-  void Put(Ch c) { *write_++ = c; }
+  // Bounded: the decoder copies each byte it takes before checking it, so at a truncated
+  // sequence it "copies" the '\0's read past the end too: the write position would overtake
+  // the read position and leave the buffer. Such a parse always fails, so the bytes past the
+  // end are dropped. (Found by fuzz_json_tape_differential: an unterminated string ending in
+  // the first bytes of a 4-byte sequence wrote beyond the work copy.)
+  void Put(Ch c) {
+    if constexpr (Bounded) {
+      if (write_ == end_) return;
+    }
+    *write_++ = c;
+  }
   void Flush() {}
   std::size_t PutEnd(Ch* begin) { return static_cast<std::size_t>(write_ - begin); }
 
