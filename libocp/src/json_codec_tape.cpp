@@ -14,7 +14,8 @@ namespace {
 // In-situ stream over the tape's private copy of the input. In-situ parsing decodes strings
 // in place and hands out numbers as pointers into the copy, so RapidJSON never needs its
 // internal stack (whose first growth is undefined behaviour in RapidJSON 1.1: it offsets a
-// null pointer) and nothing is copied twice. Writes always trail the read position.
+// null pointer) and nothing is copied twice. Writes trail the read position (and never pass
+// the end, see Put).
 //
 // Bounded: past the end it reads '\0', which RapidJSON treats as end of input. Needed when
 // encoding validation is on: RapidJSON's UTF-8 decoder takes continuation bytes without
@@ -45,7 +46,17 @@ class InsituStream {
   std::size_t Tell() const { return static_cast<std::size_t>(current_ - begin_); }
 
   Ch* PutBegin() { return write_ = current_; }
-  void Put(Ch c) { *write_++ = c; }
+  // Bounded: the decoder copies each byte it takes before checking it, so at a truncated
+  // sequence it "copies" the '\0's read past the end too: the write position would overtake
+  // the read position and leave the buffer. Such a parse always fails, so the bytes past the
+  // end are dropped. (Found by fuzz_json_tape_differential: an unterminated string ending in
+  // the first bytes of a 4-byte sequence wrote beyond the work copy.)
+  void Put(Ch c) {
+    if constexpr (Bounded) {
+      if (write_ == end_) return;
+    }
+    *write_++ = c;
+  }
   void Flush() {}
   std::size_t PutEnd(Ch* begin) { return static_cast<std::size_t>(write_ - begin); }
 
@@ -454,10 +465,18 @@ Status tokenize(std::string_view json, Tape& tape, bool require_object) {
   if (json.size() >= std::numeric_limits<std::uint32_t>::max()) {
     return malformed("document larger than 4 GiB");
   }
-  tape.text.assign(json);  // the in-situ work copy; never resized while parsing
-  if (FastTokenizer(json, tape).run()) return check_root(tape, require_object);
-  tape.tokens.clear();
+  if (tokenize_fast_path(json, tape)) return check_root(tape, require_object);
   return tokenize_with_rapidjson(json, tape, require_object);
+}
+
+bool tokenize_fast_path(std::string_view json, Tape& tape) {
+  tape.source = json;
+  tape.tokens.clear();
+  if (json.size() >= std::numeric_limits<std::uint32_t>::max()) return false;
+  tape.text.assign(json);  // the in-situ work copy; never resized while parsing
+  if (FastTokenizer(json, tape).run()) return true;
+  tape.tokens.clear();
+  return false;
 }
 
 Status tokenize_with_rapidjson(std::string_view json, Tape& tape, bool require_object) {

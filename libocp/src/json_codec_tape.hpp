@@ -72,6 +72,11 @@ struct Tape {
 [[nodiscard]] Status tokenize_with_rapidjson(std::string_view json, Tape& tape,
                                              bool require_object = true);
 
+// The hand-written fast path alone: true when it took the document (recording its tape, which
+// must equal RapidJSON's), false when it declined it (tape left cleared). tokenize is this,
+// then tokenize_with_rapidjson on a decline. Exposed for the differential tests and fuzz target.
+[[nodiscard]] bool tokenize_fast_path(std::string_view json, Tape& tape);
+
 // One tape per thread, reused across decodes so the steady state allocates nothing.
 Tape& thread_tape();
 

@@ -7,7 +7,6 @@
 #include <unistd.h>
 
 #include <boost/asio/io_context.hpp>
-#include <boost/asio/ip/tcp.hpp>
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
@@ -17,6 +16,7 @@
 #include <vector>
 
 #include "ocp/tcp_server.hpp"
+#include "tcp_peers.hpp"
 
 extern char** environ;
 
@@ -101,10 +101,8 @@ std::uint16_t free_port() {
 
 bool can_connect(std::uint16_t port) {
   boost::asio::io_context io;
-  boost::asio::ip::tcp::socket socket(io);
-  boost::system::error_code error;
-  socket.connect({boost::asio::ip::address_v4::loopback(), port}, error);
-  return !error;
+  std::string error;
+  return testing::connect_loopback(io, port, error) != nullptr;
 }
 
 const std::string streamer_sim = OCP_STREAMER_SIM_PATH;

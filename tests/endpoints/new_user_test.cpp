@@ -18,7 +18,7 @@ namespace {
 
 using testing::CapturedLog;
 using testing::EchoingVehicle;
-using testing::LoopbackClient;
+using testing::TcpTestClient;
 using testing::run_until;
 
 class NewUser : public ::testing::Test {
@@ -92,7 +92,7 @@ TEST_F(NewUser, AckTimeOffsetHighIsFineForAnExactClient) {
 
 TEST_F(NewUser, HttpOnTheVehiclePortIsNamed) {
   start();
-  LoopbackClient browser(io_);
+  TcpTestClient<> browser(io_);
   ASSERT_TRUE(browser.connect(simulation_->port()));
   browser.send_raw("GET / HTTP/1.1\r\nHost: localhost\r\n\r\n");
   ASSERT_TRUE(run_until(io_, [&] { return log_.contains("an HTTP client?"); }));

@@ -8,50 +8,17 @@
 #include <memory>
 
 #include "endpoint_fixture.hpp"
+#include "operator_peer.hpp"
 #include "player_app/player_simulation.hpp"
 
 namespace ocp {
 namespace {
 
 using testing::CapturedLog;
-using testing::LoopbackClient;
 using testing::run_until;
 
-// An operator-side client: decodes every VehicleOcpShared and can answer with ClientOcpShared.
-class OperatorClient {
- public:
-  explicit OperatorClient(boost::asio::io_context& io) : client_(io) {
-    client_.on_payload = [this](const std::string& payload) {
-      auto shared = decode_vehicle_ocp_shared(payload);
-      if (!shared) {
-        ++undecodable_;
-        return;
-      }
-      latest_ = *shared;
-      ++received_;
-      if (answer_) answer_(*shared);
-    };
-  }
-  bool connect(std::uint16_t port) { return client_.connect(port); }
-  void send(const ClientOcpShared& message) {
-    std::string json;
-    encode_client_ocp_shared(message, json);
-    client_.send_payload(json);
-  }
-  // Called for every object received (e.g. to echo its pairs back).
-  std::function<void(const VehicleOcpShared&)> answer_;
-
-  LoopbackClient& client() { return client_; }
-  const VehicleOcpShared& latest() const { return latest_; }
-  std::size_t received() const { return received_; }
-  std::size_t undecodable() const { return undecodable_; }
-
- private:
-  LoopbackClient client_;
-  VehicleOcpShared latest_;
-  std::size_t received_ = 0;
-  std::size_t undecodable_ = 0;
-};
+using OperatorClient = testing::TcpTestClient<testing::OperatorPeer>;
+using TcpClient = testing::TcpTestClient<>;
 
 // The answer of a well-behaved TCP client: the latest pair of each vehicle, returned.
 ClientOcpShared echo_all(const VehicleOcpShared& shared, bool with_pairs = true,
@@ -99,7 +66,7 @@ TEST_F(OperatorApi, ClientSeesFeedbackForTheVehicleAndItsReturnedPairClosesTheLo
     return found != client.latest().vehicle_feedback.end() && found->second.ack.ack_time != 0 &&
            found->second.vehicle_data.has_value();
   }));
-  EXPECT_EQ(client.undecodable(), 0u);
+  EXPECT_EQ(client.decode_errors, 0u);
   EXPECT_EQ(client.latest().vehicle_feedback.size(), 1u);
   // The reference vehicle's user data crossed the link.
   EXPECT_NE(client.latest().vehicle_feedback.at("truck-1").vehicle_data->user_data.text.find("drive_state"),
@@ -110,14 +77,14 @@ TEST_F(OperatorApi, ClientSeesFeedbackForTheVehicleAndItsReturnedPairClosesTheLo
 
   // Client data without pairs locks the tcp source: self-echo stops, so the loop opens. (It
   // must carry some field: an entry with none is a keep-alive, SPEC §4.2.)
-  client.answer_ = [&](const VehicleOcpShared& shared) { client.send(echo_all(shared, false, R"({"tool":"none"})")); };
+  client.answer = [&](const VehicleOcpShared& shared) { client.send(echo_all(shared, false, R"({"tool":"none"})")); };
   ASSERT_TRUE(run_until(io_, [&] {
     return player().locked_source() == ClientSource::tcp &&
            streamer("truck-1").faults().contains(FaultId::InvalidMac);
   }));
 
   // Returning the pairs closes it again.
-  client.answer_ = [&](const VehicleOcpShared& shared) { client.send(echo_all(shared, true)); };
+  client.answer = [&](const VehicleOcpShared& shared) { client.send(echo_all(shared, true)); };
   ASSERT_TRUE(run_until(io_, [&] {
     return !streamer("truck-1").faults().contains(FaultId::InvalidMac) &&
            streamer("truck-1").latency_ms().has_value();
@@ -139,7 +106,7 @@ TEST_F(OperatorApi, DashboardKeepAlivesKeepItConnectedWithoutTakingTheLoop) {
            found->second.receiver_fault.empty();
   }));
   std::size_t invalid_mac_seen = 0;
-  dashboard.answer_ = [&](const VehicleOcpShared& shared) {
+  dashboard.answer = [&](const VehicleOcpShared& shared) {
     const auto& faults = shared.vehicle_feedback.at("truck-1").receiver_fault;
     if (std::find(faults.begin(), faults.end(), "InvalidMac") != faults.end()) ++invalid_mac_seen;
   };
@@ -152,7 +119,7 @@ TEST_F(OperatorApi, DashboardKeepAlivesKeepItConnectedWithoutTakingTheLoop) {
   ASSERT_TRUE(run_until(io_, [&] { return keep_alives >= 6; }));
   keep_alive.stop();
   testing::run_for(io_, std::chrono::milliseconds(100));
-  EXPECT_FALSE(dashboard.client().closed_by_peer());
+  EXPECT_FALSE(dashboard.closed_by_peer());
   EXPECT_TRUE(player().client_connected());
   EXPECT_EQ(player().locked_source(), std::nullopt);
   EXPECT_GE(player().stats().client_keep_alives, 5u);
@@ -174,7 +141,7 @@ TEST_F(OperatorApi, ClientUserDataReachesTheVehicle) {
 
   OperatorClient client(io_);
   ASSERT_TRUE(client.connect(simulation_->port()));
-  client.answer_ = [&](const VehicleOcpShared& shared) {
+  client.answer = [&](const VehicleOcpShared& shared) {
     client.send(echo_all(shared, true, std::string(R"({"mission":"dock-7"})")));
   };
   ASSERT_TRUE(run_until(io_, [&] { return last_user_data.has_value(); }));
@@ -186,7 +153,7 @@ TEST_F(OperatorApi, SecondSourceStopsClientData) {
   start();
   OperatorClient client(io_);
   ASSERT_TRUE(client.connect(simulation_->port()));
-  client.answer_ = [&](const VehicleOcpShared& shared) { client.send(echo_all(shared, true)); };
+  client.answer = [&](const VehicleOcpShared& shared) { client.send(echo_all(shared, true)); };
   ASSERT_TRUE(run_until(io_, [&] {
     return player().locked_source() == ClientSource::tcp && !streamer("truck-1").faults().contains(FaultId::InvalidMac) &&
            streamer("truck-1").latency_ms().has_value();
@@ -200,21 +167,21 @@ TEST_F(OperatorApi, SecondSourceStopsClientData) {
   const std::uint64_t ignored = player().stats().client_messages_ignored;
   ASSERT_TRUE(run_until(io_, [&] { return player().stats().client_messages_ignored >= ignored + 10; }));
   ASSERT_TRUE(run_until(io_, [&] { return streamer("truck-1").faults().contains(FaultId::InvalidMac); }));
-  EXPECT_TRUE(client.client().connected());  // the tcp client is not disconnected for it
+  EXPECT_TRUE(client.is_open());  // the tcp client is not disconnected for it
 }
 
 TEST_F(OperatorApi, SecondClientIsRefusedWhileTheFirstKeepsReceiving) {
   start();
   OperatorClient first(io_);
   ASSERT_TRUE(first.connect(simulation_->port()));
-  ASSERT_TRUE(run_until(io_, [&] { return first.received() >= 3; }));
+  ASSERT_TRUE(run_until(io_, [&] { return first.received.size() >= 3; }));
 
-  LoopbackClient second(io_);
+  TcpClient second(io_);
   ASSERT_TRUE(second.connect(simulation_->port()));
   ASSERT_TRUE(run_until(io_, [&] { return second.closed_by_peer(); }));
   EXPECT_EQ(player().stats().client_connections_refused, 1u);
-  const std::size_t before = first.received();
-  ASSERT_TRUE(run_until(io_, [&] { return first.received() >= before + 20; }));
+  const std::size_t before = first.received.size();
+  ASSERT_TRUE(run_until(io_, [&] { return first.received.size() >= before + 20; }));
 }
 
 TEST_F(OperatorApi, FleetClientSeesEveryVehicle) {
@@ -235,7 +202,7 @@ TEST_F(OperatorApi, FleetClientSeesEveryVehicle) {
 
 TEST_F(OperatorApi, MalformedJsonClosesTheClient) {
   start();
-  LoopbackClient client(io_);
+  TcpClient client(io_);
   ASSERT_TRUE(client.connect(simulation_->port()));
   ASSERT_TRUE(run_until(io_, [&] { return player().client_connected(); }));
   client.send_payload("[1, 2, 3]");

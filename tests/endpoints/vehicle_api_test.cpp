@@ -15,7 +15,7 @@ namespace {
 
 using testing::CapturedLog;
 using testing::EchoingVehicle;
-using testing::LoopbackClient;
+using TcpClient = testing::TcpTestClient<>;
 using testing::run_until;
 
 class VehicleApi : public ::testing::Test {
@@ -43,9 +43,9 @@ class VehicleApi : public ::testing::Test {
 TEST_F(VehicleApi, ControlMessagesArriveEvery10msAndTheEchoClosesTheLatencyLoop) {
   EchoingVehicle vehicle(io_);
   ASSERT_TRUE(vehicle.connect(port()));
-  ASSERT_TRUE(run_until(io_, [&] { return vehicle.messages().size() >= 1; }));
+  ASSERT_TRUE(run_until(io_, [&] { return vehicle.received.size() >= 1; }));
   const auto first_at = std::chrono::steady_clock::now();
-  ASSERT_TRUE(run_until(io_, [&] { return vehicle.messages().size() >= 101; }));
+  ASSERT_TRUE(run_until(io_, [&] { return vehicle.received.size() >= 101; }));
   const auto hundred_ticks = std::chrono::steady_clock::now() - first_at;
   // Absolute 10 ms deadlines: 100 more messages cannot come faster than ~1 s; a loaded
   // machine may skip ticks, so only a generous upper bound.
@@ -58,11 +58,11 @@ TEST_F(VehicleApi, ControlMessagesArriveEvery10msAndTheEchoClosesTheLatencyLoop)
            streamer().faults().empty();
   }));
   // …and the vehicle sees it in telemetry.
-  ASSERT_TRUE(run_until(io_, [&] { return !vehicle.messages().back().telemetry.fault; }));
-  EXPECT_EQ(vehicle.messages().back().telemetry.fault_reason, "");
-  EXPECT_EQ(vehicle.undecodable(), 0u);
+  ASSERT_TRUE(run_until(io_, [&] { return !vehicle.received.back().telemetry.fault; }));
+  EXPECT_EQ(vehicle.received.back().telemetry.fault_reason, "");
+  EXPECT_EQ(vehicle.undecodable, 0u);
   // Every control message carries a fresh pair.
-  const auto& messages = vehicle.messages();
+  const auto& messages = vehicle.received;
   for (std::size_t i = 1; i < messages.size(); ++i) {
     EXPECT_GT(messages[i].ack.ack_time, messages[i - 1].ack.ack_time);
   }
@@ -73,23 +73,23 @@ TEST_F(VehicleApi, SecondClientIsRefusedWhileTheFirstKeepsWorking) {
   ASSERT_TRUE(first.connect(port()));
   ASSERT_TRUE(run_until(io_, [&] { return streamer().vehicle_connected(); }));
 
-  LoopbackClient second(io_);
+  TcpClient second(io_);
   ASSERT_TRUE(second.connect(port()));
   ASSERT_TRUE(run_until(io_, [&] { return second.closed_by_peer(); }));
-  EXPECT_EQ(second.payload_count(), 0u);
+  EXPECT_EQ(second.frames().size(), 0u);
   EXPECT_EQ(streamer().stats().connections_refused, 1u);
   // The log line names both peers.
   EXPECT_TRUE(log_.contains("refused vehicle connection from 127.0.0.1:"));
   EXPECT_TRUE(log_.contains("is already connected"));
 
-  const std::size_t before = first.messages().size();
-  ASSERT_TRUE(run_until(io_, [&] { return first.messages().size() >= before + 20; }));
-  EXPECT_TRUE(first.client().connected());
+  const std::size_t before = first.received.size();
+  ASSERT_TRUE(run_until(io_, [&] { return first.received.size() >= before + 20; }));
+  EXPECT_TRUE(first.is_open());
   EXPECT_TRUE(streamer().vehicle_connected());
 }
 
 TEST_F(VehicleApi, TwoSecondsOfSilenceCloseTheConnection) {
-  LoopbackClient silent(io_);
+  TcpClient silent(io_);
   ASSERT_TRUE(silent.connect(port()));
   ASSERT_TRUE(run_until(io_, [&] { return streamer().vehicle_connected(); }));
   const auto connected_at = std::chrono::steady_clock::now();
@@ -97,7 +97,7 @@ TEST_F(VehicleApi, TwoSecondsOfSilenceCloseTheConnection) {
   const auto silence = std::chrono::steady_clock::now() - connected_at;
   EXPECT_GE(silence, std::chrono::milliseconds(1900));
   EXPECT_LE(silence, std::chrono::milliseconds(6000));
-  EXPECT_GT(silent.payload_count(), 50u);   // it was sent control messages all along
+  EXPECT_GT(silent.frames().size(), 50u);   // it was sent control messages all along
   ASSERT_TRUE(streamer().stats().last_close_reason.has_value());
   EXPECT_EQ(streamer().stats().last_close_reason->code, PeerError::read_timeout);
   EXPECT_TRUE(streamer().faults().contains(FaultId::VehicleNoResponse));
@@ -106,24 +106,21 @@ TEST_F(VehicleApi, TwoSecondsOfSilenceCloseTheConnection) {
 TEST_F(VehicleApi, OversizedFrameIsSkippedAndTheConnectionSurvives) {
   EchoingVehicle vehicle(io_);
   ASSERT_TRUE(vehicle.connect(port()));
-  ASSERT_TRUE(run_until(io_, [&] { return vehicle.messages().size() >= 5; }));
+  ASSERT_TRUE(run_until(io_, [&] { return vehicle.received.size() >= 5; }));
 
   constexpr std::uint32_t oversized_bytes = 16'385;
-  std::string frame(4, '\0');
-  for (int i = 0; i < 4; ++i) frame[i] = static_cast<char>((oversized_bytes >> (8 * i)) & 0xFF);
-  frame.append(oversized_bytes, '{');  // not even JSON: it must never be parsed
-  vehicle.client().send_raw(frame);
+  vehicle.send_payload(std::string(oversized_bytes, '{'));  // not even JSON: it must never be parsed
 
   ASSERT_TRUE(run_until(io_, [&] { return streamer().stats().oversized_frames_dropped == 1; }));
   const std::uint64_t responses = streamer().stats().vehicle_responses_received;
   ASSERT_TRUE(run_until(io_, [&] { return streamer().stats().vehicle_responses_received >= responses + 20; }));
-  EXPECT_TRUE(vehicle.client().connected());
+  EXPECT_TRUE(vehicle.is_open());
   EXPECT_EQ(streamer().stats().connections_closed, 0u);
   EXPECT_TRUE(log_.contains("dropped oversized frame of 16385 bytes"));
 }
 
 TEST_F(VehicleApi, MalformedJsonClosesTheConnectionWithTheReasonLogged) {
-  LoopbackClient vehicle(io_);
+  TcpClient vehicle(io_);
   ASSERT_TRUE(vehicle.connect(port()));
   ASSERT_TRUE(run_until(io_, [&] { return streamer().vehicle_connected(); }));
   vehicle.send_payload(R"({"ack_time": 12, "ack_time_mac": )");
@@ -136,7 +133,7 @@ TEST_F(VehicleApi, MalformedJsonClosesTheConnectionWithTheReasonLogged) {
 }
 
 TEST_F(VehicleApi, MissingRequiredFieldClosesTheConnection) {
-  LoopbackClient vehicle(io_);
+  TcpClient vehicle(io_);
   ASSERT_TRUE(vehicle.connect(port()));
   vehicle.send_payload(R"({"ack_time": 12})");
   ASSERT_TRUE(run_until(io_, [&] { return vehicle.closed_by_peer(); }));
@@ -150,8 +147,8 @@ TEST_F(VehicleApi, ReconnectGetsFreshMessagesAndNoStaleQueuedOnes) {
   {
     EchoingVehicle first(io_);
     ASSERT_TRUE(first.connect(port()));
-    ASSERT_TRUE(run_until(io_, [&] { return first.messages().size() >= 10; }));
-    first.client().close();
+    ASSERT_TRUE(run_until(io_, [&] { return first.received.size() >= 10; }));
+    first.close();
     ASSERT_TRUE(run_until(io_, [&] { return !streamer().vehicle_connected(); }));
   }
   // Control ticks keep running with nobody connected; none of them may be delivered later.
@@ -160,11 +157,11 @@ TEST_F(VehicleApi, ReconnectGetsFreshMessagesAndNoStaleQueuedOnes) {
   const SimTime reconnect_at = executor_.now();
   EchoingVehicle second(io_);
   ASSERT_TRUE(second.connect(port()));
-  ASSERT_TRUE(run_until(io_, [&] { return second.messages().size() >= 10; }));
+  ASSERT_TRUE(run_until(io_, [&] { return second.received.size() >= 10; }));
   // ack_time = µs since the Streamer started (offset 0), and the Streamer started before
   // started_at_: every pair the new connection sees was issued after it connected.
   const auto issued_after = static_cast<std::uint64_t>((reconnect_at - started_at_).count());
-  for (const auto& message : second.messages()) EXPECT_GE(message.ack.ack_time, issued_after);
+  for (const auto& message : second.received) EXPECT_GE(message.ack.ack_time, issued_after);
   EXPECT_EQ(streamer().stats().connections_accepted, 2u);
 }
 
@@ -180,7 +177,7 @@ TEST_F(VehicleApi, PortInUseIsAClearError) {
   // The first one is unaffected.
   EchoingVehicle vehicle(io_);
   ASSERT_TRUE(vehicle.connect(port()));
-  ASSERT_TRUE(run_until(io_, [&] { return vehicle.messages().size() >= 3; }));
+  ASSERT_TRUE(run_until(io_, [&] { return vehicle.received.size() >= 3; }));
 }
 
 }  // namespace

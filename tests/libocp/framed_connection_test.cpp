@@ -9,6 +9,8 @@
 
 #include "ocp/framed_connection.hpp"
 #include "ocp/pipe.hpp"
+#include "captured_log.hpp"
+#include "framed_peer.hpp"
 #include "ocp/virtual_executor.hpp"
 
 namespace ocp {
@@ -16,16 +18,11 @@ namespace {
 
 using namespace std::chrono_literals;
 
-std::string frame_header(std::uint32_t length) {
-  std::string header(frame_header_bytes, '\0');
-  for (std::size_t index = 0; index < frame_header_bytes; ++index) {
-    header[index] = static_cast<char>((length >> (8 * index)) & 0xffU);
-  }
-  return header;
-}
+using testing::frame_of;
 
-std::string framed(std::string_view payload) {
-  return frame_header(static_cast<std::uint32_t>(payload.size())) + std::string(payload);
+// The first `kept` bytes of a frame of `length` payload bytes: a stream that ends inside it.
+std::string partial_frame(std::size_t length, std::size_t kept) {
+  return frame_of(std::string(length, 'p')).substr(0, kept);
 }
 
 Error bad_payload(std::string detail) {
@@ -36,24 +33,19 @@ Error bad_payload(std::string detail) {
 struct Fixture {
   VirtualExecutor executor;
   PipeEnds ends = make_pipe(executor, PipeOptions{.name_a = "pipe:peer"});
-  std::vector<std::string> log_lines;
+  testing::CapturedLog log;
   std::vector<std::string> payloads;
   std::vector<CloseReason> close_reasons;
   std::vector<SimTime> closed_at;
   std::uint64_t bytes_in = 0;
   std::uint64_t bytes_out = 0;
   std::uint64_t oversized = 0;
-  std::string peer_received;
-  bool peer_closed = false;
+  testing::FramedPeer peer{&executor};  // the far end: writes go straight to ends.a
   std::shared_ptr<FramedConnection> connection;
 
   explicit Fixture(Micros read_timeout = 2000ms) {
-    ends.a->set_handlers(ByteStreamHandlers{
-        [this](std::string_view bytes) { peer_received += bytes; },
-        [this](const std::string&) { peer_closed = true; }});
-    Logger logger(executor, "test", [this](const LogRecord& record) {
-      log_lines.emplace_back(std::string(log_level_name(record.level)) + " " + std::string(record.message));
-    });
+    peer.attach(ends.a);
+    Logger logger(executor, "test", log.sink());
     FramedConnection::Handlers handlers;
     handlers.on_payload = [this](std::string_view payload) -> Status {
       if (payload == "bad") return bad_payload("not json");
@@ -72,18 +64,11 @@ struct Fixture {
                                    .oversized_frames_dropped = &oversized},
         std::move(handlers));
   }
-
-  bool logged(std::string_view needle) const {
-    for (const std::string& line : log_lines) {
-      if (line.find(needle) != std::string::npos) return true;
-    }
-    return false;
-  }
 };
 
 TEST(FramedConnection, DeliversEachPayloadAndCountsBytes) {
   Fixture fixture;
-  fixture.ends.a->write(framed("one") + framed("two"));
+  fixture.ends.a->write(frame_of("one") + frame_of("two"));
   fixture.executor.run_until(1ms);
   EXPECT_EQ(fixture.payloads, (std::vector<std::string>{"one", "two"}));
   EXPECT_EQ(fixture.bytes_in, 2 * frame_header_bytes + 6);
@@ -92,7 +77,7 @@ TEST(FramedConnection, DeliversEachPayloadAndCountsBytes) {
 
 TEST(FramedConnection, ClosesAfterExactlyTheReadTimeoutWithoutAByte) {
   Fixture fixture;
-  fixture.executor.call_at(SimTime{500'000}, [&] { fixture.ends.a->write(framed("x")); });
+  fixture.executor.call_at(SimTime{500'000}, [&] { fixture.ends.a->write(frame_of("x")); });
   fixture.executor.run_until(SimTime{2'499'999});
   EXPECT_TRUE(fixture.close_reasons.empty());
   fixture.executor.run_until(SimTime{2'500'000});
@@ -100,14 +85,14 @@ TEST(FramedConnection, ClosesAfterExactlyTheReadTimeoutWithoutAByte) {
   EXPECT_EQ(fixture.closed_at[0], SimTime{2'500'000});
   EXPECT_EQ(fixture.close_reasons[0],
             (CloseReason{PeerError::read_timeout, "no data from the widget for 2000 ms"}));
-  EXPECT_TRUE(fixture.logged("WARN closing widget connection pipe:peer: read timeout"));
+  EXPECT_TRUE(fixture.log.contains(LogLevel::warn, "closing widget connection pipe:peer: read timeout"));
   fixture.executor.run_until(SimTime{2'500'001});
-  EXPECT_TRUE(fixture.peer_closed);
+  EXPECT_TRUE(fixture.peer.closed_by_peer());
 }
 
 TEST(FramedConnection, ReadTimeoutAlsoRunsInsideAFrame) {
   Fixture fixture;
-  fixture.executor.call_at(SimTime{1'000'000}, [&] { fixture.ends.a->write(frame_header(10) + "abc"); });
+  fixture.executor.call_at(SimTime{1'000'000}, [&] { fixture.ends.a->write(partial_frame(10, frame_header_bytes + 3)); });
   fixture.executor.run_until(SimTime{2'999'999});
   EXPECT_TRUE(fixture.close_reasons.empty());
   fixture.executor.run_until(SimTime{3'000'000});
@@ -125,29 +110,29 @@ TEST(FramedConnection, ZeroReadTimeoutNeverCloses) {
 
 TEST(FramedConnection, OversizedInboundFrameIsDrainedCountedAndTheConnectionKept) {
   Fixture fixture;
-  fixture.ends.a->write(framed(std::string(max_payload_bytes + 1, 'x')) + framed("after"));
+  fixture.ends.a->write(frame_of(std::string(max_payload_bytes + 1, 'x')) + frame_of("after"));
   fixture.executor.run_until(1ms);
   EXPECT_EQ(fixture.oversized, 1u);
-  EXPECT_TRUE(fixture.logged("WARN widget pipe:peer: dropped oversized frame of 16385 bytes (limit 16384)"));
+  EXPECT_TRUE(fixture.log.contains(LogLevel::warn, "widget pipe:peer: dropped oversized frame of 16385 bytes (limit 16384)"));
   EXPECT_EQ(fixture.payloads, (std::vector<std::string>{"after"}));
   EXPECT_TRUE(fixture.close_reasons.empty());
 }
 
 TEST(FramedConnection, PayloadErrorClosesWithItsReason) {
   Fixture fixture;
-  fixture.executor.call_at(SimTime{7000}, [&] { fixture.ends.a->write(framed("bad") + framed("never")); });
+  fixture.executor.call_at(SimTime{7000}, [&] { fixture.ends.a->write(frame_of("bad") + frame_of("never")); });
   fixture.executor.run_until(20ms);
   const CloseReason reason = bad_payload("not json");
   EXPECT_EQ(fixture.close_reasons, (std::vector<CloseReason>{reason}));
   EXPECT_EQ(fixture.closed_at[0], SimTime{7000});
   EXPECT_TRUE(fixture.payloads.empty());  // nothing after the bad frame is dispatched
-  EXPECT_TRUE(fixture.logged("WARN closing widget connection pipe:peer: " + reason.message()));
-  EXPECT_TRUE(fixture.peer_closed);
+  EXPECT_TRUE(fixture.log.contains(LogLevel::warn, "closing widget connection pipe:peer: " + reason.message()));
+  EXPECT_TRUE(fixture.peer.closed_by_peer());
 }
 
 TEST(FramedConnection, EndOfStreamInsideAFrameClosesWithTheTruncationReason) {
   Fixture fixture;
-  const std::string partial = frame_header(10) + "abc";
+  const std::string partial = partial_frame(10, frame_header_bytes + 3);
   FrameDecoder reference;
   FrameEvent event;
   reference.put(partial, event);
@@ -159,12 +144,12 @@ TEST(FramedConnection, EndOfStreamInsideAFrameClosesWithTheTruncationReason) {
   fixture.executor.run_until(1ms);
   EXPECT_EQ(fixture.close_reasons, (std::vector<CloseReason>{expected.error()}));
   EXPECT_EQ(fixture.close_reasons[0].code, PeerError::truncated_frame);
-  EXPECT_TRUE(fixture.logged("stream ended inside a frame"));
+  EXPECT_TRUE(fixture.log.contains("stream ended inside a frame"));
 }
 
 TEST(FramedConnection, PeerCloseBetweenFramesIsReportedAsPeerClosed) {
   Fixture fixture;
-  fixture.ends.a->write(framed("last"));
+  fixture.ends.a->write(frame_of("last"));
   fixture.ends.a->close();
   fixture.executor.run_until(1ms);
   EXPECT_EQ(fixture.payloads, (std::vector<std::string>{"last"}));
@@ -179,7 +164,9 @@ TEST(FramedConnection, SendFramesThePayloadAndRefusesAnOversizedOne) {
   ASSERT_FALSE(refused.ok());
   EXPECT_EQ(refused.error().code, LocalError::frame_too_large);
   fixture.executor.run_until(1ms);
-  EXPECT_EQ(fixture.peer_received, framed("hello"));  // the oversized one never left
+  ASSERT_EQ(fixture.peer.frames().size(), 1u);  // the oversized one never left
+  EXPECT_EQ(fixture.peer.frames()[0].payload, "hello");
+  EXPECT_EQ(fixture.peer.bytes_received(), frame_header_bytes + 5);
   EXPECT_EQ(fixture.bytes_out, frame_header_bytes + 5);
   EXPECT_TRUE(fixture.connection->is_open());
 }
@@ -191,7 +178,7 @@ TEST(FramedConnection, SendAfterCloseFails) {
   const Status sent = keep->send("late");
   EXPECT_FALSE(sent.ok());
   fixture.executor.run_until(1ms);
-  EXPECT_TRUE(fixture.peer_received.empty());
+  EXPECT_EQ(fixture.peer.bytes_received(), 0u);
 }
 
 TEST(FramedConnection, OnClosedIsReportedExactlyOnceWhateverClosesIt) {
@@ -224,7 +211,7 @@ TEST(FramedConnection, OwnerMayDropItFromInsideOnPayload) {
                                  FramedConnection::Options{}, FramedConnection::Counters{},
                                  std::move(handlers));
   weak = owner;
-  a->write(framed("one") + framed("two"));
+  a->write(frame_of("one") + frame_of("two"));
   fixture.executor.run_until(1ms);
   EXPECT_GE(payloads, 1);
   EXPECT_TRUE(weak.expired());
@@ -238,7 +225,7 @@ TEST(FramedConnection, DestroyingItClosesTheStreamWithoutReporting) {
   fixture.connection.reset();
   fixture.executor.run_until(5000ms);
   EXPECT_TRUE(fixture.close_reasons.empty());
-  EXPECT_TRUE(fixture.peer_closed);
+  EXPECT_TRUE(fixture.peer.closed_by_peer());
 }
 
 TEST(FramedConnection, AnAlreadyClosedStreamIsReportedFromTheExecutor) {

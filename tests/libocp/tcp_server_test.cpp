@@ -8,12 +8,12 @@
 #include <string>
 #include <vector>
 
-#include "loopback_client.hpp"
+#include "tcp_peers.hpp"
 
 namespace ocp {
 namespace {
 
-using testing::LoopbackClient;
+using TcpClient = testing::TcpTestClient<>;
 using testing::run_until;
 
 struct AcceptedStreams {
@@ -43,7 +43,7 @@ TEST(TcpServer, AcceptedConnectionBecomesAByteStreamCarryingBytesBothWays) {
   TcpServer server(io, accepted.handler());
   ASSERT_TRUE(server.listen({.port = 0}).ok());
 
-  LoopbackClient client(io);
+  TcpClient client(io);
   ASSERT_TRUE(client.connect(server.port())) << client.connect_error();
   ASSERT_TRUE(run_until(io, [&] { return accepted.streams.size() == 1; }));
   EXPECT_EQ(server.accepted_count(), 1u);
@@ -53,11 +53,9 @@ TEST(TcpServer, AcceptedConnectionBecomesAByteStreamCarryingBytesBothWays) {
   ASSERT_TRUE(run_until(io, [&] { return accepted.received.size() == 4 + 11; }));
   EXPECT_EQ(accepted.received.substr(4), R"({"hello":1})");
 
-  std::string frame;
-  ASSERT_TRUE(append_frame(R"({"back":2})", frame).ok());
-  accepted.streams[0]->write(frame);
-  ASSERT_TRUE(run_until(io, [&] { return client.payload_count() == 1; }));
-  EXPECT_EQ(client.payloads()[0], R"({"back":2})");
+  accepted.streams[0]->write(testing::frame_of(R"({"back":2})"));
+  ASSERT_TRUE(run_until(io, [&] { return client.frames().size() == 1; }));
+  EXPECT_EQ(client.frames()[0].payload, R"({"back":2})");
 }
 
 TEST(TcpServer, EveryConnectionIsHandedOverIncludingConcurrentOnes) {
@@ -66,8 +64,8 @@ TEST(TcpServer, EveryConnectionIsHandedOverIncludingConcurrentOnes) {
   TcpServer server(io, accepted.handler());
   ASSERT_TRUE(server.listen({.port = 0}).ok());
 
-  LoopbackClient first(io);
-  LoopbackClient second(io);
+  TcpClient first(io);
+  TcpClient second(io);
   ASSERT_TRUE(first.connect(server.port()));
   ASSERT_TRUE(second.connect(server.port()));
   // The server only accepts; refusing a second vehicle is the core's job.
@@ -99,19 +97,19 @@ TEST(TcpServer, StopRefusesNewConnectionsAndTheSamePortCanBeListenedOnAgain) {
 
   // A connection that was accepted keeps working across stop(), and leaves the port in
   // use by an established socket (SO_REUSEADDR must let us listen again).
-  LoopbackClient client(io);
+  TcpClient client(io);
   ASSERT_TRUE(client.connect(port));
   ASSERT_TRUE(run_until(io, [&] { return accepted.streams.size() == 1; }));
 
   server.stop();
   server.stop();  // idempotent
   EXPECT_FALSE(server.listening());
-  LoopbackClient refused(io);
+  TcpClient refused(io);
   EXPECT_FALSE(refused.connect(port));
 
   ASSERT_TRUE(server.listen({.port = port}).ok());
   EXPECT_EQ(server.port(), port);
-  LoopbackClient again(io);
+  TcpClient again(io);
   ASSERT_TRUE(again.connect(port));
   ASSERT_TRUE(run_until(io, [&] { return accepted.streams.size() == 2; }));
 }
@@ -122,7 +120,7 @@ TEST(TcpServer, AllowRemoteBindsAllInterfaces) {
   TcpServer server(io, accepted.handler());
   ASSERT_TRUE(server.listen({.port = 0, .allow_remote = true}).ok());
   EXPECT_EQ(server.local_address(), "0.0.0.0:" + std::to_string(server.port()));
-  LoopbackClient client(io);
+  TcpClient client(io);
   ASSERT_TRUE(client.connect(server.port()));
   ASSERT_TRUE(run_until(io, [&] { return accepted.streams.size() == 1; }));
 }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "ocp/tcp_stream.hpp"
+#include "tcp_peers.hpp"
 
 namespace ocp {
 namespace {
@@ -17,18 +18,11 @@ namespace asio = boost::asio;
 using tcp = asio::ip::tcp;
 
 // Generous: these run on a loaded 2-core machine.
-constexpr auto wait_limit = std::chrono::seconds(20);
+constexpr std::chrono::milliseconds wait_limit{20'000};
 
-// Runs the io_context until `done` holds or the limit passes; returns `done()`.
+// The shared bounded wait, with this suite's longer limit.
 bool run_until(asio::io_context& io, const std::function<bool()>& done) {
-  const auto give_up_at = std::chrono::steady_clock::now() + wait_limit;
-  while (!done() && std::chrono::steady_clock::now() < give_up_at) {
-    if (io.stopped()) {
-      io.restart();
-    }
-    io.run_one_for(std::chrono::milliseconds(10));
-  }
-  return done();
+  return testing::run_until(io, done, wait_limit);
 }
 
 struct Received {

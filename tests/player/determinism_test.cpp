@@ -61,7 +61,7 @@ std::vector<std::string> run_once() {
     encode_vehicle_ocp_shared(shared, json);
     outputs.push_back(std::move(json));
   }
-  for (const CapturedLog& log : harness.logs) {
+  for (const CapturedLog::Line& log : harness.log.lines()) {
     outputs.push_back(fmt::format("{} {}", log.time.count(), log.message));
   }
   return outputs;

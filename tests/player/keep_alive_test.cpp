@@ -43,7 +43,7 @@ TEST_F(Dashboard, KeepAliveEverySecondForTenSecondsKeepsTheClientAndTheSelfEcho)
     harness.executor.call_at(at_ms(1000 * second), [&] { client.send(ClientOcpShared{}); });
   }
   harness.run_until(at_ms(10'500));
-  EXPECT_FALSE(client.closed) << client.close_reason;
+  EXPECT_FALSE(client.closed_by_peer()) << client.close_reason();
   EXPECT_EQ(harness.player.locked_source(), std::nullopt);
   EXPECT_EQ(harness.player.stats().client_keep_alives, 10u);
   // Self-echo in every frame of the run, so the Streamer never loses its loop.
@@ -60,10 +60,10 @@ TEST_F(Dashboard, ReadTimeoutCountsFromTheLastKeepAlive) {
   TestOperatorClient client(harness);
   harness.executor.call_at(at_ms(1500), [&] { client.send(ClientOcpShared{}); });
   harness.run_until(SimTime{3'499'999});
-  EXPECT_FALSE(client.closed);
+  EXPECT_FALSE(client.closed_by_peer());
   harness.run_until(SimTime{3'500'000});
-  EXPECT_TRUE(client.closed);
-  EXPECT_EQ(client.closed_at, SimTime{3'500'000});
+  EXPECT_TRUE(client.closed_by_peer());
+  EXPECT_EQ(client.closed_at(), SimTime{3'500'000});
 }
 
 TEST_F(Dashboard, KeepAlivesDoNotConflictWithTheLockedSource) {
@@ -93,8 +93,9 @@ TEST_F(Dashboard, RealClientDataAfterKeepAlivesStillLocks) {
 }
 
 std::size_t count_logs(const PlayerHarness& harness, const std::string& needle) {
-  return static_cast<std::size_t>(std::count_if(harness.logs.begin(), harness.logs.end(), [&](const CapturedLog& log) {
-    return log.message.find(needle) != std::string::npos;
+  const auto& lines = harness.log.lines();
+  return static_cast<std::size_t>(std::count_if(lines.begin(), lines.end(), [&](const CapturedLog::Line& line) {
+    return line.message.find(needle) != std::string::npos;
   }));
 }
 

@@ -110,7 +110,7 @@ TEST(Player, SecondSourceStopsAllClientDataUntilRestart) {
   }
   EXPECT_TRUE(harness.player.client_data_stopped());
   EXPECT_EQ(harness.player.locked_source(), ClientSource::plugin);
-  const CapturedLog* error = harness.find_log(LogLevel::error, "conflict");
+  const CapturedLog::Line* error = harness.find_log(LogLevel::error, "conflict");
   ASSERT_NE(error, nullptr);
   EXPECT_NE(error->message.find("plugin"), std::string::npos);
   EXPECT_NE(error->message.find("webview"), std::string::npos);

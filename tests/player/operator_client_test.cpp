@@ -17,12 +17,6 @@ ClientOcpShared echo_message(std::optional<std::string> user_data = std::nullopt
   return client_entry("truck-1", entry);
 }
 
-std::string frame_header(std::uint32_t length) {
-  std::string header(4, '\0');
-  for (int index = 0; index < 4; ++index) header[index] = static_cast<char>((length >> (8 * index)) & 0xff);
-  return header;
-}
-
 class PlayerTcpClient : public ::testing::Test {
  protected:
   PlayerTcpClient() {
@@ -60,12 +54,12 @@ TEST_F(PlayerTcpClient, SecondClientIsClosedAtOnceAndTheFirstKeepsWorking) {
   harness.run_until(at_ms(5));
   TestOperatorClient second(harness, "pipe:second");
   harness.run_until(at_ms(30));
-  EXPECT_TRUE(second.closed);
-  EXPECT_EQ(second.closed_at, at_ms(5));
+  EXPECT_TRUE(second.closed_by_peer());
+  EXPECT_EQ(second.closed_at(), at_ms(5));
   EXPECT_TRUE(second.received.empty());
-  EXPECT_FALSE(first.closed);
+  EXPECT_FALSE(first.closed_by_peer());
   EXPECT_EQ(first.received.size(), 4u);
-  const CapturedLog* refusal = harness.find_log(LogLevel::warn, "refused");
+  const CapturedLog::Line* refusal = harness.find_log(LogLevel::warn, "refused");
   ASSERT_NE(refusal, nullptr);
   EXPECT_NE(refusal->message.find("pipe:first"), std::string::npos);
   EXPECT_NE(refusal->message.find("pipe:second"), std::string::npos);
@@ -80,7 +74,7 @@ TEST_F(PlayerTcpClient, NewClientAcceptedAfterThePreviousLeft) {
   EXPECT_FALSE(harness.player.client_connected());
   TestOperatorClient second(harness, "pipe:second");
   harness.run_until(at_ms(20));
-  EXPECT_FALSE(second.closed);
+  EXPECT_FALSE(second.closed_by_peer());
   EXPECT_EQ(second.received.size(), 2u);
 }
 
@@ -88,10 +82,10 @@ TEST_F(PlayerTcpClient, SilenceClosesAfterExactlyTheReadTimeout) {
   TestOperatorClient client(harness);
   harness.executor.call_at(at_ms(500), [&] { client.send(echo_message()); });
   harness.run_until(SimTime{2'499'999});
-  EXPECT_FALSE(client.closed);
+  EXPECT_FALSE(client.closed_by_peer());
   harness.run_until(SimTime{2'500'000});
-  EXPECT_TRUE(client.closed);
-  EXPECT_EQ(client.closed_at, SimTime{2'500'000});
+  EXPECT_TRUE(client.closed_by_peer());
+  EXPECT_EQ(client.closed_at(), SimTime{2'500'000});
   ASSERT_TRUE(harness.player.last_client_close_reason().has_value());
   EXPECT_EQ(harness.player.last_client_close_reason()->code, PeerError::read_timeout);
 }
@@ -100,8 +94,8 @@ TEST_F(PlayerTcpClient, MalformedJsonClosesWithReason) {
   TestOperatorClient client(harness);
   harness.executor.call_at(at_ms(7), [&] { client.send_payload("{\"active_vehicle\": "); });
   harness.run_until(at_ms(20));
-  EXPECT_TRUE(client.closed);
-  EXPECT_EQ(client.closed_at, at_ms(7));
+  EXPECT_TRUE(client.closed_by_peer());
+  EXPECT_EQ(client.closed_at(), at_ms(7));
   EXPECT_FALSE(harness.player.client_connected());
   ASSERT_TRUE(harness.player.last_client_close_reason().has_value());
   EXPECT_EQ(harness.player.last_client_close_reason()->code, PeerError::malformed_json);
@@ -116,7 +110,7 @@ TEST_F(PlayerTcpClient, WrongTypesAndNonObjectsClose) {
     TestOperatorClient client(harness, std::string("pipe:") + payload);
     client.send_payload(payload);
     harness.run_until(harness.executor.now() + Micros{1});
-    EXPECT_TRUE(client.closed) << payload;
+    EXPECT_TRUE(client.closed_by_peer()) << payload;
   }
   EXPECT_EQ(harness.player.stats().client_messages_received, 0u);
 }
@@ -126,7 +120,7 @@ TEST_F(PlayerTcpClient, UnknownFieldsAreIgnored) {
   client.send_payload(R"({"future": [1, {"x": null}], "client_user_data": {"truck-1":
       {"ack_time_returned": 9007199254740993, "ack_time_mac_returned": 4000000001, "extra": true}}})");
   harness.run_until(at_ms(10));
-  EXPECT_FALSE(client.closed);
+  EXPECT_FALSE(client.closed_by_peer());
   EXPECT_EQ(harness.control_at("truck-1", at_ms(10))->returned_ack, pair);
 }
 
@@ -138,7 +132,7 @@ TEST_F(PlayerTcpClient, OversizedFrameIsDrainedAndTheConnectionKept) {
     client.send(echo_message());
   });
   harness.run_until(at_ms(10));
-  EXPECT_FALSE(client.closed);
+  EXPECT_FALSE(client.closed_by_peer());
   EXPECT_EQ(harness.player.stats().client_oversized_frames, 1u);
   EXPECT_TRUE(harness.logged(LogLevel::warn, "oversized"));
   EXPECT_EQ(harness.control_at("truck-1", at_ms(10))->returned_ack, pair);
@@ -147,7 +141,7 @@ TEST_F(PlayerTcpClient, OversizedFrameIsDrainedAndTheConnectionKept) {
 TEST_F(PlayerTcpClient, EndOfStreamInsideAFrameIsReportedAsTruncated) {
   TestOperatorClient client(harness);
   harness.executor.call_at(at_ms(3), [&] {
-    client.write_raw(frame_header(100) + R"({"active_v)");
+    client.send_raw(length_prefix(100) + R"({"active_v)");
     client.close();
   });
   harness.run_until(at_ms(10));
@@ -159,13 +153,13 @@ TEST_F(PlayerTcpClient, EndOfStreamInsideAFrameIsReportedAsTruncated) {
 
 TEST_F(PlayerTcpClient, HostileLengthHeaderDoesNotStallAndTimesOut) {
   TestOperatorClient client(harness);
-  harness.executor.call_at(at_ms(1), [&] { client.write_raw(frame_header(0xffffffffU) + "abc"); });
+  harness.executor.call_at(at_ms(1), [&] { client.send_raw(length_prefix(0xffffffffU) + "abc"); });
   harness.run_until(at_ms(1000));
-  EXPECT_FALSE(client.closed);  // still draining: the bytes may yet arrive
+  EXPECT_FALSE(client.closed_by_peer());  // still draining: the bytes may yet arrive
   EXPECT_EQ(harness.controls("truck-1").size(), 101u);
   harness.run_until(at_ms(2001));
-  EXPECT_TRUE(client.closed);
-  EXPECT_EQ(client.closed_at, at_ms(2001));
+  EXPECT_TRUE(client.closed_by_peer());
+  EXPECT_EQ(client.closed_at(), at_ms(2001));
 }
 
 TEST_F(PlayerTcpClient, FloodOfFramesIsAllDecodedLatestWins) {
@@ -176,12 +170,12 @@ TEST_F(PlayerTcpClient, FloodOfFramesIsAllDecodedLatestWins) {
       ClientOcpShared message = echo_message("{\"n\":" + std::to_string(index) + "}");
       std::string json;
       encode_client_ocp_shared(message, json);
-      ASSERT_TRUE(append_frame(json, burst).ok());
+      burst += frame_of(json);
     }
-    client.write_raw(burst);
+    client.send_raw(burst);
   });
   harness.run_until(SimTime{999'999});
-  EXPECT_FALSE(client.closed);
+  EXPECT_FALSE(client.closed_by_peer());
   EXPECT_EQ(harness.player.stats().client_messages_received, 10'000u);
   EXPECT_EQ(harness.controls("truck-1").size(), 100u);  // the frame loop did not slip
   EXPECT_EQ(harness.control_at("truck-1", at_ms(10))->client_user_data, RawJson{R"({"n":9999})"});
@@ -191,7 +185,7 @@ TEST_F(PlayerTcpClient, BytesArrivingOneAtATimeDecodeTheSame) {
   TestOperatorClient client(harness, "pipe:slow", /*max_chunk_bytes=*/1);
   harness.executor.call_at(at_ms(3), [&] { client.send(echo_message(R"({"a":[1,2,3]})")); });
   harness.run_until(at_ms(10));
-  EXPECT_FALSE(client.closed);
+  EXPECT_FALSE(client.closed_by_peer());
   EXPECT_EQ(harness.control_at("truck-1", at_ms(10))->client_user_data, RawJson{R"({"a":[1,2,3]})"});
   EXPECT_EQ(client.received.size(), 2u);
 }
@@ -205,10 +199,10 @@ TEST_F(PlayerTcpClient, OversizedOutboundObjectIsNeverSent) {
   harness.deliver_at(at_ms(15), "truck-1", LinkMessage{feedback});
   harness.run_until(at_ms(50));
   EXPECT_EQ(client.received.size(), 2u);  // frames 0 and 10 ms only
-  EXPECT_FALSE(client.closed);
+  EXPECT_FALSE(client.closed_by_peer());
   EXPECT_EQ(harness.player.stats().client_frames_too_large, 4u);  // 20 … 50 ms
   int warnings = 0;
-  for (const CapturedLog& log : harness.logs) warnings += log.message.find("not sent") != std::string::npos;
+  for (const CapturedLog::Line& log : harness.log.lines()) warnings += log.message.find("not sent") != std::string::npos;
   EXPECT_EQ(warnings, 1);
 }
 
@@ -217,7 +211,7 @@ TEST_F(PlayerTcpClient, StopClosesTheClient) {
   harness.run_until(at_ms(10));
   harness.player.stop();
   harness.run_until(at_ms(11));
-  EXPECT_TRUE(client.closed);
+  EXPECT_TRUE(client.closed_by_peer());
   EXPECT_EQ(harness.player.last_client_close_reason(), (CloseReason{LocalError::shut_down, "player stopped"}));
 }
 

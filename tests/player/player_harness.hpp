@@ -1,7 +1,7 @@
 #pragma once
 // Test harness for PlayerCore in virtual time: links with zero impairments whose receivers
-// record what the Player sends, helpers to feed Streamer messages, a captured log, and an
-// operator TCP client over an in-memory pipe that speaks the real framing + codec.
+// record what the Player sends, helpers to feed Streamer messages, the captured log, and an
+// operator peer over an in-memory pipe that speaks the real framing + codec.
 #include <gtest/gtest.h>
 
 #include <map>
@@ -12,10 +12,10 @@
 #include <variant>
 #include <vector>
 
+#include "captured_log.hpp"
 #include "ocp/com_channel.hpp"
-#include "ocp/frame.hpp"
-#include "ocp/json_codec.hpp"
 #include "ocp/log.hpp"
+#include "operator_peer.hpp"
 #include "ocp/pipe.hpp"
 #include "ocp/virtual_executor.hpp"
 #include "player/player_core.hpp"
@@ -23,13 +23,6 @@
 namespace ocp::testing {
 
 inline SimTime at_ms(std::int64_t ms) { return SimTime{ms * 1000}; }
-
-struct CapturedLog {
-  SimTime time;
-  LogLevel level;
-  std::string component;
-  std::string message;
-};
 
 struct Sent {
   SimTime time;
@@ -40,10 +33,7 @@ class PlayerHarness {
  public:
   explicit PlayerHarness(PlayerConfig config = {})
       : player(executor, std::move(config),
-               Logger(executor, "player", [this](const LogRecord& record) {
-                 logs.push_back({record.time, record.level, std::string(record.component),
-                                 std::string(record.message)});
-               })) {}
+               Logger(executor, "player", log.sink())) {}
 
   Status add_vehicle(const std::string& name, bool monitor = false) {
     auto link = std::make_unique<LinkDirection>(executor, 1000 + links_.size());
@@ -112,21 +102,13 @@ class PlayerHarness {
 
   void run_until(SimTime end) { executor.run_until(end); }
 
-  bool logged(LogLevel level, const std::string& needle) const {
-    for (const CapturedLog& log : logs) {
-      if (log.level == level && log.message.find(needle) != std::string::npos) return true;
-    }
-    return false;
-  }
-  const CapturedLog* find_log(LogLevel level, const std::string& needle) const {
-    for (const CapturedLog& log : logs) {
-      if (log.level == level && log.message.find(needle) != std::string::npos) return &log;
-    }
-    return nullptr;
+  bool logged(LogLevel level, const std::string& needle) const { return log.contains(level, needle); }
+  const CapturedLog::Line* find_log(LogLevel level, const std::string& needle) const {
+    return log.find(level, needle);
   }
 
   VirtualExecutor executor;
-  std::vector<CapturedLog> logs;
+  CapturedLog log;  // before player: its logger holds the sink
   std::map<std::string, std::vector<Sent>> sent;
   std::optional<Micros> pong_delay;  // when set, every Ping is answered after this delay
   PlayerCore player;
@@ -143,72 +125,20 @@ inline ClientOcpShared client_entry(const std::string& vehicle, ClientVehicleEnt
   return data;
 }
 
-// An operator-side TCP client attached through an in-memory pipe; it speaks exactly what a
-// TCP client on :4001 speaks (length-prefixed JSON through the libocp codec).
-class TestOperatorClient {
+// An operator peer attached to the harness's Player through an in-memory pipe: it speaks
+// exactly what a TCP client on :4001 speaks.
+class TestOperatorClient : public OperatorPeer {
  public:
   TestOperatorClient(PlayerHarness& harness, std::string name = "pipe:operator-1",
                      std::size_t max_chunk_bytes = 0)
-      : harness_(harness) {
+      : OperatorPeer(&harness.executor) {
     PipeOptions options;
     options.name_b = std::move(name);  // the Player's end sees this peer name
     options.max_chunk_bytes = max_chunk_bytes;
     PipeEnds ends = make_pipe(harness.executor, options);
-    end_ = ends.b;
-    ByteStreamHandlers handlers;
-    handlers.on_bytes = [this](std::string_view bytes) { on_bytes(bytes); };
-    handlers.on_closed = [this](const std::string& reason) {
-      closed = true;
-      closed_at = harness_.executor.now();
-      close_reason = reason;
-    };
-    end_->set_handlers(std::move(handlers));
+    attach(ends.b);
     harness.player.accept_client_connection(ends.a);
   }
-
-  void send(const ClientOcpShared& data) {
-    std::string json;
-    encode_client_ocp_shared(data, json);
-    send_payload(json);
-  }
-  void send_payload(std::string_view payload) {
-    std::string framed;
-    ASSERT_TRUE(append_frame(payload, framed, 1u << 30).ok());
-    end_->write(framed);
-  }
-  void write_raw(std::string_view bytes) { end_->write(bytes); }
-  void close() { end_->close(); }
-  bool open() const { return end_->is_open(); }
-
-  std::vector<VehicleOcpShared> received;
-  std::vector<SimTime> received_at;
-  std::size_t decode_errors = 0;
-  bool closed = false;
-  SimTime closed_at{-1};
-  std::string close_reason;
-
- private:
-  void on_bytes(std::string_view bytes) {
-    while (!bytes.empty()) {
-      FrameEvent event;
-      const std::size_t consumed = decoder_.put(bytes, event);
-      if (event.kind == FrameEvent::Kind::frame) {
-        auto decoded = decode_vehicle_ocp_shared(event.payload);
-        if (decoded) {
-          received.push_back(std::move(decoded).value());
-          received_at.push_back(harness_.executor.now());
-        } else {
-          ++decode_errors;
-        }
-      }
-      bytes.remove_prefix(consumed);
-      if (consumed == 0) break;
-    }
-  }
-
-  PlayerHarness& harness_;
-  std::shared_ptr<ByteStream> end_;
-  FrameDecoder decoder_;
 };
 
 }  // namespace ocp::testing

@@ -7,11 +7,8 @@
 namespace ocp::streamer_test {
 namespace {
 
-std::string frame_header(std::uint32_t length) {
-  std::string header(4, '\0');
-  for (int i = 0; i < 4; ++i) header[i] = static_cast<char>((length >> (8 * i)) & 0xFFu);
-  return header;
-}
+using testing::frame_of;
+using testing::length_prefix;
 
 std::string response_json(std::uint64_t ack_time, std::uint32_t mac) {
   std::string json;
@@ -24,10 +21,10 @@ TEST(StreamerHostileVehicle, FrameOf16385BytesIsDrainedAndTheConnectionSurvives)
   TestVehicle& vehicle = harness.connect_vehicle();
   harness.core.start();
   harness.executor.run_until(ms(5));
-  vehicle.send_raw(frame_header(16385) + std::string(16385, 'x'));
+  vehicle.send_payload(std::string(16385, 'x'));
   vehicle.send_response(VehicleResponseMessage{AckPair{77, 88}, std::nullopt});
   harness.executor.run_until(ms(50));
-  EXPECT_FALSE(vehicle.closed);
+  EXPECT_FALSE(vehicle.closed_by_peer());
   EXPECT_TRUE(harness.core.vehicle_connected());
   EXPECT_EQ(harness.core.stats().oversized_frames_dropped, 1u);
   EXPECT_TRUE(harness.logged("dropped oversized frame of 16385 bytes"));
@@ -64,8 +61,8 @@ TEST_P(StreamerBadPayload, ClosesWithTheCodecReason) {
 
   const auto expected = decode_vehicle_response(GetParam().payload);
   ASSERT_FALSE(expected.ok());
-  EXPECT_TRUE(vehicle.closed);
-  EXPECT_EQ(vehicle.closed_at, ms(5));
+  EXPECT_TRUE(vehicle.closed_by_peer());
+  EXPECT_EQ(vehicle.closed_at(), ms(5));
   EXPECT_EQ(harness.core.stats().last_close_reason, expected.error());
   EXPECT_TRUE(harness.logged(expected.error().message()));
   EXPECT_TRUE(harness.core.faults().contains(FaultId::VehicleNoResponse));
@@ -87,7 +84,7 @@ TEST(StreamerHostileVehicle, EofInsideAFrameClosesWithTheTruncationReason) {
   StreamerHarness harness;
   TestVehicle& vehicle = harness.connect_vehicle();
   harness.core.start();
-  const std::string partial = frame_header(10) + "{\"ack";
+  const std::string partial = length_prefix(10) + "{\"ack";
   FrameDecoder reference;
   FrameEvent event;
   reference.put(partial, event);
@@ -118,12 +115,7 @@ TEST(StreamerHostileVehicle, FloodOfTinyFramesIsProcessedWithoutStallingTheTicke
   TestVehicle& vehicle = harness.connect_vehicle();
   harness.core.start();
   std::string flood;
-  std::string framed;
-  for (std::uint64_t i = 0; i < 50'000; ++i) {
-    framed.clear();
-    ASSERT_TRUE(append_frame(response_json(i, 1), framed).ok());
-    flood += framed;
-  }
+  for (std::uint64_t i = 0; i < 50'000; ++i) flood += frame_of(response_json(i, 1));
   harness.executor.run_until(ms(5));
   vehicle.send_raw(flood);
   harness.executor.run_until(ms(100));
@@ -139,11 +131,13 @@ TEST(StreamerHostileVehicle, ManyOversizedFramesAreAllDrainedInOneByteChunks) {
   options.max_chunk_bytes = 1;
   options.name_a = "pipe:trickle";
   PipeEnds ends = make_pipe(harness.executor, options);
-  TestVehicle vehicle(harness.executor, ends.a);
+  TestVehicle vehicle(&harness.executor);
+  vehicle.fail_on_undecodable = true;
+  vehicle.attach(ends.a);
   harness.core.accept_vehicle_connection(ends.b);
   harness.core.start();
   std::string hostile;
-  for (int i = 0; i < 20; ++i) hostile += frame_header(20'000) + std::string(20'000, '{');
+  for (int i = 0; i < 20; ++i) hostile += frame_of(std::string(20'000, '{'));
   vehicle.send_raw(hostile);
   vehicle.send_response(VehicleResponseMessage{AckPair{3, 4}, std::nullopt});
   harness.executor.run_until(ms(50));
@@ -156,7 +150,7 @@ TEST(StreamerHostileVehicle, HugeDeclaredLengthIsDrainedNotBuffered) {
   StreamerHarness harness;
   TestVehicle& vehicle = harness.connect_vehicle();
   harness.core.start();
-  vehicle.send_raw(frame_header(0xFFFFFFFFu));
+  vehicle.send_raw(length_prefix(0xFFFFFFFFu));
   const std::string chunk(1 << 20, 'z');
   for (int i = 0; i < 64; ++i) vehicle.send_raw(chunk);  // 64 MiB, still inside the frame
   harness.executor.run_until(ms(50));
@@ -174,7 +168,7 @@ TEST(StreamerHostileVehicle, RandomGarbageNeverBreaksTheCore) {
     std::string garbage(1 + random() % 4096, '\0');
     for (char& byte : garbage) byte = static_cast<char>(random() & 0xFFu);
     // Half of the rounds send plausible lengths, so the JSON decoder sees garbage too.
-    if (round % 2 == 0) garbage = frame_header(static_cast<std::uint32_t>(garbage.size())) + garbage;
+    if (round % 2 == 0) garbage = frame_of(garbage);
     vehicle.send_raw(garbage);
     harness.executor.run_until(ms(100));
     // Either the garbage closed the connection, or it is still waiting inside a frame.

@@ -14,14 +14,14 @@
 #include <variant>
 #include <vector>
 
+#include "captured_log.hpp"
 #include "ocp/com_channel.hpp"
-#include "ocp/frame.hpp"
-#include "ocp/json_codec.hpp"
 #include "ocp/log.hpp"
 #include "ocp/mac.hpp"
 #include "ocp/pipe.hpp"
 #include "ocp/virtual_executor.hpp"
 #include "streamer/streamer_core.hpp"
+#include "vehicle_peer.hpp"
 
 namespace ocp::streamer_test {
 
@@ -40,62 +40,9 @@ inline StreamerConfig test_config() {
   return config;
 }
 
-// The vehicle client side of one pipe: decodes every control frame it receives and can echo
-// the newest pair back (like the reference vehicle does).
-class TestVehicle {
- public:
-  TestVehicle(VirtualExecutor& executor, std::shared_ptr<ByteStream> stream)
-      : executor_(executor), stream_(std::move(stream)) {
-    stream_->set_handlers(ByteStreamHandlers{
-        [this](std::string_view bytes) { on_bytes(bytes); },
-        [this](const std::string& reason) {
-          closed = true;
-          closed_at = executor_.now();
-          close_reason = reason;
-        }});
-  }
-
-  void send_payload(std::string_view payload) {
-    std::string framed;
-    EXPECT_TRUE(append_frame(payload, framed, 1u << 30).ok());
-    stream_->write(framed);
-  }
-  void send_raw(std::string_view bytes) { stream_->write(bytes); }
-  void send_response(const VehicleResponseMessage& response) {
-    std::string json;
-    encode_vehicle_response(response, json);
-    send_payload(json);
-  }
-  void close() { stream_->close(); }
-
-  bool echo = false;                              // answer every control frame with its pair
-  std::optional<VehicleUserData> echo_user_data;  // attached to every echo
-  std::vector<OcpControlMessage> received;
-  std::vector<SimTime> received_at;
-  std::vector<std::string> raw_payloads;
-  bool closed = false;
-  SimTime closed_at{};
-  std::string close_reason;
-
- private:
-  void on_bytes(std::string_view bytes) {
-    while (!bytes.empty()) {
-      FrameEvent event;
-      bytes.remove_prefix(decoder_.put(bytes, event));
-      if (event.kind != FrameEvent::Kind::frame) continue;
-      raw_payloads.emplace_back(event.payload);
-      auto message = decode_control_message(event.payload);
-      ASSERT_TRUE(message.ok()) << message.error().message();
-      received.push_back(*message);
-      received_at.push_back(executor_.now());
-      if (echo) send_response(VehicleResponseMessage{message->ack, echo_user_data});
-    }
-  }
-
-  VirtualExecutor& executor_;
-  std::shared_ptr<ByteStream> stream_;
-  FrameDecoder decoder_;
-};
+// The vehicle end of each pipe: the shared test peer, failing the test on any frame that is
+// not a control message.
+using TestVehicle = testing::VehiclePeer;
 
 struct Received {
   SimTime at;
@@ -145,11 +92,7 @@ class StreamerHarness {
   explicit StreamerHarness(StreamerConfig config = test_config())
       : to_player(executor, 7),
         core(executor, std::move(config),
-             Logger(executor, "streamer:truck-1",
-                    [this](const LogRecord& record) {
-                      log_lines.push_back(std::string(log_level_name(record.level)) + " " +
-                                          std::string(record.message));
-                    })),
+             Logger(executor, "streamer:truck-1", log.sink())),
         observer(core.events()) {
     to_player.set_receiver(
         [this](LinkMessage&& message) { from_streamer.push_back({executor.now(), std::move(message)}); });
@@ -162,7 +105,9 @@ class StreamerHarness {
     options.name_a = std::move(peer_name);
     options.name_b = "pipe:streamer";
     PipeEnds ends = make_pipe(executor, options);
-    vehicles.push_back(std::make_unique<TestVehicle>(executor, ends.a));
+    vehicles.push_back(std::make_unique<TestVehicle>(&executor));
+    vehicles.back()->fail_on_undecodable = true;
+    vehicles.back()->attach(ends.a);
     core.accept_vehicle_connection(ends.b);
     return *vehicles.back();
   }
@@ -213,16 +158,11 @@ class StreamerHarness {
     return out;
   }
 
-  bool logged(std::string_view needle) const {
-    for (const auto& line : log_lines) {
-      if (line.find(needle) != std::string::npos) return true;
-    }
-    return false;
-  }
+  bool logged(std::string_view needle) const { return log.contains(needle); }
 
   VirtualExecutor executor;
   LinkDirection to_player;
-  std::vector<std::string> log_lines;
+  testing::CapturedLog log;  // before core: its logger holds the sink
   StreamerCore core;
   RecordingObserver observer;
   std::vector<std::unique_ptr<TestVehicle>> vehicles;

@@ -14,13 +14,13 @@ TEST(StreamerVehicleConnection, SecondConnectionIsRefusedWhileTheFirstKeepsWorki
   TestVehicle& second = harness.connect_vehicle("pipe:vehicle-b");
   harness.executor.run_until(ms(200));
 
-  EXPECT_TRUE(second.closed);
-  EXPECT_EQ(second.closed_at, ms(100));
+  EXPECT_TRUE(second.closed_by_peer());
+  EXPECT_EQ(second.closed_at(), ms(100));
   EXPECT_TRUE(second.received.empty());
   EXPECT_TRUE(harness.logged("refused vehicle connection from pipe:vehicle-b: pipe:vehicle-a is already connected"));
   EXPECT_EQ(harness.core.stats().connections_refused, 1u);
   EXPECT_EQ(harness.core.stats().connections_accepted, 1u);
-  EXPECT_FALSE(first.closed);
+  EXPECT_FALSE(first.closed_by_peer());
   EXPECT_EQ(first.received.size(), 21u);
   EXPECT_EQ(harness.core.vehicle_peer(), "pipe:vehicle-a");
 }
@@ -76,10 +76,10 @@ TEST(StreamerVehicleConnection, ClosesAfter2000MsWithoutAnyByte) {
   TestVehicle& vehicle = harness.connect_vehicle();
   harness.core.start();
   harness.executor.run_until(ms(1999));
-  EXPECT_FALSE(vehicle.closed);
+  EXPECT_FALSE(vehicle.closed_by_peer());
   harness.executor.run_until(ms(2000));
-  EXPECT_TRUE(vehicle.closed);
-  EXPECT_EQ(vehicle.closed_at, ms(2000));
+  EXPECT_TRUE(vehicle.closed_by_peer());
+  EXPECT_EQ(vehicle.closed_at(), ms(2000));
   EXPECT_EQ(harness.core.stats().last_close_reason,
             (CloseReason{PeerError::read_timeout, "no data from the vehicle for 2000 ms"}));
   EXPECT_TRUE(harness.logged("read timeout"));
@@ -95,10 +95,10 @@ TEST(StreamerVehicleConnection, ReadTimeoutRunsBetweenFramesAndInsideOne) {
   harness.executor.run_until(ms(1500));
   vehicle.send_raw(std::string(2, '\x10'));  // half a frame header, then silence
   harness.executor.run_until(ms(3499));
-  EXPECT_FALSE(vehicle.closed);
+  EXPECT_FALSE(vehicle.closed_by_peer());
   harness.executor.run_until(ms(3500));
-  EXPECT_TRUE(vehicle.closed);
-  EXPECT_EQ(vehicle.closed_at, ms(3500));
+  EXPECT_TRUE(vehicle.closed_by_peer());
+  EXPECT_EQ(vehicle.closed_at(), ms(3500));
 }
 
 TEST(StreamerVehicleConnection, EchoingVehicleIsNeverTimedOut) {
@@ -107,7 +107,7 @@ TEST(StreamerVehicleConnection, EchoingVehicleIsNeverTimedOut) {
   vehicle.echo = true;
   harness.core.start();
   harness.executor.run_until(ms(10'000));
-  EXPECT_FALSE(vehicle.closed);
+  EXPECT_FALSE(vehicle.closed_by_peer());
   EXPECT_EQ(harness.core.stats().vehicle_responses_received, 1001u);
   EXPECT_EQ(harness.core.stats().control_frames_sent, 1001u);
   std::uint64_t framed_bytes = 0;
@@ -123,7 +123,7 @@ TEST(StreamerVehicleConnection, StopClosesTheConnection) {
   harness.executor.run_until(ms(30));
   harness.core.stop();
   harness.executor.run_until(ms(100));
-  EXPECT_TRUE(vehicle.closed);
+  EXPECT_TRUE(vehicle.closed_by_peer());
   EXPECT_EQ(vehicle.received.size(), 4u);
   EXPECT_EQ(harness.core.stats().last_close_reason, (CloseReason{LocalError::shut_down, "streamer stopped"}));
 }

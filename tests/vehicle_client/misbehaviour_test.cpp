@@ -66,8 +66,8 @@ TEST(VehicleClientMisbehaviour, OversizedFramesExceedTheLimitAndAreDrained) {
   world.streamer->start_control_loop();
   world.executor.run_for(ms(50));
   EXPECT_TRUE(world.streamer->responses.empty());
-  ASSERT_FALSE(world.streamer->oversized_lengths.empty());
-  for (std::uint32_t length : world.streamer->oversized_lengths) EXPECT_GE(length, 16385u);
+  ASSERT_FALSE(world.streamer->oversized_lengths().empty());
+  for (std::uint32_t length : world.streamer->oversized_lengths()) EXPECT_GE(length, 16385u);
 }
 
 TEST(VehicleClientMisbehaviour, DelayResponsesSendsEveryResponseLate) {
@@ -93,7 +93,7 @@ TEST(VehicleClientMisbehaviour, SilentNeverSendsAByte) {
   ClientWorld world(misbehaving([](Misbehaviour& m) { m.silent = true; }));
   world.streamer->start_control_loop();
   world.executor.run_for(ms(1000));
-  EXPECT_EQ(world.streamer->bytes_received, 0u);
+  EXPECT_EQ(world.streamer->bytes_received(), 0u);
   EXPECT_GT(world.client->stats().control_messages_received, 90u);
 }
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <rapidjson/document.h>
 
+#include "recording_stream.hpp"
 #include "world.hpp"
 
 namespace ocp {
@@ -114,7 +115,7 @@ TEST(VehicleClientProtocol, EchoesLargeAckTimesByteExact) {
 TEST(VehicleClientProtocol, SendsNothingBeforeTheFirstControlMessage) {
   ClientWorld world;
   world.executor.run_for(ms(1500));
-  EXPECT_EQ(world.streamer->bytes_received, 0u);
+  EXPECT_EQ(world.streamer->bytes_received(), 0u);
   EXPECT_TRUE(world.client->connected());
 }
 
@@ -249,16 +250,14 @@ TEST(VehicleClientProtocol, ClosesAndReportsABadControlFrame) {
   world.streamer->start_control_loop();
   world.executor.run_for(ms(30));
   world.streamer->stop_control_loop();
-  std::string frame;
-  ASSERT_TRUE(append_frame("{\"ack_time\": oops", frame).ok());
-  world.streamer->send_raw(frame);
+  world.streamer->send_payload("{\"ack_time\": oops");
   world.executor.run_for(ms(5));
 
   EXPECT_FALSE(world.client->connected());
   ASSERT_EQ(world.disconnects.size(), 1u);
   EXPECT_NE(world.disconnects[0].find("bad control message"), std::string::npos) << world.disconnects[0];
   EXPECT_EQ(world.client->stats().last_disconnect_kind, DisconnectKind::protocol_error);
-  EXPECT_TRUE(world.streamer->closed);
+  EXPECT_TRUE(world.streamer->closed_by_peer());
 }
 
 TEST(VehicleClientProtocol, ReportsNotAnOcpServerWhenTheFirstFrameLengthIsAbsurd) {
@@ -273,9 +272,7 @@ TEST(VehicleClientProtocol, ReportsNotAnOcpServerWhenTheFirstFrameLengthIsAbsurd
 
 TEST(VehicleClientProtocol, ReportsNotAnOcpServerWhenTheFirstFrameIsOtherJson) {
   ClientWorld world;
-  std::string frame;
-  ASSERT_TRUE(append_frame(R"({"hello":"world"})", frame).ok());
-  world.streamer->send_raw(frame);
+  world.streamer->send_payload(R"({"hello":"world"})");
   world.executor.run_for(ms(5));
   ASSERT_EQ(world.disconnects.size(), 1u);
   EXPECT_EQ(world.client->stats().last_disconnect_kind, DisconnectKind::not_an_ocp_server);
@@ -368,7 +365,7 @@ TEST(VehicleClientProtocol, DetachClosesWithoutReportingADisconnect) {
   world.executor.run_for(ms(50));
   EXPECT_FALSE(world.client->connected());
   EXPECT_TRUE(world.disconnects.empty());
-  EXPECT_TRUE(world.streamer->closed);
+  EXPECT_TRUE(world.streamer->closed_by_peer());
 }
 
 TEST(VehicleClientProtocol, RejectsUnusableConfigs) {

@@ -1,5 +1,5 @@
-// The real-time TCP side over loopback, against a minimal framed server in the test (TcpServer
-// on an ephemeral port + FakeStreamer). Bounds are generous: nothing here may flake on a
+// The real-time TCP side over loopback, against a minimal framed server in the test (a TcpTestServer
+// of StreamerPeers on an ephemeral port). Bounds are generous: nothing here may flake on a
 // loaded 2-core machine; time limits are only upper bounds for "it eventually happened".
 #include "vehicle_client/tcp_runner.hpp"
 
@@ -10,15 +10,16 @@
 #include <memory>
 #include <vector>
 
-#include "fake_streamer.hpp"
-#include "loopback_client.hpp"
 #include "ocp/asio_executor.hpp"
 #include "ocp/tcp_server.hpp"
+#include "streamer_peer.hpp"
+#include "tcp_peers.hpp"
 
 namespace ocp {
 namespace {
 
-using testing::FakeStreamer;
+using testing::StreamerPeer;
+using StreamerServer = testing::TcpTestServer<StreamerPeer>;
 
 struct LoopbackWorld {
   LoopbackWorld() {
@@ -38,6 +39,15 @@ struct LoopbackWorld {
     return runner;
   }
 
+  // A Streamer peer for every accepted connection, optionally sending one control message first.
+  std::unique_ptr<StreamerServer> make_server(bool send_first_control) {
+    auto server = std::make_unique<StreamerServer>(io, [this] { return std::make_unique<StreamerPeer>(executor); });
+    if (send_first_control) {
+      server->on_accept = [](StreamerPeer& streamer) { streamer.send_control(OcpControlMessage{}); };
+    }
+    return server;
+  }
+
   std::size_t count(ConnectionEventKind kind) const {
     std::size_t total = 0;
     for (const auto& event : events) total += event.kind == kind ? 1 : 0;
@@ -48,25 +58,19 @@ struct LoopbackWorld {
   AsioExecutor executor{io};
   std::unique_ptr<VehicleClient> client;
   std::vector<RunnerConnectionEvent> events;
-  std::vector<std::unique_ptr<FakeStreamer>> streamers;  // one per accepted connection
 };
 
 TEST(VehicleClientTcp, ConnectsAndEchoesOverLoopback) {
   LoopbackWorld world;
-  TcpServer server(world.io, [&](std::shared_ptr<ByteStream> stream) {
-    auto streamer = std::make_unique<FakeStreamer>(world.executor);
-    streamer->attach(std::move(stream));
-    streamer->send_control(OcpControlMessage{});
-    world.streamers.push_back(std::move(streamer));
-  });
-  ASSERT_TRUE(server.listen({}).ok());
-  auto runner = world.make_runner(server.port());
+  auto server = world.make_server(/*send_first_control=*/true);
+  ASSERT_TRUE(server->listen().ok());
+  auto runner = world.make_runner(server->port());
   runner->start();
 
   ASSERT_TRUE(testing::run_until(world.io, [&] {
-    return !world.streamers.empty() && !world.streamers[0]->responses.empty();
+    return server->accepted() >= 1 && !server->peer(0).responses.empty();
   }));
-  FakeStreamer& streamer = *world.streamers[0];
+  StreamerPeer& streamer = server->peer(0);
   EXPECT_EQ(streamer.responses[0].message.ack, streamer.sent[0].ack);
   EXPECT_TRUE(streamer.verify(streamer.responses[0].message.ack));
   EXPECT_EQ(world.count(ConnectionEventKind::connected), 1u);
@@ -101,33 +105,24 @@ TEST(VehicleClientTcp, RetriesWithGrowingBackoffWhileRefusedThenConnects) {
   }
 
   // The Streamer comes up on that port: the next retry connects.
-  TcpServer server(world.io, [&](std::shared_ptr<ByteStream> stream) {
-    auto streamer = std::make_unique<FakeStreamer>(world.executor);
-    streamer->attach(std::move(stream));
-    world.streamers.push_back(std::move(streamer));
-  });
-  ASSERT_TRUE(server.listen({.port = port}).ok());
+  auto server = world.make_server(/*send_first_control=*/false);
+  ASSERT_TRUE(server->listen(port).ok());
   ASSERT_TRUE(testing::run_until(world.io, [&] { return world.client->connected(); }));
   EXPECT_EQ(runner->stats().connections, 1u);
 }
 
 TEST(VehicleClientTcp, ReconnectsAfterTheServerDropsTheConnection) {
   LoopbackWorld world;
-  TcpServer server(world.io, [&](std::shared_ptr<ByteStream> stream) {
-    auto streamer = std::make_unique<FakeStreamer>(world.executor);
-    streamer->attach(std::move(stream));
-    streamer->send_control(OcpControlMessage{});
-    world.streamers.push_back(std::move(streamer));
-  });
-  ASSERT_TRUE(server.listen({}).ok());
-  auto runner = world.make_runner(server.port());
+  auto server = world.make_server(/*send_first_control=*/true);
+  ASSERT_TRUE(server->listen().ok());
+  auto runner = world.make_runner(server->port());
   runner->start();
   ASSERT_TRUE(testing::run_until(world.io, [&] {
-    return !world.streamers.empty() && !world.streamers[0]->responses.empty();
+    return server->accepted() >= 1 && !server->peer(0).responses.empty();
   }));
-  world.streamers[0]->close();
+  server->peer(0).close();
   ASSERT_TRUE(testing::run_until(world.io, [&] {
-    return world.streamers.size() >= 2 && !world.streamers[1]->responses.empty();
+    return server->accepted() >= 2 && !server->peer(1).responses.empty();
   }));
   EXPECT_EQ(world.count(ConnectionEventKind::disconnected), 1u);
   EXPECT_EQ(runner->stats().connections, 2u);
@@ -138,13 +133,11 @@ TEST(VehicleClientTcp, ReconnectsAfterTheServerDropsTheConnection) {
 
 TEST(VehicleClientTcp, SaysNotAnOcpServerWhenThePeerSpeaksSomethingElse) {
   LoopbackWorld world;
-  std::vector<std::shared_ptr<ByteStream>> accepted;
-  TcpServer server(world.io, [&](std::shared_ptr<ByteStream> stream) {
-    stream->set_handlers({[](std::string_view) {}, [](const std::string&) {}});
-    stream->write("HTTP/1.1 400 Bad Request\r\nContent-Length: 0\r\n\r\n");
-    accepted.push_back(std::move(stream));
-  });
-  ASSERT_TRUE(server.listen({}).ok());
+  testing::TcpTestServer<> server(world.io);
+  server.on_accept = [](testing::FramedPeer& peer) {
+    peer.send_raw("HTTP/1.1 400 Bad Request\r\nContent-Length: 0\r\n\r\n");
+  };
+  ASSERT_TRUE(server.listen().ok());
   auto runner = world.make_runner(server.port());
   runner->start();
   ASSERT_TRUE(testing::run_until(world.io, [&] { return world.count(ConnectionEventKind::not_an_ocp_server) >= 1; }));

@@ -1,13 +1,13 @@
 #pragma once
-// A vehicle client and a FakeStreamer joined by an in-memory pipe, in virtual time.
+// A vehicle client and a StreamerPeer joined by an in-memory pipe, in virtual time.
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "fake_streamer.hpp"
 #include "ocp/log.hpp"
 #include "ocp/pipe.hpp"
 #include "ocp/virtual_executor.hpp"
+#include "streamer_peer.hpp"
 #include "vehicle_client/vehicle_client.hpp"
 
 namespace ocp::testing {
@@ -24,7 +24,7 @@ struct ClientWorld {
 
   // A fresh pipe and a fresh streamer, as after a reconnect.
   void connect(PipeOptions pipe_options = {}) {
-    streamer = std::make_unique<FakeStreamer>(executor);
+    streamer = std::make_unique<StreamerPeer>(executor);
     pipe = make_pipe(executor, pipe_options);
     streamer->attach(pipe.a);
     client->attach(pipe.b);
@@ -33,13 +33,13 @@ struct ClientWorld {
   VirtualExecutor executor;
   VehicleClientConfig config;
   std::unique_ptr<VehicleClient> client;
-  std::unique_ptr<FakeStreamer> streamer;
+  std::unique_ptr<StreamerPeer> streamer;
   PipeEnds pipe;
   std::vector<std::string> disconnects;
 };
 
 // Largest gap between consecutive responses (and from `from` to the first one).
-inline Micros largest_response_gap(const std::vector<FakeStreamer::Response>& responses, SimTime from) {
+inline Micros largest_response_gap(const std::vector<StreamerPeer::Response>& responses, SimTime from) {
   Micros largest{0};
   SimTime previous = from;
   for (const auto& response : responses) {

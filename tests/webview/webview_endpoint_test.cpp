@@ -17,7 +17,7 @@ namespace {
 
 using testing::CapturedLog;
 using testing::EchoingVehicle;
-using testing::LoopbackClient;
+using testing::TcpTestClient;
 using testing::run_for;
 using testing::run_until;
 using testing::WsClient;
@@ -56,8 +56,9 @@ class WebviewEndpoint : public ::testing::Test {
     return run_until(io_, [&] { return page.count(webview::vehicle_data_name) >= target; });
   }
   std::size_t log_lines_with(const std::string& needle) const {
-    return static_cast<std::size_t>(std::count_if(log_.lines.begin(), log_.lines.end(), [&](const std::string& line) {
-      return line.find(needle) != std::string::npos;
+    const auto& lines = log_.lines();
+    return static_cast<std::size_t>(std::count_if(lines.begin(), lines.end(), [&](const CapturedLog::Line& line) {
+      return line.message.find(needle) != std::string::npos;
     }));
   }
   StreamerCore& streamer() { return simulation_->world().streamer("truck-1"); }
@@ -110,12 +111,12 @@ TEST_F(WebviewEndpoint, ClientDataLocksTheWebviewSourceAndReachesTheVehicle) {
   ASSERT_TRUE(run_until(io_, [&] {
     const std::size_t frames = page.count(webview::vehicle_data_name);
     for (; answered < frames; ++answered) page.send(client_data(R"({"steer":0.5,"tag":"from-page"})"));
-    const auto& messages = vehicle_.messages();
+    const auto& messages = vehicle_.received;
     return !messages.empty() && messages.back().client_user_data &&
            messages.back().client_user_data->text.find("from-page") != std::string::npos;
   }));
   EXPECT_EQ(simulation_->player().locked_source(), ClientSource::webview);
-  EXPECT_FALSE(vehicle_.messages().back().controller.has_value());   // ocp_disable_gamepad
+  EXPECT_FALSE(vehicle_.received.back().controller.has_value());   // ocp_disable_gamepad
   ASSERT_TRUE(run_until(io_, [&] {
     const auto statuses = page.data_of(webview::status_name);
     return statuses.back().find(R"("locked_source":"webview")") != std::string::npos;
@@ -137,7 +138,7 @@ TEST_F(WebviewEndpoint, WebviewAndTcpClientBothSendingIsASourceConflict) {
   page.send(client_data(R"({"steer":0})"));
   ASSERT_TRUE(run_until(io_, [&] { return simulation_->player().locked_source() == ClientSource::webview; }));
 
-  LoopbackClient tcp_client(io_);
+  TcpTestClient<> tcp_client(io_);
   ASSERT_TRUE(tcp_client.connect(simulation_->port()));
   ClientOcpShared tcp_data;
   tcp_data.client_user_data["truck-1"].user_data = RawJson{R"({"from":"tcp"})"};
@@ -208,7 +209,7 @@ TEST_F(WebviewEndpoint, APageThatDoesNotReadIsDisconnectedWithAReason) {
   limits.socket_send_buffer_bytes = 4096;
   start(limits);
   // Large vehicle user data makes every frame a few KiB, so the buffers fill quickly.
-  vehicle_.set_user_data(R"({"blob":")" + std::string(3000, 'v') + R"("})");
+  vehicle_.echo_user_data = VehicleUserData{std::nullopt, RawJson{R"({"blob":")" + std::string(3000, 'v') + R"("})"}};
   WsClient slow(io_);
   ASSERT_TRUE(slow.connect(io_, simulation_->webview_port(), /*read=*/false, /*receive_buffer_bytes=*/4096));
   WsClient good(io_);

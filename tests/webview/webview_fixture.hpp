@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "loopback_client.hpp"
+#include "tcp_peers.hpp"
 #include "player_app/webview/messages.hpp"
 
 namespace ocp::testing {

@@ -21,7 +21,7 @@ class WorldBadInput : public ::testing::Test {
   void SetUp() override {
     ASSERT_TRUE(sim.start());
     sim.run_until(SimTime{Millis{95}});
-    peer = RawVehiclePeer::connect(sim, "truck-1");
+    peer = connect_vehicle_peer(sim, "truck-1");
     sim.run_for(Millis{100});
     ASSERT_TRUE(streamer().vehicle_connected());
   }
@@ -32,47 +32,47 @@ class WorldBadInput : public ::testing::Test {
   // `detail_part`: what the detail must name (the field), beside the typed code.
   void expect_closed_then_next_connection_is_served(PeerError code, const std::string& detail_part) {
     sim.run_for(Millis{10});
-    EXPECT_TRUE(peer->closed());
+    EXPECT_TRUE(peer->closed_by_peer());
     EXPECT_FALSE(streamer().vehicle_connected());
     const auto& reason = streamer().stats().last_close_reason;
     ASSERT_TRUE(reason.has_value());
     EXPECT_EQ(reason->code, code) << reason->message();
     EXPECT_NE(reason->detail.find(detail_part), std::string::npos) << reason->message();
-    auto next = RawVehiclePeer::connect(sim, "truck-1");
-    next->echo_automatically = true;
+    auto next = connect_vehicle_peer(sim, "truck-1");
+    next->echo = true;
     sim.run_for(Millis{500});
     EXPECT_TRUE(streamer().vehicle_connected());
-    EXPECT_EQ(next->control_times().size(), 50u);
-    EXPECT_TRUE(next->cadence_exact());
+    EXPECT_EQ(next->received_at.size(), 50u);
+    EXPECT_TRUE(cadence_exact(next->received_at));
     EXPECT_GT(streamer().stats().vehicle_responses_received, 40u);
   }
 
   VirtualWorld sim{raw_vehicle_config()};
-  std::unique_ptr<RawVehiclePeer> peer;
+  std::unique_ptr<testing::VehiclePeer> peer;
 };
 
 TEST_F(WorldBadInput, MalformedJsonClosesTheConnection) {
-  peer->write_frame(R"({"ack_time": 1, "ack_time_mac": )");
+  peer->send_payload(R"({"ack_time": 1, "ack_time_mac": )");
   expect_closed_then_next_connection_is_served(PeerError::malformed_json, "");
 }
 
 TEST_F(WorldBadInput, NonObjectJsonClosesTheConnection) {
-  peer->write_frame("[1, 2, 3]");
+  peer->send_payload("[1, 2, 3]");
   expect_closed_then_next_connection_is_served(PeerError::not_an_object, "");
 }
 
 TEST_F(WorldBadInput, MissingRequiredFieldClosesTheConnection) {
-  peer->write_frame(R"({"ack_time_mac": 5})");
+  peer->send_payload(R"({"ack_time_mac": 5})");
   expect_closed_then_next_connection_is_served(PeerError::missing_field, "ack_time");
 }
 
 TEST_F(WorldBadInput, WrongTypeClosesTheConnection) {
-  peer->write_frame(R"({"ack_time": "123", "ack_time_mac": 5})");
+  peer->send_payload(R"({"ack_time": "123", "ack_time_mac": 5})");
   expect_closed_then_next_connection_is_served(PeerError::wrong_type, "ack_time");
 }
 
 TEST_F(WorldBadInput, OutOfRangeIntegersCloseTheConnection) {
-  peer->write_frame(R"({"ack_time": 1, "ack_time_mac": 4294967296})");
+  peer->send_payload(R"({"ack_time": 1, "ack_time_mac": 4294967296})");
   expect_closed_then_next_connection_is_served(PeerError::out_of_range, "ack_time_mac");
 }
 
@@ -81,69 +81,69 @@ TEST_F(WorldBadInput, DeeplyNestedUserDataClosesTheConnection) {
   nested.append(5000, '[');
   nested.append(5000, ']');
   nested += "}}";
-  peer->write_frame(nested);
+  peer->send_payload(nested);
   sim.run_for(Millis{10});
-  EXPECT_TRUE(peer->closed());
+  EXPECT_TRUE(peer->closed_by_peer());
   expect_closed_then_next_connection_is_served(PeerError::too_deep, "");
 }
 
 TEST_F(WorldBadInput, StreamEndingInsideAFrameIsATruncatedFrame) {
-  peer->write_raw(std::string("\x64\x00\x00\x00{\"ack_time\"", 15));
+  peer->send_raw(testing::length_prefix(100) + "{\"ack_time\"");
   peer->close();
   sim.run_for(Millis{10});
   EXPECT_FALSE(streamer().vehicle_connected());
   ASSERT_TRUE(streamer().stats().last_close_reason.has_value());
   EXPECT_EQ(streamer().stats().last_close_reason->code, PeerError::truncated_frame);
-  auto next = RawVehiclePeer::connect(sim, "truck-1");
-  next->echo_automatically = true;
+  auto next = connect_vehicle_peer(sim, "truck-1");
+  next->echo = true;
   sim.run_for(Millis{300});
-  EXPECT_EQ(next->control_times().size(), 30u);
-  EXPECT_TRUE(next->cadence_exact());
+  EXPECT_EQ(next->received_at.size(), 30u);
+  EXPECT_TRUE(cadence_exact(next->received_at));
 }
 
 TEST_F(WorldBadInput, SilenceInsideAFrameClosesAfterExactlyTwoSeconds) {
   const SimTime last_byte = sim.now();
-  peer->write_raw(std::string("\x64\x00\x00\x00{\"ack", 9));
+  peer->send_raw(testing::length_prefix(100) + "{\"ack");
   sim.run_until(last_byte + Millis{2000} - Micros{1});
   EXPECT_TRUE(streamer().vehicle_connected());
-  EXPECT_TRUE(peer->cadence_exact()) << "a half-received frame must not disturb control";
+  EXPECT_TRUE(cadence_exact(peer->received_at)) << "a half-received frame must not disturb control";
   sim.run_until(last_byte + Millis{2000});
   EXPECT_FALSE(streamer().vehicle_connected());
   EXPECT_EQ(peer->closed_at(), last_byte + Millis{2000});
 }
 
 TEST_F(WorldBadInput, OversizedFrameIsDrainedAndTheConnectionKept) {
-  peer->echo_automatically = true;
-  const std::size_t frames_before = peer->control_times().size();
+  peer->echo = true;
+  const std::size_t frames_before = peer->received_at.size();
   std::string big = R"({"ack_time": 1, "ack_time_mac": 2, "vehicle_user_data": {"user_data": ")";
   big.append(40'000, 'x');
   big += "\"}}";
-  peer->write_frame(big);
+  peer->send_payload(big);
   sim.run_for(Millis{500});
-  EXPECT_FALSE(peer->closed()) << peer->close_reason();
+  EXPECT_FALSE(peer->closed_by_peer()) << peer->close_reason();
   EXPECT_EQ(streamer().stats().oversized_frames_dropped, 1u);
-  EXPECT_TRUE(peer->cadence_exact(frames_before));
+  EXPECT_TRUE(cadence_exact(peer->received_at, frames_before));
   EXPECT_TRUE(streamer().faults().empty() || !streamer().faults().contains(FaultId::VehicleNoResponse));
 }
 
 TEST_F(WorldBadInput, HostileLengthIsDrainedWithoutBufferingIt) {
   // A header announcing 4 GiB, then 2 MiB of junk in small chunks: drained as it comes, the
   // connection stays (SPEC §2), control keeps its exact cadence.
-  const std::size_t frames_before = peer->control_times().size();
-  peer->write_raw(std::string("\xff\xff\xff\xff", 4));
+  const std::size_t frames_before = peer->received_at.size();
+  peer->send_raw(testing::length_prefix(0xFFFFFFFFu));
   const std::string junk(64 * 1024, 'j');
   for (int chunk = 0; chunk < 32; ++chunk) {
-    peer->write_raw(junk);
+    peer->send_raw(junk);
     sim.run_for(Millis{10});
   }
   sim.run_for(Millis{500});
-  EXPECT_FALSE(peer->closed()) << peer->close_reason();
+  EXPECT_FALSE(peer->closed_by_peer()) << peer->close_reason();
   EXPECT_TRUE(streamer().vehicle_connected());
-  EXPECT_TRUE(peer->cadence_exact(frames_before));
+  EXPECT_TRUE(cadence_exact(peer->received_at, frames_before));
 }
 
 TEST_F(WorldBadInput, FloodOfResponsesNeitherStallsNorSlowsTheWorld) {
-  const std::size_t frames_before = peer->control_times().size();
+  const std::size_t frames_before = peer->received_at.size();
   // 20 000 valid responses (about 1 MB) in one burst, then another every tick for a second.
   VehicleResponseMessage response;
   response.ack = AckPair{1, 2};
@@ -151,39 +151,39 @@ TEST_F(WorldBadInput, FloodOfResponsesNeitherStallsNorSlowsTheWorld) {
   std::string json;
   encode_vehicle_response(response, json);
   std::string burst;
-  for (int index = 0; index < 20'000; ++index) ASSERT_TRUE(append_frame(json, burst));
+  for (int index = 0; index < 20'000; ++index) burst += testing::frame_of(json);
   const auto wall_start = std::chrono::steady_clock::now();
-  peer->write_raw(burst);
+  peer->send_raw(burst);
   for (int index = 0; index < 100; ++index) {
-    peer->write_raw(burst.substr(0, burst.size() / 20));
+    peer->send_raw(burst.substr(0, burst.size() / 20));
     sim.run_for(tick);
   }
   const auto wall = std::chrono::steady_clock::now() - wall_start;
-  EXPECT_FALSE(peer->closed()) << peer->close_reason();
+  EXPECT_FALSE(peer->closed_by_peer()) << peer->close_reason();
   EXPECT_GE(streamer().stats().vehicle_responses_received, 20'000u + 100u * 1000u);
-  EXPECT_TRUE(peer->cadence_exact(frames_before));
+  EXPECT_TRUE(cadence_exact(peer->received_at, frames_before));
   // 120 000 decodes: generous bound that still catches quadratic buffering.
   EXPECT_LT(std::chrono::duration_cast<std::chrono::seconds>(wall).count(), 20);
 }
 
 TEST_F(WorldBadInput, UnknownFieldsAreIgnored) {
-  peer->echo_automatically = true;
-  peer->write_frame(R"({"ack_time": 1, "ack_time_mac": 2, "future_field": {"x": [1, 2]}})");
+  peer->echo = true;
+  peer->send_payload(R"({"ack_time": 1, "ack_time_mac": 2, "future_field": {"x": [1, 2]}})");
   sim.run_for(Millis{200});
-  EXPECT_FALSE(peer->closed()) << peer->close_reason();
+  EXPECT_FALSE(peer->closed_by_peer()) << peer->close_reason();
   EXPECT_TRUE(streamer().vehicle_connected());
 }
 
 TEST_F(WorldBadInput, SecondConnectionIsRefusedAndTheFirstKeepsItsCadence) {
-  const std::size_t frames_before = peer->control_times().size();
-  peer->echo_automatically = true;
-  auto intruder = RawVehiclePeer::connect(sim, "truck-1");
+  const std::size_t frames_before = peer->received_at.size();
+  peer->echo = true;
+  auto intruder = connect_vehicle_peer(sim, "truck-1");
   sim.run_for(Millis{300});
-  EXPECT_TRUE(intruder->closed());
-  EXPECT_TRUE(intruder->control_times().empty());
-  EXPECT_FALSE(peer->closed());
+  EXPECT_TRUE(intruder->closed_by_peer());
+  EXPECT_TRUE(intruder->received_at.empty());
+  EXPECT_FALSE(peer->closed_by_peer());
   EXPECT_EQ(streamer().stats().connections_refused, 1u);
-  EXPECT_TRUE(peer->cadence_exact(frames_before));
+  EXPECT_TRUE(cadence_exact(peer->received_at, frames_before));
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 #pragma once
-// Shared helpers for the world tests: ready-made configurations, a raw vehicle peer that
-// speaks (or deliberately breaks) the vehicle-side protocol over a pipe, and small stepping
+// Shared helpers for the world tests: ready-made configurations, a vehicle test peer on a
+// pipe that speaks (or deliberately breaks) the vehicle-side protocol, and small stepping
 // helpers that find the exact virtual time something happened.
 #include <gtest/gtest.h>
 
@@ -11,9 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "ocp/frame.hpp"
-#include "ocp/json_codec.hpp"
 #include "ocp/pipe.hpp"
+#include "vehicle_peer.hpp"
 #include "world/stream_tap.hpp"
 #include "world/virtual_world.hpp"
 
@@ -90,97 +89,32 @@ inline std::optional<SimTime> first_trace_time(const TraceRecorder& trace, const
   return std::nullopt;
 }
 
-// A hand-driven vehicle client on a pipe end: records every control frame (with arrival
-// time), can echo, and can write arbitrary bytes. Its decoder is the libocp one.
-class RawVehiclePeer {
- public:
-  RawVehiclePeer(Executor& executor, std::shared_ptr<ByteStream> stream)
-      : executor_(executor), stream_(std::move(stream)) {
-    stream_->set_handlers(ByteStreamHandlers{
-        [this](std::string_view bytes) { on_bytes(bytes); },
-        [this](const std::string& reason) {
-          closed_ = true;
-          close_reason_ = reason;
-          closed_at_ = executor_.now();
-        }});
-  }
+// A hand-driven vehicle peer connected to the named vehicle's Streamer through a fresh pipe
+// (the Streamer sees "pipe:raw-peer"): records every control frame with its arrival time,
+// can echo, and can write arbitrary bytes.
+inline std::unique_ptr<testing::VehiclePeer> connect_vehicle_peer(VirtualWorld& sim, const std::string& vehicle) {
+  PipeOptions options;
+  options.name_a = "pipe:raw-peer";
+  options.name_b = "pipe:streamer";
+  PipeEnds ends = make_pipe(sim.executor(), options);
+  sim.world().accept_vehicle_connection(vehicle, ends.b);
+  auto peer = std::make_unique<testing::VehiclePeer>(&sim.executor());
+  peer->attach(ends.a);
+  return peer;
+}
 
-  // Connects a new peer to the named vehicle's Streamer through a fresh pipe.
-  static std::unique_ptr<RawVehiclePeer> connect(VirtualWorld& sim, const std::string& vehicle) {
-    PipeOptions options;
-    options.name_a = "pipe:raw-peer";
-    options.name_b = "pipe:streamer";
-    PipeEnds ends = make_pipe(sim.executor(), options);
-    sim.world().accept_vehicle_connection(vehicle, ends.b);
-    return std::make_unique<RawVehiclePeer>(sim.executor(), ends.a);
-  }
-
-  void write_raw(std::string_view bytes) { stream_->write(bytes); }
-  void write_frame(std::string_view payload) {
-    std::string frame;
-    const std::uint32_t length = static_cast<std::uint32_t>(payload.size());
-    for (int byte = 0; byte < 4; ++byte) frame.push_back(static_cast<char>((length >> (8 * byte)) & 0xff));
-    frame.append(payload);
-    stream_->write(frame);
-  }
-  void echo(const AckPair& pair) {
-    VehicleResponseMessage response;
-    response.ack = pair;
-    std::string json;
-    encode_vehicle_response(response, json);
-    write_frame(json);
-  }
-  void close() { stream_->close(); }
-
-  bool echo_automatically = false;
-  bool closed() const { return closed_; }
-  const std::string& close_reason() const { return close_reason_; }
-  std::optional<SimTime> closed_at() const { return closed_at_; }
-  const std::vector<SimTime>& control_times() const { return control_times_; }
-  const std::vector<OcpControlMessage>& controls() const { return controls_; }
-  std::uint64_t undecodable() const { return undecodable_; }
-
-  // True when every control frame from index `from` on arrived exactly one tick after the
-  // previous one.
-  ::testing::AssertionResult cadence_exact(std::size_t from = 0) const {
-    for (std::size_t index = from + 1; index < control_times_.size(); ++index) {
-      const auto gap = control_times_[index] - control_times_[index - 1];
-      if (gap != tick) {
-        return ::testing::AssertionFailure()
-               << "control frame " << index << " arrived " << gap.count() << " µs after the previous one at "
-               << control_times_[index - 1].count() << " µs";
-      }
-    }
-    return ::testing::AssertionSuccess() << control_times_.size() << " frames";
-  }
-
- private:
-  void on_bytes(std::string_view bytes) {
-    while (!bytes.empty()) {
-      FrameEvent event;
-      bytes.remove_prefix(decoder_.put(bytes, event));
-      if (event.kind == FrameEvent::Kind::need_more) return;
-      if (event.kind != FrameEvent::Kind::frame) continue;
-      auto decoded = decode_control_message(event.payload);
-      if (!decoded) {
-        ++undecodable_;
-        continue;
-      }
-      control_times_.push_back(executor_.now());
-      controls_.push_back(decoded.value());
-      if (echo_automatically) echo(decoded->ack);
+// True when every control frame from index `from` on arrived exactly one tick after the
+// previous one.
+inline ::testing::AssertionResult cadence_exact(const std::vector<SimTime>& arrivals, std::size_t from = 0) {
+  for (std::size_t index = from + 1; index < arrivals.size(); ++index) {
+    const auto gap = arrivals[index] - arrivals[index - 1];
+    if (gap != tick) {
+      return ::testing::AssertionFailure() << "control frame " << index << " arrived " << gap.count()
+                                           << " µs after the previous one at " << arrivals[index - 1].count()
+                                           << " µs";
     }
   }
-
-  Executor& executor_;
-  std::shared_ptr<ByteStream> stream_;
-  FrameDecoder decoder_;
-  bool closed_ = false;
-  std::string close_reason_;
-  std::optional<SimTime> closed_at_;
-  std::vector<SimTime> control_times_;
-  std::vector<OcpControlMessage> controls_;
-  std::uint64_t undecodable_ = 0;
-};
+  return ::testing::AssertionSuccess() << arrivals.size() << " frames";
+}
 
 }  // namespace ocp::world_test
