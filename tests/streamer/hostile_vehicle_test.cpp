@@ -184,3 +184,50 @@ TEST(StreamerHostileVehicle, RandomGarbageNeverBreaksTheCore) {
 
 }  // namespace
 }  // namespace ocp::streamer_test
+
+namespace ocp::streamer_test {
+namespace {
+
+using testing::frame_of;
+
+// A vehicle that keeps answering (so the read timeout never fires) but never reads: the
+// control frames queued for it stop at the write-queue limit, the Streamer disconnects it
+// (PeerError::not_reading) and carries on with the next vehicle.
+TEST(StreamerHostileVehicle, AVehicleThatNeverReadsIsDisconnectedAndTheStreamerCarriesOn) {
+  StreamerConfig config = test_config();
+  config.vehicle_write_queue_limit_bytes = 4096;
+  StreamerHarness harness(config);
+  harness.core.start();
+  PipeOptions options;
+  options.name_a = "pipe:deaf-vehicle";
+  PipeEnds ends = make_pipe(harness.executor, options);
+  harness.core.accept_vehicle_connection(ends.b);   // ends.a never reads
+  std::string response;
+  encode_vehicle_response(VehicleResponseMessage{AckPair{1, 2}, std::nullopt}, response);
+  const std::string framed = frame_of(response);
+  PeriodicTimer answering(harness.executor, Micros{10'000}, [&](SimTime) { ends.a->write(framed); });
+  answering.start(ms(5));
+  std::size_t most_queued = 0;
+  PeriodicTimer watching(harness.executor, Micros{1'000},
+                         [&](SimTime) { most_queued = std::max(most_queued, ends.b->queued_bytes()); });
+  watching.start(ms(0));
+  harness.executor.run_until(ms(2000));
+  answering.stop();
+  watching.stop();
+
+  const auto& reason = harness.core.stats().last_close_reason;
+  ASSERT_TRUE(reason.has_value());
+  EXPECT_EQ(reason->code, PeerError::not_reading) << *reason;
+  EXPECT_LE(most_queued, config.vehicle_write_queue_limit_bytes);
+  EXPECT_TRUE(harness.core.faults().contains(FaultId::VehicleNoResponse));
+  EXPECT_TRUE(harness.log.contains(LogLevel::warn, "peer not reading"));
+
+  TestVehicle& next = harness.connect_vehicle("pipe:next-vehicle");
+  next.echo = true;
+  harness.executor.run_until(ms(2500));
+  EXPECT_GE(next.received.size(), 49u) << "the next vehicle gets its control frames";
+  EXPECT_FALSE(harness.core.faults().contains(FaultId::VehicleNoResponse));
+}
+
+}  // namespace
+}  // namespace ocp::streamer_test

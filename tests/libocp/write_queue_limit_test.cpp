@@ -1,0 +1,112 @@
+// A peer that stops reading can never grow our memory: FramedConnection disconnects it with
+// PeerError::not_reading once the bytes queued for it would pass write_queue_limit_bytes —
+// in virtual time over a pipe (exact), and over real loopback TCP, where the kernel's socket
+// buffers fill first and then our own queue.
+#include <gtest/gtest.h>
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <optional>
+#include <string>
+
+#include "ocp/asio_executor.hpp"
+#include "ocp/framed_connection.hpp"
+#include "ocp/pipe.hpp"
+#include "ocp/tcp_stream.hpp"
+#include "ocp/virtual_executor.hpp"
+#include "tcp_peers.hpp"
+
+namespace ocp {
+namespace {
+
+namespace asio = boost::asio;
+
+FramedConnection::Handlers recording(std::optional<CloseReason>& closed) {
+  FramedConnection::Handlers handlers;
+  handlers.on_payload = [](std::string_view) -> Status { return Ok{}; };
+  handlers.on_closed = [&closed](const CloseReason& reason) { closed = reason; };
+  return handlers;
+}
+
+TEST(WriteQueueLimit, APipePeerThatNeverReadsIsDisconnectedAtTheLimitExactly) {
+  VirtualExecutor executor;
+  PipeEnds ends = make_pipe(executor, PipeOptions{});
+  // ends.b never gets handlers: it never reads, so everything sent stays queued for it.
+  std::optional<CloseReason> closed;
+  FramedConnection::Options options;
+  options.write_queue_limit_bytes = 1000;
+  auto connection = FramedConnection::open(executor, Logger(executor, "test", make_null_sink()), ends.a,
+                                           options, {}, recording(closed));
+  const std::string payload(96, 'x');   // 100 bytes a frame with its header
+  for (int frame = 1; frame <= 10; ++frame) {
+    ASSERT_TRUE(connection->send(payload)) << "frame " << frame << " fits: " << frame * 100 << " bytes";
+    executor.run_for(Micros{1});
+    EXPECT_LE(ends.a->queued_bytes(), options.write_queue_limit_bytes);
+  }
+  const Status eleventh = connection->send(payload);
+  ASSERT_FALSE(eleventh);
+  EXPECT_EQ(eleventh.error().code, PeerError::not_reading);
+  ASSERT_TRUE(closed.has_value());
+  EXPECT_EQ(closed->code, PeerError::not_reading);
+  EXPECT_EQ(closed->detail, "peer not reading: 1000 bytes already queued for it (limit 1000)");
+  EXPECT_EQ(ends.a->queued_bytes(), 1000u) << "nothing was queued past the limit";
+  EXPECT_FALSE(connection->is_open());
+}
+
+TEST(WriteQueueLimit, APeerThatReadsIsNeverDisconnected) {
+  VirtualExecutor executor;
+  PipeEnds ends = make_pipe(executor, PipeOptions{});
+  std::size_t received = 0;
+  ends.b->set_handlers(ByteStreamHandlers{[&](std::string_view bytes) { received += bytes.size(); },
+                                          [](const std::string&) {}});
+  std::optional<CloseReason> closed;
+  FramedConnection::Options options;
+  options.write_queue_limit_bytes = 1000;
+  auto connection = FramedConnection::open(executor, Logger(executor, "test", make_null_sink()), ends.a,
+                                           options, {}, recording(closed));
+  for (int frame = 0; frame < 1000; ++frame) {
+    ASSERT_TRUE(connection->send(std::string(96, 'x')));
+    executor.run_for(Micros{10});
+  }
+  EXPECT_FALSE(closed.has_value());
+  EXPECT_EQ(received, 100'000u);
+}
+
+TEST(WriteQueueLimit, ALoopbackPeerThatNeverReadsIsDisconnectedAndOurQueueStaysBounded) {
+  asio::io_context io;
+  AsioExecutor executor(io);
+  asio::ip::tcp::acceptor acceptor(io, {asio::ip::make_address("127.0.0.1"), 0});
+  asio::ip::tcp::socket server_socket(io);
+  bool accepted = false;
+  acceptor.async_accept(server_socket, [&](const boost::system::error_code& error) { accepted = !error; });
+  asio::ip::tcp::socket client_socket(io);   // connected, never read from
+  client_socket.open(asio::ip::tcp::v4());
+  client_socket.set_option(asio::socket_base::receive_buffer_size(4096));
+  client_socket.connect(acceptor.local_endpoint());
+  ASSERT_TRUE(testing::run_until(io, [&] { return accepted; }));
+
+  auto server = make_tcp_stream(std::move(server_socket));
+  std::optional<CloseReason> closed;
+  FramedConnection::Options options;
+  options.read_timeout = Micros{0};   // this peer is silent on purpose; only the queue may end it
+  options.write_queue_limit_bytes = 256 * 1024;
+  auto connection = FramedConnection::open(executor, Logger(executor, "test", make_null_sink()), server,
+                                           options, {}, recording(closed));
+  const std::string payload(max_payload_bytes, 'x');
+  std::size_t most_queued = 0;
+  std::size_t frames_sent = 0;
+  // 16 KiB frames as fast as the loop turns: the kernel buffers fill, then our queue does.
+  const bool disconnected = testing::run_until(io, [&] {
+    if (closed) return true;
+    if (connection->send(payload)) ++frames_sent;
+    most_queued = std::max(most_queued, server->queued_bytes());
+    return closed.has_value();
+  }, std::chrono::seconds(30));
+  ASSERT_TRUE(disconnected) << "sent " << frames_sent << " frames without a disconnect";
+  EXPECT_EQ(closed->code, PeerError::not_reading) << *closed;
+  EXPECT_LE(most_queued, options.write_queue_limit_bytes) << "our memory stayed bounded";
+  EXPECT_GT(frames_sent, 16u) << "the queue filled up before the disconnect";
+}
+
+}  // namespace
+}  // namespace ocp
