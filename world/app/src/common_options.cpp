@@ -109,6 +109,10 @@ void add_common_options(CLI::App& app, CommonOptions& options) {
   app.add_option("--camera", options.camera_texts,
                  "simulated camera NAME or NAME:FPS (repeatable; default: front at 30 fps)")
       ->type_name("NAME[:FPS]")->group(general);
+  app.add_option("--wire-log", options.wire_log_path,
+                 "write every frame on the TCP API, both directions, as JSON lines to FILE (- = stderr); "
+                 "format: docs/trace-format.md, \"frame\" events; capped at 1 GiB")
+      ->group(general);
   app.add_option("--gamepad", options.gamepad_text,
                  "simulated operator gamepad: idle, drive, or a recording file")
       ->capture_default_str()->group(general);

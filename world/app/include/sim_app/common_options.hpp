@@ -40,6 +40,7 @@ struct CommonOptions {
   std::vector<std::string> camera_texts;   // NAME or NAME:FPS
   double duration_s = 0.0;           // 0 = run until SIGINT/SIGTERM
   std::string gamepad_text = "drive";
+  std::string wire_log_path;         // --wire-log: "" = none, "-" = stderr
   std::string ack_time_offset_text = "0";  // N (0..2^64-1) or "high"
 
   // Filled by parse_command_line from the texts above.
