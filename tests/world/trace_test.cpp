@@ -103,6 +103,29 @@ TEST(WorldTrace, OptionsLeaveOutWholeEventKinds) {
   EXPECT_FALSE(sim.trace().lines_containing(R"("event":"fault")").empty());
 }
 
+TEST(WorldTrace, PlayerEventsCoverSourceLockingGamepadAndActiveVehicle) {
+  VirtualWorld sim(one_vehicle_config());
+  ASSERT_TRUE(sim.start());
+  sim.run_for(Millis{50});
+  ClientOcpShared data;
+  data.client_user_data["truck-1"].user_data = RawJson{R"({"cmd":1})"};
+  sim.world().player().handle_client_data(ClientSource::plugin, data);
+  sim.run_for(Millis{10});
+  sim.world().player().handle_client_data(ClientSource::webview, data);
+  sim.world().player().gamepad().unplug();
+  sim.run_for(Millis{20});
+  const TraceRecorder& trace = sim.trace();
+  EXPECT_EQ(first_trace_time(trace, R"("event":"source_locked","source":"plugin")"), SimTime{Millis{50}});
+  EXPECT_EQ(first_trace_time(trace, R"("event":"source_conflict","locked":"plugin","offending":"webview")"),
+            SimTime{Millis{60}});
+  EXPECT_EQ(first_trace_time(trace, R"("event":"active_vehicle","vehicle":"truck-1")"), SimTime{0});
+  EXPECT_EQ(first_trace_time(trace, R"("event":"gamepad","plugged":true)"), SimTime{0});
+  // Sampled by the Player frame: the frame at 60 ms ran before the unplug, the next one sees it.
+  EXPECT_EQ(first_trace_time(trace, R"("event":"gamepad","plugged":false)"), SimTime{Millis{70}});
+  EXPECT_EQ(first_trace_time(trace, R"("side":"operator","vehicle":"truck-1","fault":"InputLost","active":true)"),
+            SimTime{Millis{70}});
+}
+
 // The short seeded world of the golden trace: jitter, loss and a gamepad wave on one vehicle,
 // 300 ms with an impairment change and a reconnect, so every common event kind appears.
 std::string golden_world_trace() {
