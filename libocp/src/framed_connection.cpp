@@ -87,7 +87,7 @@ void FramedConnection::start() {
       }});
 }
 
-Status FramedConnection::send(std::string_view payload) {
+Status FramedConnection::send(std::string_view payload, std::optional<AckPair> carried) {
   if (!open_) {
     return Error{LocalError::not_connected,
                  fmt::format("{} connection {} is closed", options_.label, peer_)};
@@ -107,14 +107,14 @@ Status FramedConnection::send(std::string_view payload) {
   stream_->write(frame_buffer_);
   if (options_.events != nullptr && options_.events->active()) {
     publish_frame(FrameDirection::out, options_.outbound_kind,
-                  static_cast<std::uint32_t>(payload.size()), payload, false);
+                  static_cast<std::uint32_t>(payload.size()), payload, false, carried);
   }
   return framed;
 }
 
 void FramedConnection::publish_frame(FrameDirection direction, WireMessageKind kind,
                                      std::uint32_t length_prefix, std::string_view payload,
-                                     bool drained) {
+                                     bool drained, std::optional<AckPair> carried) {
   WireFrame frame;
   frame.wire = options_.wire;
   frame.direction = direction;
@@ -122,7 +122,7 @@ void FramedConnection::publish_frame(FrameDirection direction, WireMessageKind k
   frame.length_prefix = length_prefix;
   frame.payload = payload;
   frame.drained = drained;
-  if (!drained) frame.ack = carried_pair(kind, payload);
+  if (!drained) frame.ack = carried ? carried : carried_pair(kind, payload);
   frame.peer = peer_;
   options_.events->publish(Event{executor_.now(), options_.component, frame});
 }

@@ -52,7 +52,7 @@ void StreamerCore::State::build_control_message(SimTime now) {
 
 void StreamerCore::State::send_control_message() {
   encode_control_message(outgoing, json_buffer);
-  Status sent = vehicle->send(json_buffer);
+  Status sent = vehicle->send(json_buffer, outgoing.ack);
   if (!sent && sent.error().code == LocalError::frame_too_large) {
     // Only oversized client user data can do this; the vehicle still needs its control.
     logger.warn("control message of {} bytes exceeds {} bytes: sent without client_user_data",
@@ -60,7 +60,7 @@ void StreamerCore::State::send_control_message() {
     outgoing.client_user_data.reset();
     ++stats.control_user_data_dropped;
     encode_control_message(outgoing, json_buffer);
-    sent = vehicle->send(json_buffer);
+    sent = vehicle->send(json_buffer, outgoing.ack);
   }
   if (!sent) {
     logger.error("control message of {} bytes not sent: {}", json_buffer.size(),

@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -87,7 +88,9 @@ class FramedConnection : public std::enable_shared_from_this<FramedConnection> {
   // written) when the payload is over the limit, and with LocalError::not_connected once the
   // connection is closed. A peer whose queue would overflow is disconnected (not_reading) and
   // the send fails with that reason.
-  [[nodiscard]] Status send(std::string_view payload);
+  // `carried`: the ack pair the payload carries, when the caller knows it — saves decoding the
+  // payload again for the WireFrame event while somebody listens.
+  [[nodiscard]] Status send(std::string_view payload, std::optional<AckPair> carried = std::nullopt);
   // Closes with `reason` (logged as a warning), closes the stream, reports on_closed.
   void close(CloseReason reason);
 
@@ -105,7 +108,7 @@ class FramedConnection : public std::enable_shared_from_this<FramedConnection> {
   void on_read_timer();
   void finish(const CloseReason& reason);
   void publish_frame(FrameDirection direction, WireMessageKind kind, std::uint32_t length_prefix,
-                     std::string_view payload, bool drained);
+                     std::string_view payload, bool drained, std::optional<AckPair> carried = std::nullopt);
   void publish_connection(ConnectionChange change, const CloseReason* reason);
 
   Executor& executor_;
