@@ -37,6 +37,7 @@ void LoopRecorder::on_frame(const WireFrame& frame, SimTime at) {
   if (frame.direction == FrameDirection::out) {
     ++control_frames_;
     sent_at_.emplace_back(frame.ack->ack_time, at);
+    if (sent_at_.size() > 4096) sent_at_.pop_front();   // a client that stopped answering
     return;
   }
   response_times_s_.push_back(seconds(at));
