@@ -27,10 +27,12 @@ CLI::App* add_fleet_command(CLI::App& app, FleetOptions& options) {
       ->delimiter(',')->capture_default_str()->check(CLI::Range(0, 100000));
   fleet->add_option("--virtual", options.virtual_vehicles, "vehicle counts in virtual time (0: none)")
       ->delimiter(',')->capture_default_str()->check(CLI::Range(0, 100000));
-  fleet->add_option("--window-s", options.window_s, "loopback: wall seconds measured per point (after 1 s warm-up)")
+  fleet->add_option("--window-s", options.window_s, "loopback: wall seconds measured per point (after --warm-up-s)")
       ->capture_default_str()->check(CLI::Range(0.1, 3600.0));
   fleet->add_option("--simulated-s", options.simulated_s, "virtual: simulated seconds measured per point")
       ->capture_default_str()->check(CLI::Range(0.1, 36000.0));
+  fleet->add_option("--warm-up-s", options.warm_up_s, "run this long (wall or simulated) before measuring")
+      ->capture_default_str()->check(CLI::Range(0.0, 600.0));
   fleet->add_option("--point-timeout-s", options.point_timeout_s, "kill a point that runs longer than this")
       ->capture_default_str()->check(CLI::Range(1.0, 86400.0));
   fleet->add_flag("--in-process", options.in_process, "run the points in this process, not forked children (for profilers)");
@@ -201,11 +203,11 @@ int run_fleet(const FleetOptions& options) {
   std::vector<FleetPointOptions> plan;
   for (const int vehicles : options.loopback_vehicles) {
     if (vehicles == 0) continue;
-    plan.push_back({FleetMode::loopback, vehicles, 1.0, options.window_s, 60.0});
+    plan.push_back({FleetMode::loopback, vehicles, options.warm_up_s, options.window_s, 60.0});
   }
   for (const int vehicles : options.virtual_vehicles) {
     if (vehicles == 0) continue;
-    plan.push_back({FleetMode::virtual_time, vehicles, 1.0, options.simulated_s, 60.0});
+    plan.push_back({FleetMode::virtual_time, vehicles, options.warm_up_s, options.simulated_s, 60.0});
   }
   print_header(std::cout);
   std::vector<FleetPointResult> points;
