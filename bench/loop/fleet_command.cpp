@@ -35,6 +35,8 @@ CLI::App* add_fleet_command(CLI::App& app, FleetOptions& options) {
       ->capture_default_str()->check(CLI::Range(0.0, 600.0));
   fleet->add_option("--point-timeout-s", options.point_timeout_s, "kill a point that runs longer than this")
       ->capture_default_str()->check(CLI::Range(1.0, 86400.0));
+  fleet->add_flag("--unobserved", options.unobserved,
+                  "virtual points: do not subscribe to events (observing decodes every frame's pair)");
   fleet->add_flag("--in-process", options.in_process, "run the points in this process, not forked children (for profilers)");
   fleet->add_option("--json", options.json_path, "write the points as JSON to FILE");
   fleet->add_option("--svg", options.svg_path, "write the scale curve as SVG to FILE");
@@ -124,8 +126,9 @@ void print_point(std::ostream& out, const FleetPointResult& point) {
     out << fmt::format("{:<9} {:>6}  failed: {}\n", fleet_mode_name(point.mode), point.vehicles, point.error);
     return;
   }
+  const std::string mode = fleet_mode_name(point.mode) + (point.observed ? "" : "*");
   out << fmt::format("{:<9} {:>6} {:>9.0f} {:>9.0f} {:>9.0f} {:>9.0f} {:>9.0f} {:>10.3f} {:>9.2f} {:>9.1f}  {}\n",
-                     fleet_mode_name(point.mode), point.vehicles, point.tick_p50_us, point.tick_p99_us,
+                     mode, point.vehicles, point.tick_p50_us, point.tick_p99_us,
                      point.tick_max_us, point.echo_p50_us, point.echo_p99_us, point.cpu_per_simulated_s,
                      point.simulated_per_wall_s, point.kib_per_vehicle, fault_summary(point));
 }
@@ -139,10 +142,10 @@ std::string point_json(const FleetPointResult& point) {
   }
   faults += "}";
   return fmt::format(
-      R"({{"mode":"{}","vehicles":{},"ok":{},"error":{},"window_s":{},"wall_s":{},"cpu_s":{},"cpu_per_simulated_s":{},)"
+      R"({{"mode":"{}","vehicles":{},"observed":{},"ok":{},"error":{},"window_s":{},"wall_s":{},"cpu_s":{},"cpu_per_simulated_s":{},)"
       R"("simulated_per_wall_s":{},"rss_base_kib":{},"rss_end_kib":{},"kib_per_vehicle":{},"tick_lateness_us":{{"p50":{},"p99":{},"max":{},"count":{}}},)"
       R"("echo_delay_us":{{"p50":{},"p99":{},"count":{}}},"responses":{},"connections":{},"faults_raised":{}}})",
-      fleet_mode_name(point.mode), point.vehicles, point.ok, json_string(point.error), json_number(point.window_s),
+      fleet_mode_name(point.mode), point.vehicles, point.observed, point.ok, json_string(point.error), json_number(point.window_s),
       json_number(point.wall_s), json_number(point.cpu_s), json_number(point.cpu_per_simulated_s),
       json_number(point.simulated_per_wall_s), json_number(point.rss_base_kib), json_number(point.rss_end_kib),
       json_number(point.kib_per_vehicle), json_number(point.tick_p50_us), json_number(point.tick_p99_us),
@@ -203,11 +206,11 @@ int run_fleet(const FleetOptions& options) {
   std::vector<FleetPointOptions> plan;
   for (const int vehicles : options.loopback_vehicles) {
     if (vehicles == 0) continue;
-    plan.push_back({FleetMode::loopback, vehicles, options.warm_up_s, options.window_s, 60.0});
+    plan.push_back({FleetMode::loopback, vehicles, options.warm_up_s, options.window_s, 60.0, true});
   }
   for (const int vehicles : options.virtual_vehicles) {
     if (vehicles == 0) continue;
-    plan.push_back({FleetMode::virtual_time, vehicles, options.warm_up_s, options.simulated_s, 60.0});
+    plan.push_back({FleetMode::virtual_time, vehicles, options.warm_up_s, options.simulated_s, 60.0, !options.unobserved});
   }
   print_header(std::cout);
   std::vector<FleetPointResult> points;
@@ -217,6 +220,7 @@ int run_fleet(const FleetOptions& options) {
     print_point(std::cout, points.back());
     std::cout.flush();
   }
+  if (options.unobserved) std::cout << "* unobserved: no event subscription, so no latency or fault figures\n";
   int exit_code = 0;
   if (!options.json_path.empty()) {
     std::string json = R"({"tool":"ocp_bench fleet","points":[)";

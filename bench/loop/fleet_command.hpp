@@ -16,6 +16,7 @@ struct FleetOptions {
   double simulated_s = 10.0;       // virtual: simulated seconds measured per point
   double warm_up_s = 1.0;          // run before measuring (both modes)
   double point_timeout_s = 180.0;  // a point still running after this is killed and reported
+  bool unobserved = false;         // virtual points without subscribing (the world's own speed)
   bool in_process = false;         // run points in this process (for profilers); memory then accumulates
   std::string json_path, svg_path;
 };

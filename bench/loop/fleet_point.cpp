@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstring>
 #include <memory>
+#include <optional>
 #include <thread>
 
 #include "ocp/asio_executor.hpp"
@@ -162,7 +163,8 @@ FleetPointResult run_virtual(const FleetPointOptions& options, FleetPointResult 
   VirtualExecutor executor;
   const WorldConfig config = fleet_config(options.vehicles, true);
   World world(executor, config, make_null_sink());
-  FleetRecorder recorder(world.events(), vehicle_names(config));
+  std::optional<FleetRecorder> recorder;
+  if (options.observe) recorder.emplace(world.events(), vehicle_names(config));
   if (auto status = world.start(); !status) {
     fail(result, "world: " + status.error().detail);
     return result;
@@ -170,15 +172,15 @@ FleetPointResult run_virtual(const FleetPointOptions& options, FleetPointResult 
   executor.run_for(seconds_to_micros(options.warm_up_s));
   const double cpu_start = process_cpu_seconds();
   const auto wall_start = Clock::now();
-  recorder.start_recording();
+  if (recorder) recorder->start_recording();
   executor.run_for(seconds_to_micros(options.window_s));
-  recorder.stop_recording();
+  if (recorder) recorder->stop_recording();
   result.wall_s = std::chrono::duration<double>(Clock::now() - wall_start).count();
   result.cpu_s = process_cpu_seconds() - cpu_start;
   result.rss_end_kib = resident_kib();
   result.window_s = options.window_s;
   world.stop();
-  take_figures(result, recorder);
+  if (recorder) take_figures(result, *recorder);
   result.ok = true;
   return result;
 }
@@ -189,6 +191,7 @@ FleetPointResult run_fleet_point(const FleetPointOptions& options) {
   FleetPointResult result;
   result.mode = options.mode;
   result.vehicles = options.vehicles;
+  result.observed = options.observe;
   result = options.mode == FleetMode::loopback ? run_loopback(options, result) : run_virtual(options, result);
   if (result.ok) {
     result.cpu_per_simulated_s = result.window_s > 0 ? result.cpu_s / result.window_s : 0;

@@ -19,12 +19,16 @@ struct FleetPointOptions {
   double warm_up_s = 1.0;
   double window_s = 5.0;        // wall seconds (loopback) or simulated seconds (virtual)
   double connect_timeout_s = 60.0;
+  // Subscribe to the events. Publishing a WireFrame extracts its pair (a JSON decode of every
+  // frame), so observing costs the world real work; false measures the world alone.
+  bool observe = true;
 };
 
 // Trivially copyable: written as bytes through a pipe.
 struct FleetPointResult {
   FleetMode mode = FleetMode::loopback;
   int vehicles = 0;
+  bool observed = true;
   bool ok = false;
   char error[160] = {};
   double window_s = 0;            // what was measured: wall (loopback) or simulated (virtual) s

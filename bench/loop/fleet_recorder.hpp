@@ -16,8 +16,6 @@
 
 namespace ocp::bench {
 
-inline constexpr std::size_t fault_count = 11;   // SPEC §6
-
 class FleetRecorder {
  public:
   FleetRecorder(EventBus& events, const std::vector<std::string>& vehicles);
