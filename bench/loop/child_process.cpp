@@ -49,6 +49,8 @@ bool ChildProcess::start(const std::vector<std::string>& args, std::uint16_t por
     setpgid(0, 0);
     prctl(PR_SET_PDEATHSIG, SIGKILL);
     if (getppid() != parent) _exit(127);   // the bench died between fork and prctl
+    // The client's own output goes to our stderr: stdout is the report (pipe it to a file).
+    dup2(STDERR_FILENO, STDOUT_FILENO);
     setenv("OCP_PORT", port_text.c_str(), 1);
     execvp(argv[0], argv.data());
     _exit(127);

@@ -3,7 +3,8 @@
 // any argument is replaced by the Streamer's port, which is also in the environment as
 // OCP_PORT. The child runs in its own process group and is killed (SIGTERM, then SIGKILL after
 // a grace period) by stop() and the destructor, so every exit path of the bench ends it; it
-// also gets SIGKILL from the kernel if the bench itself dies (PR_SET_PDEATHSIG).
+// also gets SIGKILL from the kernel if the bench itself dies (PR_SET_PDEATHSIG). Its stdout is
+// redirected to the bench's stderr, so the bench's stdout carries only the report.
 #include <sys/types.h>
 
 #include <cstdint>

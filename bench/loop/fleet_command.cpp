@@ -104,6 +104,21 @@ FleetPointResult run_in_child(const FleetPointOptions& options, double timeout_s
   return result;
 }
 
+// What one more vehicle costs: the slope of resident memory between this point and the previous
+// one of the same mode. The fixed cost (io_context, Player, allocator arenas) dominates the
+// plain per-vehicle figure at small N; the slope does not contain it.
+void set_marginal_memory(std::vector<FleetPointResult>& points) {
+  FleetPointResult& last = points.back();
+  if (!last.ok) return;
+  for (auto previous = points.rbegin() + 1; previous != points.rend(); ++previous) {
+    if (!previous->ok || previous->mode != last.mode || previous->vehicles >= last.vehicles) continue;
+    const double grown_kib = (last.rss_end_kib - last.rss_base_kib) - (previous->rss_end_kib - previous->rss_base_kib);
+    last.marginal_kib_per_vehicle = grown_kib / (last.vehicles - previous->vehicles);
+    return;
+  }
+  last.marginal_kib_per_vehicle = last.kib_per_vehicle;
+}
+
 std::string fault_summary(const FleetPointResult& point) {
   std::string out;
   for (std::size_t id = 0; id < fault_count; ++id) {
@@ -115,10 +130,10 @@ std::string fault_summary(const FleetPointResult& point) {
 }
 
 void print_header(std::ostream& out) {
-  out << fmt::format("{:<9} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>9}  {}\n", "mode", "N", "tick p50",
-                     "tick p99", "tick max", "echo p50", "echo p99", "CPU s/s", "sim/wall", "KiB/veh", "faults raised");
-  out << fmt::format("{:<9} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>9}\n", "", "", "µs", "µs", "µs",
-                     "µs", "µs", "(CPU/sim)", "", "");
+  out << fmt::format("{:<9} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>9} {:>9}  {}\n", "mode", "N", "tick p50",
+                     "tick p99", "tick max", "echo p50", "echo p99", "CPU s/s", "sim/wall", "KiB/veh", "marginal", "faults raised");
+  out << fmt::format("{:<9} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>9} {:>9}\n", "", "", "µs", "µs", "µs",
+                     "µs", "µs", "(CPU/sim)", "", "", "KiB/veh");
 }
 
 void print_point(std::ostream& out, const FleetPointResult& point) {
@@ -127,10 +142,11 @@ void print_point(std::ostream& out, const FleetPointResult& point) {
     return;
   }
   const std::string mode = fleet_mode_name(point.mode) + (point.observed ? "" : "*");
-  out << fmt::format("{:<9} {:>6} {:>9.0f} {:>9.0f} {:>9.0f} {:>9.0f} {:>9.0f} {:>10.3f} {:>9.2f} {:>9.1f}  {}\n",
+  out << fmt::format("{:<9} {:>6} {:>9.0f} {:>9.0f} {:>9.0f} {:>9.0f} {:>9.0f} {:>10.3f} {:>9.2f} {:>9.1f} {:>9.1f}  {}\n",
                      mode, point.vehicles, point.tick_p50_us, point.tick_p99_us,
                      point.tick_max_us, point.echo_p50_us, point.echo_p99_us, point.cpu_per_simulated_s,
-                     point.simulated_per_wall_s, point.kib_per_vehicle, fault_summary(point));
+                     point.simulated_per_wall_s, point.kib_per_vehicle, point.marginal_kib_per_vehicle,
+                     fault_summary(point));
 }
 
 std::string point_json(const FleetPointResult& point) {
@@ -143,12 +159,12 @@ std::string point_json(const FleetPointResult& point) {
   faults += "}";
   return fmt::format(
       R"({{"mode":"{}","vehicles":{},"observed":{},"ok":{},"error":{},"window_s":{},"wall_s":{},"cpu_s":{},"cpu_per_simulated_s":{},)"
-      R"("simulated_per_wall_s":{},"rss_base_kib":{},"rss_end_kib":{},"kib_per_vehicle":{},"tick_lateness_us":{{"p50":{},"p99":{},"max":{},"count":{}}},)"
+      R"("simulated_per_wall_s":{},"rss_base_kib":{},"rss_end_kib":{},"kib_per_vehicle":{},"marginal_kib_per_vehicle":{},"tick_lateness_us":{{"p50":{},"p99":{},"max":{},"count":{}}},)"
       R"("echo_delay_us":{{"p50":{},"p99":{},"count":{}}},"responses":{},"connections":{},"faults_raised":{}}})",
       fleet_mode_name(point.mode), point.vehicles, point.observed, point.ok, json_string(point.error), json_number(point.window_s),
       json_number(point.wall_s), json_number(point.cpu_s), json_number(point.cpu_per_simulated_s),
       json_number(point.simulated_per_wall_s), json_number(point.rss_base_kib), json_number(point.rss_end_kib),
-      json_number(point.kib_per_vehicle), json_number(point.tick_p50_us), json_number(point.tick_p99_us),
+      json_number(point.kib_per_vehicle), json_number(point.marginal_kib_per_vehicle), json_number(point.tick_p50_us), json_number(point.tick_p99_us),
       json_number(point.tick_max_us), point.ticks, json_number(point.echo_p50_us), json_number(point.echo_p99_us),
       point.echoes, point.responses, point.connections, faults);
 }
@@ -173,10 +189,10 @@ std::string scale_svg(const std::vector<FleetPointResult>& points) {
   cpu.y_label = "CPU s / simulated s (log)";
   cpu.log_x = cpu.log_y = true;
   ChartOptions memory;
-  memory.title = "Resident memory per vehicle";
+  memory.title = "Resident memory per vehicle (whole process ÷ N, and marginal)";
   memory.x_label = "vehicles (log)";
-  memory.y_label = "KiB per vehicle";
-  memory.log_x = true;
+  memory.y_label = "KiB per vehicle (log)";
+  memory.log_x = memory.log_y = true;
   const std::vector<std::string> charts{
       xy_chart({series(FleetMode::loopback, "tick lateness p99", "#d62728", [](auto& p) { return p.tick_p99_us; }),
                 series(FleetMode::loopback, "tick lateness p50", "#ff9896", [](auto& p) { return p.tick_p50_us; }),
@@ -185,8 +201,10 @@ std::string scale_svg(const std::vector<FleetPointResult>& points) {
       xy_chart({series(FleetMode::loopback, "loopback", "#1f77b4", [](auto& p) { return p.cpu_per_simulated_s; }),
                 series(FleetMode::virtual_time, "virtual time", "#2ca02c", [](auto& p) { return p.cpu_per_simulated_s; })},
                cpu),
-      xy_chart({series(FleetMode::loopback, "loopback (incl. client)", "#1f77b4", [](auto& p) { return p.kib_per_vehicle; }),
-                series(FleetMode::virtual_time, "virtual time", "#2ca02c", [](auto& p) { return p.kib_per_vehicle; })},
+      xy_chart({series(FleetMode::loopback, "loopback ÷ N", "#1f77b4", [](auto& p) { return p.kib_per_vehicle; }),
+                series(FleetMode::loopback, "loopback marginal", "#aec7e8", [](auto& p) { return p.marginal_kib_per_vehicle; }),
+                series(FleetMode::virtual_time, "virtual ÷ N", "#2ca02c", [](auto& p) { return p.kib_per_vehicle; }),
+                series(FleetMode::virtual_time, "virtual marginal", "#98df8a", [](auto& p) { return p.marginal_kib_per_vehicle; })},
                memory)};
   const int height = 300;
   std::string svg = fmt::format(
@@ -217,6 +235,7 @@ int run_fleet(const FleetOptions& options) {
   for (const auto& point_options : plan) {
     points.push_back(options.in_process ? run_fleet_point(point_options)
                                         : run_in_child(point_options, options.point_timeout_s));
+    set_marginal_memory(points);
     print_point(std::cout, points.back());
     std::cout.flush();
   }

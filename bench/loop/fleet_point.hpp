@@ -37,6 +37,7 @@ struct FleetPointResult {
   double cpu_per_simulated_s = 0;
   double simulated_per_wall_s = 0;
   double rss_base_kib = 0, rss_end_kib = 0, kib_per_vehicle = 0;
+  double marginal_kib_per_vehicle = 0;   // against the previous point of the same mode (fleet_command)
   double tick_p50_us = 0, tick_p99_us = 0, tick_max_us = 0;
   double echo_p50_us = 0, echo_p99_us = 0;
   std::uint64_t ticks = 0, echoes = 0, responses = 0, connections = 0;
