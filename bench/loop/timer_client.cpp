@@ -53,7 +53,11 @@ class Session {
   }
 
   void tick() {
-    next_tick_ += std::chrono::milliseconds(10);
+    // 10 ms + 10 µs: on one machine the client's clock and the Streamer's are the same, so an
+    // exact 10 ms timer would answer at one fixed phase of the tick for the whole run (anything
+    // from 0 to 10 ms, decided by start-up). The extra 10 µs sweeps the phase through the whole
+    // period every 10 s, as independent clocks do, so the delay is spread over 0–10 ms.
+    next_tick_ += std::chrono::microseconds(10'010);
     timer_.expires_at(next_tick_);
     timer_.async_wait([this](boost::system::error_code error) {
       if (error) return;

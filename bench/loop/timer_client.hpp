@@ -2,9 +2,9 @@
 // TimerClient: the "naive client" reference for `ocp_bench loop --compare`. It connects to a
 // Streamer, decodes control messages only to remember the newest pair, and answers on its own
 // 10 ms timer with that pair — never on arrival. Its echo delay is what a client whose
-// response is paced by its own control loop gets: 0–10 ms, set by the phase between its timer
-// and the Streamer's tick (steady within a run, different between runs). A client under test
-// near the floor and far below this one echoes at once. Own thread and io_context.
+// response is paced by its own control loop gets: 0–10 ms, spread evenly over a 10 s run (the
+// timer runs 10 µs slow, see tick()). A client under test near the machine floor and far below
+// this one echoes at once. Own thread and io_context.
 #include <atomic>
 #include <cstdint>
 #include <thread>
