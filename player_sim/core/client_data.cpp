@@ -130,14 +130,22 @@ void PlayerCore::Impl::send_to_client(const VehicleOcpShared& shared) {
   const Status sent = client->send(client_json_buffer);
   if (sent) {
     ++stats.client_frames_sent;
+    if (client_too_large_warned) {
+      // The episode of oversized frames is over; the next one is warned about again.
+      logger.child("tcp").info("tcp client {}: VehicleOcpShared fits again after {} frames not sent",
+                               client->peer(), client_too_large_frames);
+      client_too_large_warned = false;
+    }
     return;
   }
   if (sent.error().code != LocalError::frame_too_large) return;
-  // Never send an oversized frame (SPEC §2); the client simply misses this one. Logged once
-  // per connection: it would otherwise repeat every frame.
+  // Never send an oversized frame (SPEC §2); the client simply misses this one. One warning
+  // per episode (a run of oversized frames): a large fleet would otherwise log every frame.
   ++stats.client_frames_too_large;
+  ++client_too_large_frames;
   if (client_too_large_warned) return;
   client_too_large_warned = true;
+  client_too_large_frames = 1;
   logger.child("tcp").warn("tcp client {}: VehicleOcpShared not sent: {}", client->peer(),
                            sent.error().message());
 }

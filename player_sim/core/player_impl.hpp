@@ -3,6 +3,7 @@
 //   player_core.cpp   — lifecycle, vehicles, link messages, getters
 //   frame_loop.cpp    — the per-frame control messages and VehicleOcpShared publication
 //   client_data.cpp   — client data sources, locking, echo, the tcp client connection
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <optional>
@@ -22,6 +23,7 @@ struct PlayerCore::Impl {
 
   // frame_loop.cpp
   void on_frame();
+  void refresh_shared(SimTime now);
   void on_ping();
   std::optional<std::string> resolve_active_vehicle() const;
   SimTime measured_since(const VehicleLink& link) const;
@@ -73,7 +75,8 @@ struct PlayerCore::Impl {
   std::shared_ptr<FramedConnection> client;      // the tcp source (:4001), one at a time
   std::optional<CloseReason> last_client_close_reason;
   std::string client_json_buffer;                // reused every frame
-  bool client_too_large_warned = false;          // per connection: logged once, not every frame
+  bool client_too_large_warned = false;          // in an episode of oversized frames: warned once
+  std::uint64_t client_too_large_frames = 0;     // frames not sent in the current episode
 };
 
 }  // namespace ocp

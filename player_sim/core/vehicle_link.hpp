@@ -59,5 +59,7 @@ FaultSet evaluate_sender_faults(const VehicleLink& link, const SenderFaultInputs
 
 // The VehicleOcpShared entry of SPEC §4.1 for `link` at `now`.
 VehicleFeedback build_vehicle_feedback(const VehicleLink& link, SimTime now, SimTime measured_since);
+// The same, written over last frame's `entry` in place (keeps its strings' and vectors' buffers).
+void refresh_vehicle_feedback(VehicleFeedback& entry, const VehicleLink& link, SimTime now, SimTime measured_since);
 
 }  // namespace ocp

@@ -1,0 +1,259 @@
+#include "fleet_command.hpp"
+
+#include <fmt/format.h>
+#include <poll.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <fstream>
+#include <iostream>
+#include <optional>
+
+#include "fleet_point.hpp"
+#include "json_text.hpp"
+#include "ocp/faults.hpp"
+#include "svg_chart.hpp"
+
+namespace ocp::bench {
+
+CLI::App* add_fleet_command(CLI::App& app, FleetOptions& options) {
+  CLI::App* fleet = app.add_subcommand(
+      "fleet",
+      "Scale curve: N Streamers with N reference clients in one process over loopback TCP at 100 Hz,\n"
+      "and N vehicles in virtual time (in-memory pipes). Each point runs in its own child process.");
+  fleet->add_option("--loopback", options.loopback_vehicles, "vehicle counts over loopback TCP (0: none)")
+      ->delimiter(',')->capture_default_str()->check(CLI::Range(0, 100000));
+  fleet->add_option("--virtual", options.virtual_vehicles, "vehicle counts in virtual time (0: none)")
+      ->delimiter(',')->capture_default_str()->check(CLI::Range(0, 100000));
+  fleet->add_option("--window-s", options.window_s, "loopback: wall seconds measured per point (after --warm-up-s)")
+      ->capture_default_str()->check(CLI::Range(0.1, 3600.0));
+  fleet->add_option("--simulated-s", options.simulated_s, "virtual: simulated seconds measured per point")
+      ->capture_default_str()->check(CLI::Range(0.1, 36000.0));
+  fleet->add_option("--warm-up-s", options.warm_up_s, "run this long (wall or simulated) before measuring")
+      ->capture_default_str()->check(CLI::Range(0.0, 600.0));
+  fleet->add_option("--point-timeout-s", options.point_timeout_s, "kill a point that runs longer than this")
+      ->capture_default_str()->check(CLI::Range(1.0, 86400.0));
+  fleet->add_flag("--unobserved", options.unobserved,
+                  "virtual points: do not subscribe to events (observing decodes every frame's pair)");
+  fleet->add_flag("--in-process", options.in_process, "run the points in this process, not forked children (for profilers)");
+  fleet->add_option("--json", options.json_path, "write the points as JSON to FILE");
+  fleet->add_option("--svg", options.svg_path, "write the scale curve as SVG to FILE");
+  return fleet;
+}
+
+namespace {
+
+// Runs one point in a forked child (clean CPU and RSS figures; a point that hangs or crashes
+// is killed and reported instead of taking the whole run down).
+FleetPointResult run_in_child(const FleetPointOptions& options, double timeout_s) {
+  FleetPointResult result;
+  result.mode = options.mode;
+  result.vehicles = options.vehicles;
+  int fds[2];
+  if (pipe(fds) != 0) {
+    std::snprintf(result.error, sizeof result.error, "pipe failed");
+    return result;
+  }
+  std::cout.flush();
+  std::cerr.flush();
+  const pid_t pid = fork();
+  if (pid < 0) {
+    std::snprintf(result.error, sizeof result.error, "fork failed");
+    return result;
+  }
+  if (pid == 0) {
+    close(fds[0]);
+    const FleetPointResult child_result = run_fleet_point(options);
+    const auto* bytes = reinterpret_cast<const char*>(&child_result);
+    std::size_t written = 0;
+    while (written < sizeof child_result) {
+      const ssize_t n = write(fds[1], bytes + written, sizeof child_result - written);
+      if (n <= 0) break;
+      written += static_cast<std::size_t>(n);
+    }
+    _exit(0);
+  }
+  close(fds[1]);
+  FleetPointResult received;
+  auto* bytes = reinterpret_cast<char*>(&received);
+  std::size_t got = 0;
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  bool timed_out = false;
+  while (got < sizeof received) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(give_up - std::chrono::steady_clock::now());
+    if (left.count() <= 0) {
+      timed_out = true;
+      break;
+    }
+    pollfd poll_fd{fds[0], POLLIN, 0};
+    if (poll(&poll_fd, 1, static_cast<int>(std::min<long>(left.count(), 1000))) <= 0) continue;
+    const ssize_t n = read(fds[0], bytes + got, sizeof received - got);
+    if (n <= 0) break;
+    got += static_cast<std::size_t>(n);
+  }
+  close(fds[0]);
+  if (timed_out) kill(pid, SIGKILL);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  if (got == sizeof received) return received;
+  std::snprintf(result.error, sizeof result.error, "%s",
+                timed_out ? fmt::format("did not finish within {:g} s (killed)", timeout_s).c_str()
+                          : fmt::format("child ended without a result (status {})", status).c_str());
+  return result;
+}
+
+// What one more vehicle costs: the slope of resident memory between this point and the previous
+// one of the same mode. The fixed cost (io_context, Player, allocator arenas) dominates the
+// plain per-vehicle figure at small N; the slope does not contain it.
+void set_marginal_memory(std::vector<FleetPointResult>& points) {
+  FleetPointResult& last = points.back();
+  if (!last.ok) return;
+  for (auto previous = points.rbegin() + 1; previous != points.rend(); ++previous) {
+    if (!previous->ok || previous->mode != last.mode || previous->vehicles >= last.vehicles) continue;
+    const double grown_kib = (last.rss_end_kib - last.rss_base_kib) - (previous->rss_end_kib - previous->rss_base_kib);
+    last.marginal_kib_per_vehicle = grown_kib / (last.vehicles - previous->vehicles);
+    return;
+  }
+  last.marginal_kib_per_vehicle = last.kib_per_vehicle;
+}
+
+std::string fault_summary(const FleetPointResult& point) {
+  std::string out;
+  for (std::size_t id = 0; id < fault_count; ++id) {
+    if (point.faults_raised[id] == 0) continue;
+    if (!out.empty()) out += " ";
+    out += fmt::format("{}×{}", fault_identifier(static_cast<FaultId>(id)), point.faults_raised[id]);
+  }
+  return out.empty() ? "none" : out;
+}
+
+void print_header(std::ostream& out) {
+  out << fmt::format("{:<9} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>9} {:>9}  {}\n", "mode", "N", "tick p50",
+                     "tick p99", "tick max", "echo p50", "echo p99", "CPU s/s", "sim/wall", "KiB/veh", "marginal", "faults raised");
+  out << fmt::format("{:<9} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>9} {:>9}\n", "", "", "µs", "µs", "µs",
+                     "µs", "µs", "(CPU/sim)", "", "", "KiB/veh");
+}
+
+void print_point(std::ostream& out, const FleetPointResult& point) {
+  if (!point.ok) {
+    out << fmt::format("{:<9} {:>6}  failed: {}\n", fleet_mode_name(point.mode), point.vehicles, point.error);
+    return;
+  }
+  const std::string mode = fleet_mode_name(point.mode) + (point.observed ? "" : "*");
+  out << fmt::format("{:<9} {:>6} {:>9.0f} {:>9.0f} {:>9.0f} {:>9.0f} {:>9.0f} {:>10.3f} {:>9.2f} {:>9.1f} {:>9.1f}  {}\n",
+                     mode, point.vehicles, point.tick_p50_us, point.tick_p99_us,
+                     point.tick_max_us, point.echo_p50_us, point.echo_p99_us, point.cpu_per_simulated_s,
+                     point.simulated_per_wall_s, point.kib_per_vehicle, point.marginal_kib_per_vehicle,
+                     fault_summary(point));
+}
+
+std::string point_json(const FleetPointResult& point) {
+  std::string faults = "{";
+  for (std::size_t id = 0; id < fault_count; ++id) {
+    if (point.faults_raised[id] == 0) continue;
+    if (faults.size() > 1) faults += ",";
+    faults += fmt::format("{}:{}", json_string(fault_identifier(static_cast<FaultId>(id))), point.faults_raised[id]);
+  }
+  faults += "}";
+  return fmt::format(
+      R"({{"mode":"{}","vehicles":{},"observed":{},"ok":{},"error":{},"window_s":{},"wall_s":{},"cpu_s":{},"cpu_per_simulated_s":{},)"
+      R"("simulated_per_wall_s":{},"rss_base_kib":{},"rss_end_kib":{},"kib_per_vehicle":{},"marginal_kib_per_vehicle":{},"tick_lateness_us":{{"p50":{},"p99":{},"max":{},"count":{}}},)"
+      R"("echo_delay_us":{{"p50":{},"p99":{},"count":{}}},"responses":{},"connections":{},"faults_raised":{}}})",
+      fleet_mode_name(point.mode), point.vehicles, point.observed, point.ok, json_string(point.error), json_number(point.window_s),
+      json_number(point.wall_s), json_number(point.cpu_s), json_number(point.cpu_per_simulated_s),
+      json_number(point.simulated_per_wall_s), json_number(point.rss_base_kib), json_number(point.rss_end_kib),
+      json_number(point.kib_per_vehicle), json_number(point.marginal_kib_per_vehicle), json_number(point.tick_p50_us), json_number(point.tick_p99_us),
+      json_number(point.tick_max_us), point.ticks, json_number(point.echo_p50_us), json_number(point.echo_p99_us),
+      point.echoes, point.responses, point.connections, faults);
+}
+
+// Three charts stacked in one SVG file.
+std::string scale_svg(const std::vector<FleetPointResult>& points) {
+  auto series = [&](FleetMode mode, const std::string& name, const std::string& color, auto value) {
+    XySeries one{name, color, {}, false};
+    for (const auto& point : points) {
+      if (point.ok && point.mode == mode) one.points.push_back({static_cast<double>(point.vehicles), value(point)});
+    }
+    return one;
+  };
+  ChartOptions latency;
+  latency.title = "Loopback, 100 Hz per vehicle: tick lateness and echo delay";
+  latency.x_label = "vehicles in one process (log)";
+  latency.y_label = "µs (log)";
+  latency.log_x = latency.log_y = true;
+  ChartOptions cpu;
+  cpu.title = "CPU seconds per simulated second (whole process, all threads)";
+  cpu.x_label = "vehicles (log)";
+  cpu.y_label = "CPU s / simulated s (log)";
+  cpu.log_x = cpu.log_y = true;
+  ChartOptions memory;
+  memory.title = "Resident memory per vehicle (whole process ÷ N, and marginal)";
+  memory.x_label = "vehicles (log)";
+  memory.y_label = "KiB per vehicle (log)";
+  memory.log_x = memory.log_y = true;
+  const std::vector<std::string> charts{
+      xy_chart({series(FleetMode::loopback, "tick lateness p99", "#d62728", [](auto& p) { return p.tick_p99_us; }),
+                series(FleetMode::loopback, "tick lateness p50", "#ff9896", [](auto& p) { return p.tick_p50_us; }),
+                series(FleetMode::loopback, "echo delay p99", "#1f77b4", [](auto& p) { return p.echo_p99_us; })},
+               latency),
+      xy_chart({series(FleetMode::loopback, "loopback", "#1f77b4", [](auto& p) { return p.cpu_per_simulated_s; }),
+                series(FleetMode::virtual_time, "virtual time", "#2ca02c", [](auto& p) { return p.cpu_per_simulated_s; })},
+               cpu),
+      xy_chart({series(FleetMode::loopback, "loopback ÷ N", "#1f77b4", [](auto& p) { return p.kib_per_vehicle; }),
+                series(FleetMode::loopback, "loopback marginal", "#aec7e8", [](auto& p) { return p.marginal_kib_per_vehicle; }),
+                series(FleetMode::virtual_time, "virtual ÷ N", "#2ca02c", [](auto& p) { return p.kib_per_vehicle; }),
+                series(FleetMode::virtual_time, "virtual marginal", "#98df8a", [](auto& p) { return p.marginal_kib_per_vehicle; })},
+               memory)};
+  const int height = 300;
+  std::string svg = fmt::format(
+      R"(<svg xmlns="http://www.w3.org/2000/svg" width="760" height="{0}" viewBox="0 0 760 {0}">)" "\n",
+      height * static_cast<int>(charts.size()));
+  for (std::size_t index = 0; index < charts.size(); ++index) {
+    std::string chart = charts[index];
+    chart.replace(0, 4, fmt::format("<svg y=\"{}\"", height * static_cast<int>(index)));
+    svg += chart;
+  }
+  return svg + "</svg>\n";
+}
+
+}  // namespace
+
+int run_fleet(const FleetOptions& options) {
+  std::vector<FleetPointOptions> plan;
+  for (const int vehicles : options.loopback_vehicles) {
+    if (vehicles == 0) continue;
+    plan.push_back({FleetMode::loopback, vehicles, options.warm_up_s, options.window_s, 60.0, true});
+  }
+  for (const int vehicles : options.virtual_vehicles) {
+    if (vehicles == 0) continue;
+    plan.push_back({FleetMode::virtual_time, vehicles, options.warm_up_s, options.simulated_s, 60.0, !options.unobserved});
+  }
+  print_header(std::cout);
+  std::vector<FleetPointResult> points;
+  for (const auto& point_options : plan) {
+    points.push_back(options.in_process ? run_fleet_point(point_options)
+                                        : run_in_child(point_options, options.point_timeout_s));
+    set_marginal_memory(points);
+    print_point(std::cout, points.back());
+    std::cout.flush();
+  }
+  if (options.unobserved) std::cout << "* unobserved: no event subscription, so no latency or fault figures\n";
+  int exit_code = 0;
+  if (!options.json_path.empty()) {
+    std::string json = R"({"tool":"ocp_bench fleet","points":[)";
+    for (std::size_t index = 0; index < points.size(); ++index) json += (index ? "," : "") + point_json(points[index]);
+    std::ofstream file(options.json_path);
+    file << json << "]}\n";
+    if (!file) exit_code = 1;
+  }
+  if (!options.svg_path.empty()) {
+    std::ofstream file(options.svg_path);
+    file << scale_svg(points);
+    if (!file) exit_code = 1;
+  }
+  return exit_code;
+}
+
+}  // namespace ocp::bench

@@ -1,0 +1,27 @@
+#pragma once
+// `ocp_bench fleet`: the scale curve — N vehicles in one process over real loopback TCP at
+// 100 Hz, and the same in virtual time; tick lateness, echo delay, CPU per simulated second,
+// memory per vehicle, faults; a table, --json and an SVG of the curve (--svg).
+#include <CLI/CLI.hpp>
+
+#include <string>
+#include <vector>
+
+namespace ocp::bench {
+
+struct FleetOptions {
+  std::vector<int> loopback_vehicles{1, 10, 100};
+  std::vector<int> virtual_vehicles{1, 10, 100};
+  double window_s = 5.0;           // loopback: wall seconds measured per point
+  double simulated_s = 10.0;       // virtual: simulated seconds measured per point
+  double warm_up_s = 1.0;          // run before measuring (both modes)
+  double point_timeout_s = 180.0;  // a point still running after this is killed and reported
+  bool unobserved = false;         // virtual points without subscribing (the world's own speed)
+  bool in_process = false;         // run points in this process (for profilers); memory then accumulates
+  std::string json_path, svg_path;
+};
+
+CLI::App* add_fleet_command(CLI::App& app, FleetOptions& options);
+int run_fleet(const FleetOptions& options);
+
+}  // namespace ocp::bench

@@ -1,0 +1,204 @@
+#include "fleet_point.hpp"
+
+#include <fmt/format.h>
+#include <sys/prctl.h>
+
+#include <atomic>
+#include <boost/asio/io_context.hpp>
+#include <chrono>
+#include <cstring>
+#include <memory>
+#include <optional>
+#include <thread>
+
+#include "ocp/asio_executor.hpp"
+#include "ocp/virtual_executor.hpp"
+#include "process_usage.hpp"
+#include "stats.hpp"
+#include "streamer_app/streamer_front.hpp"
+#include "vehicle_client/tcp_runner.hpp"
+#include "world/world.hpp"
+
+namespace ocp::bench {
+
+std::string fleet_mode_name(FleetMode mode) { return mode == FleetMode::loopback ? "loopback" : "virtual"; }
+
+std::uint64_t FleetPointResult::faults_total() const {
+  std::uint64_t total = 0;
+  for (const auto count : faults_raised) total += count;
+  return total;
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+Micros seconds_to_micros(double seconds) { return Micros{static_cast<std::int64_t>(seconds * 1e6)}; }
+
+std::vector<std::string> vehicle_names(const WorldConfig& config) {
+  std::vector<std::string> names;
+  for (const auto& vehicle : config.vehicles) names.push_back(vehicle.name);
+  return names;
+}
+
+WorldConfig fleet_config(int vehicles, bool in_process_clients) {
+  WorldConfig config;
+  config.seed = 11;
+  config.deterministic_keys = in_process_clients;   // virtual time: reproducible
+  config.player.name = "operator";
+  config.player.fleet = true;
+  for (int index = 0; index < vehicles; ++index) {
+    VehicleSpec vehicle;
+    vehicle.name = fmt::format("v{:05}", index);
+    vehicle.in_process_client = in_process_clients;
+    config.vehicles.push_back(std::move(vehicle));
+  }
+  return config;
+}
+
+void fail(FleetPointResult& result, const std::string& why) {
+  result.ok = false;
+  std::strncpy(result.error, why.c_str(), sizeof result.error - 1);
+}
+
+void take_figures(FleetPointResult& result, const FleetRecorder& recorder) {
+  const Summary ticks = summarize(recorder.tick_lateness_us());
+  const Summary echoes = summarize(recorder.echo_delays_us());
+  result.ticks = ticks.count;
+  result.tick_p50_us = ticks.p50;
+  result.tick_p99_us = ticks.p99;
+  result.tick_max_us = ticks.max;
+  result.echoes = echoes.count;
+  result.echo_p50_us = echoes.p50;
+  result.echo_p99_us = echoes.p99;
+  result.responses = recorder.responses();
+  result.connections = recorder.connections();
+  for (std::size_t id = 0; id < fault_count; ++id) result.faults_raised[id] = recorder.faults_raised()[id];
+}
+
+// N reference clients on one thread with its own io_context, as one client process would be.
+class ClientFleet {
+ public:
+  explicit ClientFleet(std::vector<std::uint16_t> ports) {
+    thread_ = std::thread([this, ports = std::move(ports)] {
+      prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
+      boost::asio::io_context io;
+      AsioExecutor executor(io);
+      std::vector<std::unique_ptr<VehicleClient>> clients;
+      std::vector<std::unique_ptr<TcpRunner>> runners;
+      for (const std::uint16_t port : ports) {
+        clients.push_back(std::make_unique<VehicleClient>(executor, VehicleClientConfig{}, Logger(executor, "vehicle", {})));
+        TcpRunnerConfig config;
+        config.server.port = port;
+        runners.push_back(std::make_unique<TcpRunner>(executor, *clients.back(), config, Logger(executor, "tcp", {})));
+        runners.back()->start();
+      }
+      while (!stop_) io.run_for(std::chrono::milliseconds(50));
+      for (auto& runner : runners) runner->stop();
+    });
+  }
+  ~ClientFleet() { stop(); }
+  void stop() {
+    stop_ = true;
+    if (thread_.joinable()) thread_.join();
+  }
+
+ private:
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+FleetPointResult run_loopback(const FleetPointOptions& options, FleetPointResult result) {
+  prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
+  result.rss_base_kib = resident_kib();
+  boost::asio::io_context io;
+  AsioExecutor executor(io);
+  const WorldConfig config = fleet_config(options.vehicles, false);
+  const std::vector<std::string> names = vehicle_names(config);   // world.vehicles() is empty until start()
+  World world(executor, config, make_null_sink());
+  std::vector<std::unique_ptr<StreamerFront>> fronts;
+  std::vector<std::uint16_t> ports;
+  for (const std::string& vehicle : names) {
+    fronts.push_back(std::make_unique<StreamerFront>(executor, world, vehicle, Logger(executor, "front", {})));
+    if (auto status = fronts.back()->listen(TcpServerOptions{0, false}); !status) {
+      fail(result, "listen: " + status.error().detail);
+      return result;
+    }
+    ports.push_back(fronts.back()->port());
+  }
+  FleetRecorder recorder(world.events(), names);
+  if (auto status = world.start(); !status) {
+    fail(result, "world: " + status.error().detail);
+    return result;
+  }
+  ClientFleet clients(ports);
+  const auto give_up = Clock::now() + std::chrono::duration<double>(options.connect_timeout_s);
+  while (recorder.connections() < static_cast<std::uint64_t>(options.vehicles) && Clock::now() < give_up) {
+    io.run_for(std::chrono::milliseconds(100));
+  }
+  if (recorder.connections() < static_cast<std::uint64_t>(options.vehicles)) {
+    fail(result, fmt::format("only {} of {} clients connected", recorder.connections(), options.vehicles));
+    return result;
+  }
+  io.run_for(seconds_to_micros(options.warm_up_s));
+  const double cpu_start = process_cpu_seconds();
+  const auto wall_start = Clock::now();
+  recorder.start_recording();
+  io.run_for(seconds_to_micros(options.window_s));
+  recorder.stop_recording();
+  result.wall_s = std::chrono::duration<double>(Clock::now() - wall_start).count();
+  result.cpu_s = process_cpu_seconds() - cpu_start;
+  result.rss_end_kib = resident_kib();
+  result.window_s = result.wall_s;
+  clients.stop();
+  for (auto& front : fronts) front->stop();
+  world.stop();
+  take_figures(result, recorder);
+  result.ok = true;
+  return result;
+}
+
+FleetPointResult run_virtual(const FleetPointOptions& options, FleetPointResult result) {
+  result.rss_base_kib = resident_kib();
+  VirtualExecutor executor;
+  const WorldConfig config = fleet_config(options.vehicles, true);
+  World world(executor, config, make_null_sink());
+  std::optional<FleetRecorder> recorder;
+  if (options.observe) recorder.emplace(world.events(), vehicle_names(config));
+  if (auto status = world.start(); !status) {
+    fail(result, "world: " + status.error().detail);
+    return result;
+  }
+  executor.run_for(seconds_to_micros(options.warm_up_s));
+  const double cpu_start = process_cpu_seconds();
+  const auto wall_start = Clock::now();
+  if (recorder) recorder->start_recording();
+  executor.run_for(seconds_to_micros(options.window_s));
+  if (recorder) recorder->stop_recording();
+  result.wall_s = std::chrono::duration<double>(Clock::now() - wall_start).count();
+  result.cpu_s = process_cpu_seconds() - cpu_start;
+  result.rss_end_kib = resident_kib();
+  result.window_s = options.window_s;
+  world.stop();
+  if (recorder) take_figures(result, *recorder);
+  result.ok = true;
+  return result;
+}
+
+}  // namespace
+
+FleetPointResult run_fleet_point(const FleetPointOptions& options) {
+  FleetPointResult result;
+  result.mode = options.mode;
+  result.vehicles = options.vehicles;
+  result.observed = options.observe;
+  result = options.mode == FleetMode::loopback ? run_loopback(options, result) : run_virtual(options, result);
+  if (result.ok) {
+    result.cpu_per_simulated_s = result.window_s > 0 ? result.cpu_s / result.window_s : 0;
+    result.simulated_per_wall_s = result.wall_s > 0 ? result.window_s / result.wall_s : 0;
+    result.kib_per_vehicle = (result.rss_end_kib - result.rss_base_kib) / std::max(1, result.vehicles);
+  }
+  return result;
+}
+
+}  // namespace ocp::bench

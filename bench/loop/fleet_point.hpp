@@ -1,0 +1,51 @@
+#pragma once
+// One point of the fleet scale curve: N vehicles hosted by one process, either over real
+// loopback TCP (N Streamers with N reference clients on a second thread, real time) or in
+// virtual time (a World with N in-process clients over pipes). Each point runs in a forked
+// child (fleet_command.cpp), so CPU and resident memory are that point's alone; the result is
+// a plain struct sent back through a pipe.
+#include <cstdint>
+#include <string>
+
+#include "fleet_recorder.hpp"
+
+namespace ocp::bench {
+
+enum class FleetMode : std::uint8_t { loopback, virtual_time };
+
+struct FleetPointOptions {
+  FleetMode mode = FleetMode::loopback;
+  int vehicles = 1;
+  double warm_up_s = 1.0;
+  double window_s = 5.0;        // wall seconds (loopback) or simulated seconds (virtual)
+  double connect_timeout_s = 60.0;
+  // Subscribe to the events. Publishing a WireFrame extracts its pair (a JSON decode of every
+  // frame), so observing costs the world real work; false measures the world alone.
+  bool observe = true;
+};
+
+// Trivially copyable: written as bytes through a pipe.
+struct FleetPointResult {
+  FleetMode mode = FleetMode::loopback;
+  int vehicles = 0;
+  bool observed = true;
+  bool ok = false;
+  char error[160] = {};
+  double window_s = 0;            // what was measured: wall (loopback) or simulated (virtual) s
+  double wall_s = 0;
+  double cpu_s = 0;
+  double cpu_per_simulated_s = 0;
+  double simulated_per_wall_s = 0;
+  double rss_base_kib = 0, rss_end_kib = 0, kib_per_vehicle = 0;
+  double marginal_kib_per_vehicle = 0;   // against the previous point of the same mode (fleet_command)
+  double tick_p50_us = 0, tick_p99_us = 0, tick_max_us = 0;
+  double echo_p50_us = 0, echo_p99_us = 0;
+  std::uint64_t ticks = 0, echoes = 0, responses = 0, connections = 0;
+  std::uint64_t faults_raised[fault_count] = {};
+  std::uint64_t faults_total() const;
+};
+
+FleetPointResult run_fleet_point(const FleetPointOptions& options);
+std::string fleet_mode_name(FleetMode mode);   // "loopback" | "virtual"
+
+}  // namespace ocp::bench

@@ -1,0 +1,27 @@
+#pragma once
+// `ocp_bench loop`: a Streamer with a simulated operator on 127.0.0.1, the client under test
+// connected to it (launched after `--`, or whoever connects to --port), measured for
+// --duration-s from the Streamer's event stream. See docs/benchmarks.md ("Loop").
+#include <CLI/CLI.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace ocp::bench {
+
+struct LoopOptions {
+  std::optional<std::uint16_t> port;   // unset: 4000 when waiting, ephemeral with a command
+  double duration_s = 10.0;
+  double connect_timeout_s = 10.0;
+  std::string json_path, html_path;
+  bool compare = false;
+  bool quiet = false;                  // no progress line
+  std::vector<std::string> command;    // after `--`
+};
+
+CLI::App* add_loop_command(CLI::App& app, LoopOptions& options);
+// Exit code: 0 measured, 1 runtime error (port busy, no client, client exited early).
+int run_loop(const LoopOptions& options);
+
+}  // namespace ocp::bench

@@ -1,0 +1,39 @@
+# ctest: `ocp_bench loop` against the reference vehicle_client for 2 s, then checks the JSON.
+# Run as: cmake -DOCP_BENCH=… -DVEHICLE_CLIENT=… -DOUT_DIR=… -P loop_vehicle_client.cmake
+set(json_file ${OUT_DIR}/ocp_bench_loop_test.json)
+file(REMOVE ${json_file})
+execute_process(
+  COMMAND ${OCP_BENCH} loop --duration-s 2 --quiet --json ${json_file} -- ${VEHICLE_CLIENT} 127.0.0.1:{port}
+  RESULT_VARIABLE exit_code OUTPUT_VARIABLE output ERROR_VARIABLE errors TIMEOUT 60)
+if(NOT exit_code EQUAL 0)
+  message(FATAL_ERROR "ocp_bench loop exited with ${exit_code}\n${output}\n${errors}")
+endif()
+file(READ ${json_file} json)
+
+# Every figure the report promises is present.
+foreach(path "client;echo_delay_us;p50" "client;echo_delay_us;p99" "client;echo_delay_us;p99_9"
+             "client;echo_delay_us;max" "client;responses_per_s" "client;max_response_gap_ms"
+             "client;latency_ms;p50" "client;tick_lateness_us;p99" "client;faults" "duration_s")
+  string(JSON value ERROR_VARIABLE missing GET "${json}" ${path})
+  if(missing)
+    message(FATAL_ERROR "JSON lacks ${path}: ${missing}\n${json}")
+  endif()
+endforeach()
+
+string(JSON responses GET "${json}" client responses)
+if(responses LESS_EQUAL 0)
+  message(FATAL_ERROR "no responses\n${json}")
+endif()
+string(JSON echoes GET "${json}" client echo_delay_us count)
+if(echoes LESS_EQUAL 0)
+  message(FATAL_ERROR "no echo delays\n${json}")
+endif()
+string(JSON faults GET "${json}" faults_after_connect)
+if(NOT faults EQUAL 0)
+  message(FATAL_ERROR "faults raised while the client was connected\n${json}")
+endif()
+string(JSON child_exit_type TYPE "${json}" child_exit)
+if(NOT child_exit_type STREQUAL "NULL")
+  string(JSON child_exit GET "${json}" child_exit)
+  message(FATAL_ERROR "the client exited early (${child_exit})\n${output}")
+endif()
