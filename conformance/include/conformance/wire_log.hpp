@@ -1,0 +1,44 @@
+#pragma once
+// The wire log of one case: every control frame out and response in (time, length prefix,
+// payload, pair), every connection change and a few harness notes — built only from the
+// Streamer's event stream (StreamerCore::events()), never from hooks in the core.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ocp/event_bus.hpp"
+#include "ocp/messages.hpp"
+
+namespace ocp::conformance {
+
+enum class WireEntryKind { out, in, opened, closed, refused, note };
+std::string_view wire_entry_kind_name(WireEntryKind kind);  // "out" | "in" | "open" | …
+
+struct WireLogEntry {
+  std::int64_t time_us = 0;        // the host executor's µs (one timeline per host)
+  WireEntryKind kind = WireEntryKind::note;
+  std::uint32_t length_prefix = 0; // out / in
+  bool drained = false;            // in: oversized frame the Streamer skipped
+  std::optional<AckPair> ack;      // the pair the frame carries, when it decodes
+  std::string text;                // payload (out / in), peer + reason (connections), note
+  std::string close_code;          // closed: "peer.read_timeout", "local.shut_down", …
+};
+
+class WireLog {
+ public:
+  // Records everything `bus` publishes about the vehicle wire from now on (replaces any
+  // previous subscription: a restarted Streamer has a new bus).
+  void attach(EventBus& bus);
+  void detach() { subscription_.reset(); }
+  void note(std::int64_t time_us, std::string text);
+
+  const std::vector<WireLogEntry>& entries() const { return entries_; }
+  std::vector<WireLogEntry> take() { return std::move(entries_); }
+
+ private:
+  EventBus::Subscription subscription_;
+  std::vector<WireLogEntry> entries_;
+};
+
+}  // namespace ocp::conformance
