@@ -72,6 +72,12 @@ Result<std::unique_ptr<ClientProcess>> ClientProcess::launch(const std::vector<s
   if (pid == 0) {
     setpgid(0, 0);
     close(status_pipe[0]);
+    // The harness's sockets (listening socket, connections) must not live on in the client:
+    // an inherited listener would keep the port busy across a Streamer restart.
+    const long max_fd = sysconf(_SC_OPEN_MAX);
+    for (int fd = 3; fd < (max_fd > 0 ? max_fd : 1024); ++fd) {
+      if (fd != status_pipe[1]) close(fd);
+    }
     const int fd = open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (fd >= 0) {
       dup2(fd, STDOUT_FILENO);

@@ -58,7 +58,14 @@ Status StreamerHost::restart(const StreamerSetup& setup) {
   stop_streamer();
   const std::uint16_t port = port_;
   server_.stop();
-  if (auto status = listen(port); !status) return status;
+  // The closed sockets' handlers run on the io_context; until they have, the kernel may still
+  // see the old listener. Retry the bind for a bounded time.
+  Status bound = listen(port);
+  for (int attempt = 0; !bound && attempt < 100; ++attempt) {
+    run_for(std::chrono::milliseconds(20));
+    bound = listen(port);
+  }
+  if (!bound) return bound;
   return start_streamer(setup);
 }
 
