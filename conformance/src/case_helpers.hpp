@@ -21,6 +21,10 @@ inline Outcome ok(std::string actual) { return {Verdict::ok, std::move(actual)};
 inline Outcome non_strict(std::string actual) { return {Verdict::non_strict, std::move(actual)}; }
 inline Outcome failed(std::string actual) { return {Verdict::failed, std::move(actual)}; }
 
+inline std::string last_close(const Observations& obs) {
+  return obs.close_codes.empty() ? std::string("unknown reason") : obs.close_codes.back();
+}
+
 inline std::string describe(const AckPair& pair) {
   return fmt::format("({}, {})", pair.ack_time, pair.ack_time_mac);
 }

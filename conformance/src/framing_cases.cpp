@@ -24,7 +24,7 @@ Outcome valid_responses(CaseContext& ctx) {
   }
   const std::string counts = fmt::format("{} responses: {} valid, {} oversized (drained), largest length prefix {} bytes",
                                          obs.responses.size(), valid, drained, largest);
-  if (obs.closed_by_peer_error()) return failed(counts + "; the Streamer closed the connection: " + obs.close_codes.back());
+  if (obs.closed_by_peer_error()) return failed(counts + "; the Streamer closed the connection: " + last_close(obs));
   if (drained > 0) return failed(counts);
   if (valid < 10) return failed(counts + "; fewer than 10 valid responses in 1 s");
   return ok(counts);
@@ -37,6 +37,10 @@ Outcome split_frames(CaseContext& ctx) {
   ctx.streamer().set_control_output_paused(true);
   const std::int64_t start = ctx.now_us();
   const std::size_t closes_before = Observations::from(ctx.entries()).closed_us.size();
+  if (!ctx.streamer().vehicle_connected()) {
+    return failed("the connection closed before the split frames were sent: " +
+                  last_close(Observations::from(ctx.entries())));
+  }
   std::vector<AckPair> pairs;
   // (a) One frame dribbled byte by byte, 1 ms apart.
   CraftedControl dribbled{crafted_pair(21, 0)};
@@ -76,7 +80,7 @@ Outcome split_frames(CaseContext& ctx) {
   const bool closed = obs.closed_us.size() > closes_before;
   const std::string counts = fmt::format("a {}-byte frame sent byte by byte, then {} frames cut at every boundary; {} of {} pairs echoed",
                                          frame_size, pairs.size() - 1, echoed, pairs.size());
-  if (closed) return failed(counts + "; connection closed: " + obs.close_codes.back());
+  if (closed) return failed(counts + "; connection closed: " + last_close(obs));
   if (!unknown.empty()) return failed(counts + "; echoed pairs never sent: " + list_pairs(unknown));
   if (!first_echo(obs, dribbled_pair, start)) return failed(counts + "; the byte-by-byte frame's pair was never echoed");
   if (!first_echo(obs, pairs.back(), start)) return failed(counts + "; the last split frame's pair was never echoed");
@@ -109,7 +113,7 @@ Outcome coalesced_frames(CaseContext& ctx) {
   const auto unknown = unknown_pairs(obs, start, all);
   const bool closed = obs.closed_us.size() > closes_before;
   const std::string counts = fmt::format("3 writes of 50 frames each; the last pair of {} of 3 writes echoed", lasts_echoed);
-  if (closed) return failed(counts + "; connection closed: " + obs.close_codes.back());
+  if (closed) return failed(counts + "; connection closed: " + last_close(obs));
   if (!unknown.empty()) return failed(counts + "; echoed pairs never sent: " + list_pairs(unknown));
   if (lasts_echoed < lasts.size()) return failed(counts + " (the latest pair of a write must be echoed)");
   return ok(counts);
@@ -128,7 +132,7 @@ Outcome oversized_inbound(CaseContext& ctx) {
                                       [](std::size_t i) { return CraftedControl{crafted_pair(41, i)}; });
   if (run.closes_before > closes_before) {
     const Observations obs = Observations::from(ctx.entries());
-    return failed("the connection closed after the oversized frame: " + obs.close_codes.back());
+    return failed("the connection closed after the oversized frame: " + last_close(obs));
   }
   return grade_crafted(ctx, run, "after a skipped 20000-byte frame");
 }
@@ -157,7 +161,7 @@ Outcome responds_while_paused(CaseContext& ctx) {
   max_gap = std::max(max_gap, resumed_at - last);
   const std::string counts = fmt::format("{} responses during a 1.8 s pause of control; longest silence {:.0f} ms", during,
                                          static_cast<double>(max_gap) / 1000.0);
-  if (obs.closed_us.size() > closes_before) return failed(counts + "; the connection closed: " + obs.close_codes.back());
+  if (obs.closed_us.size() > closes_before) return failed(counts + "; the connection closed: " + last_close(obs));
   if (max_gap >= 1'000'000) return failed(counts + " (≥ 1 s: half the Streamer's 2 s read timeout is gone; a longer pause closes the connection)");
   return ok(counts);
 }

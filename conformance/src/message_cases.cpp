@@ -91,7 +91,7 @@ Outcome user_data_schema(CaseContext& ctx) {
   const std::string counts = fmt::format("{} responses, {} with vehicle_user_data, {} with a non-object user_data",
                                          checked, with_data, not_object);
   if (!first_problem.empty()) return failed(counts + "; " + first_problem);
-  if (obs.closed_by_peer_error()) return failed(counts + "; the Streamer closed the connection: " + obs.close_codes.back());
+  if (obs.closed_by_peer_error()) return failed(counts + "; the Streamer closed the connection: " + last_close(obs));
   if (checked == 0) return failed("no response to check");
   if (not_object > 0) return non_strict(counts);
   return ok(counts);

@@ -19,8 +19,20 @@ std::string_view wire_entry_kind_name(WireEntryKind kind) {
   return "?";
 }
 
+bool WireLog::full() {
+  if (entries_.size() < wire_log_max_entries) return false;
+  if (dropped_++ == 0) {
+    WireLogEntry entry;
+    entry.time_us = entries_.back().time_us;
+    entry.text = "wire log full: later events are counted, not recorded";
+    entries_.push_back(std::move(entry));
+  }
+  return true;
+}
+
 void WireLog::attach(EventBus& bus) {
   subscription_ = bus.subscribe([this](const Event& event) {
+    if (full()) return;
     std::visit(
         [&](const auto& body) {
           using T = std::decay_t<decltype(body)>;

@@ -2,6 +2,7 @@
 // The wire log of one case: every control frame out and response in (time, length prefix,
 // payload, pair), every connection change and a few harness notes — built only from the
 // Streamer's event stream (StreamerCore::events()), never from hooks in the core.
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -25,6 +26,10 @@ struct WireLogEntry {
   std::string close_code;          // closed: "peer.read_timeout", "local.shut_down", …
 };
 
+// A flooding client could grow a log without bound: past this many entries only a count is
+// kept (a conforming client stays far below it: ~200 frames a second each way).
+inline constexpr std::size_t wire_log_max_entries = 100'000;
+
 class WireLog {
  public:
   // Records everything `bus` publishes about the vehicle wire from now on (replaces any
@@ -34,11 +39,14 @@ class WireLog {
   void note(std::int64_t time_us, std::string text);
 
   const std::vector<WireLogEntry>& entries() const { return entries_; }
+  std::size_t dropped() const { return dropped_; }
   std::vector<WireLogEntry> take() { return std::move(entries_); }
 
  private:
   EventBus::Subscription subscription_;
+  bool full();
   std::vector<WireLogEntry> entries_;
+  std::size_t dropped_ = 0;
 };
 
 }  // namespace ocp::conformance
