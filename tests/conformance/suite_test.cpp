@@ -139,10 +139,10 @@ INSTANTIATE_TEST_SUITE_P(
 // The same broken clients pass the cases they do not break (spot checks: the suite grades
 // the rule, not the client as a whole).
 TEST(ConformanceSuite, BrokenClientsPassTheRulesTheyKeep) {
-  const SuiteRun r = run_suite("keeps", "--cases vehicle/3.3/1,vehicle/2/1,vehicle/3.2/1", python_client("stop-on-fault"));
+  const SuiteRun r = run_suite("keeps", "--cases vehicle/3.3/1,vehicle/2/1,vehicle/3.2/2", python_client("require-controller"));
   EXPECT_EQ(r.verdict("vehicle/3.3/1"), "OK") << r.output;
   EXPECT_EQ(r.verdict("vehicle/2/1"), "OK") << r.output;
-  EXPECT_EQ(r.verdict("vehicle/3.2/1"), "OK") << r.output;
+  EXPECT_EQ(r.verdict("vehicle/3.2/2"), "OK") << r.output;
   EXPECT_EQ(r.exit_code, 0);
 }
 
@@ -152,8 +152,10 @@ TEST_P(HostileClient, EndsTheCaseWithAClearVerdict) {
   const SuiteRun r = run_suite("hostile_" + GetParam(), "--restart-per-case --cases vehicle/3.3/1,vehicle/2/1",
                                python_client(GetParam()));
   EXPECT_EQ(r.exit_code, 1) << r.output;   // not 124 (hung) and not a crash
+  // No hostile client echoes a pair; whether its bytes also break the framing case depends
+  // on the client (a flood of valid frames is validly framed), so only that case must end.
   EXPECT_EQ(r.verdict("vehicle/3.3/1"), "FAILED") << r.output;
-  EXPECT_EQ(r.verdict("vehicle/2/1"), "FAILED") << r.output;
+  EXPECT_NE(r.verdict("vehicle/2/1"), "not run") << r.output;
 }
 
 INSTANTIATE_TEST_SUITE_P(Hostile, HostileClient,
