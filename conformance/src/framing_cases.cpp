@@ -56,6 +56,7 @@ Outcome split_frames(CaseContext& ctx) {
   std::uint64_t target = ctx.streamer().stats().vehicle_bytes_out + whole.size();
   (void)ctx.streamer().write_raw_to_vehicle(whole, every, milliseconds(1));
   ctx.wait_until(written(target), milliseconds(5000));
+  ctx.run_for(milliseconds(50));   // time to answer it, even on a 10 ms timer
   const AckPair dribbled_pair = dribbled.ack;
   // (b) For every boundary k: one frame cut in two at k, the pieces 1 ms apart.
   std::size_t frame_size = 0;

@@ -29,7 +29,7 @@ Outcome controller_null(CaseContext& ctx) {
 }
 
 Outcome default_with_fault(CaseContext& ctx) {
-  return crafted_case(ctx, 52, "with the default controller and telemetry.fault true", [](CraftedControl& c) {
+  return crafted_case(ctx, 52, "with the default controller, telemetry.fault true and two fault reasons", [](CraftedControl& c) {
     c.controller = CraftedController::safe_default;
     c.fault = true;
     c.fault_reason = "High Latency, Latency Loop Not Closed";
@@ -107,11 +107,11 @@ void add_message_cases(std::vector<VehicleCase>& cases) {
                      "broken_client.py require-controller"},
                     controller_null},
                    {}});
-  cases.push_back({{{"vehicle/3.2/2", "handles the default controller with telemetry.fault true", "SPEC §3.2, seed 000",
-                     "\"When a control-path fault is active, OCP sends default controller values and sets the telemetry fault state.\"",
+  cases.push_back({{{"vehicle/3.2/2", "handles the default controller with telemetry.fault true and several fault reasons", "SPEC §3.2, seed 000",
+                     "\"When a control-path fault is active, OCP sends default controller values and sets the telemetry fault state.\" — fault_reason is \"Comma-separated diagnostic text … Do not build safety behavior that depends on exact display strings.\"",
                      Tier::must, milliseconds(10'000),
                      {"OK: 30 frames with the safe default controller and fault true are accepted and still echoed; connection kept"},
-                     "broken_client.py stop-on-fault"},
+                     "broken_client.py fault-enum"},
                     default_with_fault},
                    {}});
   cases.push_back({{{"vehicle/3.2/3", "handles nested client_user_data", "SPEC §3.2, seed 001",
@@ -133,7 +133,7 @@ void add_message_cases(std::vector<VehicleCase>& cases) {
                      Tier::must, milliseconds(10'000),
                      {"OK: every vehicle_user_data is an object with user_data (an object) and pos absent, null or {lat: number, lon: number}",
                       "NON-STRICT: user_data present but not an object (accepted by the SPEC Decision; seed 001 says object)"},
-                     "broken_client.py bad-pos"},
+                     "broken_client.py bad-pos (FAILED; the Streamer also drops it); broken_client.py scalar-user-data (NON-STRICT)"},
                     user_data_schema},
                    {}});
 }

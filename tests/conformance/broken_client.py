@@ -21,9 +21,11 @@ LIMIT = 16384
 
 # Broken modes (each fails one case) and hostile modes (the harness must stay in control).
 BROKEN = {"echo-only", "timer-echo", "naive-recv", "reject-oversized", "require-controller",
-          "stop-on-fault", "flat-user-data", "strict-schema", "bad-pos", "no-reconnect",
-          "sticky-pair", "early-echo"}
+          "fault-enum", "flat-user-data", "strict-schema", "bad-pos", "no-reconnect",
+          "sticky-pair", "early-echo", "scalar-user-data"}
 HOSTILE = {"garbage", "flood", "huge-prefix", "half-open", "never-read"}
+FAULT_NAMES = {"", "Vehicle No Response", "No Control Message", "Camera Lost", "Streamer Slow", "High Latency",
+               "Operator Station Has Error", "Latency Loop Not Closed", "Control Thread Channel Slow"}
 KNOWN_TOP = {"controller", "telemetry", "ack_time", "ack_time_mac", "client_user_data"}
 KNOWN_TELEMETRY = {"latency", "fault", "fault_reason", "missing_cameras"}
 
@@ -35,8 +37,9 @@ def frame(obj):
 
 def response(pair):
     pos = {"lat": "57.7", "lon": 11.9} if MODE == "bad-pos" else {"lat": 57.7, "lon": 11.9}
+    user_data = 1.4 if MODE == "scalar-user-data" else {"mode": MODE}
     return frame({"ack_time": pair[0], "ack_time_mac": pair[1],
-                  "vehicle_user_data": {"pos": pos, "user_data": {"mode": MODE}}})
+                  "vehicle_user_data": {"pos": pos, "user_data": user_data}})
 
 
 def acceptable(msg):
@@ -130,8 +133,8 @@ def session(sock, last_pair):
             buf = buf[4 + length:]
             if not acceptable(msg):
                 return pair
-            if MODE == "stop-on-fault" and msg["telemetry"]["fault"]:
-                continue
+            if MODE == "fault-enum" and msg["telemetry"]["fault"] and msg["telemetry"]["fault_reason"] not in FAULT_NAMES:
+                return pair   # Bug: fault_reason parsed as one known display string.
             pair = (msg["ack_time"], msg["ack_time_mac"])
             got_new = True
         now = time.monotonic()
