@@ -45,15 +45,28 @@ inline const Response* first_echo(const Observations& obs, const AckPair& pair, 
 }
 
 // Responses at or after `after_us` whose pair is neither one the Streamer sent nor `extra`.
+// A made-up pair sent before the client had seen any control frame may reach us after our
+// first frame left (they cross on the wire): that is vehicle/3.3/4's business, so counting
+// starts at the client's first echo of a real pair — or at `after_us` if it never echoes one.
 inline std::vector<AckPair> unknown_pairs(const Observations& obs, std::int64_t after_us,
                                           const std::vector<AckPair>& extra = {}) {
+  const auto known = [&](const AckPair& pair) {
+    if (obs.find_sent(pair) >= 0) return true;
+    for (const AckPair& p : extra) {
+      if (p == pair) return true;
+    }
+    return false;
+  };
+  std::int64_t from = after_us;
+  for (const Response& r : obs.responses) {
+    if (r.time_us >= after_us && r.ack && known(*r.ack)) {
+      from = r.time_us;
+      break;
+    }
+  }
   std::vector<AckPair> out;
   for (const Response& r : obs.responses) {
-    if (r.time_us < after_us || !r.ack) continue;
-    if (obs.find_sent(*r.ack) >= 0) continue;
-    bool known = false;
-    for (const AckPair& p : extra) known = known || p == *r.ack;
-    if (!known) out.push_back(*r.ack);
+    if (r.time_us >= from && r.ack && !known(*r.ack)) out.push_back(*r.ack);
   }
   return out;
 }
