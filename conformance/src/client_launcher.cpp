@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -71,6 +72,10 @@ Result<std::unique_ptr<ClientProcess>> ClientProcess::launch(const std::vector<s
   }
   if (pid == 0) {
     setpgid(0, 0);
+    // Even if the harness dies without cleaning up (a crash, SIGKILL), the client goes too.
+    // (The launching worker thread outlives its clients: it kills them before it returns.)
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (getppid() == 1) _exit(127);
     close(status_pipe[0]);
     // The harness's sockets (listening socket, connections) must not live on in the client:
     // an inherited listener would keep the port busy across a Streamer restart.

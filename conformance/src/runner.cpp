@@ -50,7 +50,7 @@ std::string log_path(const RunOptions& options, const std::string& name) {
 }
 
 CaseResult run_one(Shared& shared, StreamerHost& host, const VehicleCase& vc, std::unique_ptr<ClientProcess>& client,
-                   unsigned worker) {
+                   std::string& client_log, unsigned worker) {
   const RunOptions& options = shared.options;
   CaseResult result;
   result.info = vc.body.info;
@@ -69,8 +69,9 @@ CaseResult run_one(Shared& shared, StreamerHost& host, const VehicleCase& vc, st
     auto launched = ClientProcess::launch(options.command, host.port(), path);
     if (!launched) throw std::runtime_error(launched.error().message());
     client = std::move(*launched);
-    result.client_log_path = path;
+    client_log = path;
   }
+  result.client_log_path = launching ? client_log : std::string();
   const auto timeout = std::chrono::duration_cast<Clock::duration>(
       std::chrono::duration<double, std::milli>(static_cast<double>(vc.body.info.timeout.count()) * options.timeout_scale));
   CaseContext ctx(host, log, start + timeout, options.timeout_scale);
@@ -100,11 +101,12 @@ void worker_main(Shared& shared, unsigned worker) {
     return;
   }
   std::unique_ptr<ClientProcess> client;
+  std::string client_log;
   while (!shared.failed()) {
     const std::size_t index = shared.next.fetch_add(1);
     if (index >= shared.cases.size()) break;
     try {
-      CaseResult result = run_one(shared, host, shared.cases[index], client, worker);
+      CaseResult result = run_one(shared, host, shared.cases[index], client, client_log, worker);
       std::lock_guard lock(shared.mutex);
       if (options.on_result) options.on_result(result);
       shared.results[index] = std::move(result);

@@ -51,10 +51,35 @@ inline std::string markup_escape(std::string_view text) {
   return out;
 }
 
+// Wire bytes are not always UTF-8 (a garbage client): invalid sequences become '?', so the
+// JSON and HTML reports stay valid UTF-8.
+inline std::string utf8_safe(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  for (std::size_t i = 0; i < text.size();) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    const std::size_t n = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E ? 4 : 0;
+    bool valid = n > 0 && i + n <= text.size();
+    for (std::size_t k = 1; valid && k < n; ++k) valid = (static_cast<unsigned char>(text[i + k]) >> 6) == 0x2;
+    if (valid) {
+      out.append(text.substr(i, n));
+      i += n;
+    } else {
+      out += '?';
+      ++i;
+    }
+  }
+  return out;
+}
+
 // Payloads in reports are cut at `max` bytes (a drained frame may be 16 KiB+ of filler).
 inline std::string clip(std::string_view text, std::size_t max = 2048) {
-  if (text.size() <= max) return std::string(text);
-  return std::string(text.substr(0, max)) + "… (" + std::to_string(text.size()) + " bytes)";
+  if (text.size() <= max) return utf8_safe(text);
+  std::string out = utf8_safe(text.substr(0, max));
+  out += "… (";
+  out += std::to_string(text.size());
+  out += " bytes)";
+  return out;
 }
 
 }  // namespace ocp::conformance::detail

@@ -63,7 +63,7 @@ SuiteRun run_suite(const std::string& name, const std::string& options, const st
   result.exit_code = run(harness + " vehicle --out " + dir + " " + options + " -- " + client, dir + "/out.txt");
   result.output = read_file(dir + "/out.txt");
   const std::string json = read_file(dir + "/index.json");
-  result.index.Parse(json.c_str());
+  result.index.Parse<rapidjson::kParseValidateEncodingFlag>(json.c_str());   // reports stay valid UTF-8
   if (result.index.HasParseError()) result.index.SetNull();
   return result;
 }
