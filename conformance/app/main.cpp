@@ -1,5 +1,5 @@
 // ocp_conformance: command line only; everything else is in the conformance library.
-//   ocp_conformance vehicle [options] [-- CMD ARGS…]
+//   ocp_conformance vehicle|operator [options] [-- CMD ARGS…]
 // Exit codes: 0 every MUST case passed (or failed as the baseline expects), 1 a failure,
 // 2 a harness error (bad options, port in use, client could not be launched).
 #include <CLI/CLI.hpp>
@@ -37,30 +37,35 @@ int main(int argc, char** argv) {
   CLI::App app{"OCP conformance suite: plays one side of an OCP TCP API against a client under test.", "ocp_conformance"};
   app.require_subcommand(1);
   CLI::App* vehicle = app.add_subcommand("vehicle", "Play the Streamer (vehicle-side API, SPEC §2/§3/§5) against a vehicle client");
-  CLI::App* operator_side = app.add_subcommand("operator", "Play the Player against a :4001 operator client (not implemented yet)");
-  (void)operator_side;
+  CLI::App* operator_side = app.add_subcommand(
+      "operator", "Play the Player (operator-side :4001 API, SPEC §4) against an operator client; a real Streamer and the reference vehicle client run behind it");
 
   RunOptions options;
   int port = -1;
   bool list = false, markdown = false;
   std::string include, exclude, out_dir, junit, baseline_path, write_baseline;
   std::vector<std::string> command;
-  vehicle->add_option("--port", port, "Port to listen on (default: 4000 waiting for an external client; ephemeral when launching one)")
-      ->check(CLI::Range(0, 65535));
-  vehicle->add_flag("--restart-per-case", options.restart_per_case, "Launch a fresh client for every case");
-  vehicle->add_option("--jobs,-j", options.jobs, "Cases run concurrently (launched clients only; one client and port per job)")
-      ->check(CLI::Range(1, 16));
-  vehicle->add_flag("--list", list, "List the cases and exit");
-  vehicle->add_flag("--markdown", markdown, "With --list: the Markdown table of docs/conformance.md");
-  vehicle->add_option("--cases", include, "Only these cases: comma-separated ids, prefixes or globs (vehicle/2,vehicle/3.3/*)");
-  vehicle->add_option("--exclude", exclude, "Skip these cases (same syntax)");
-  vehicle->add_option("--timeout-scale", options.timeout_scale, "Multiply every timeout (slow machines, sanitizers)")
-      ->check(CLI::Range(0.1, 100.0));
-  vehicle->add_option("--out", out_dir, "Write index.json, report.html and client logs into this directory");
-  vehicle->add_option("--junit", junit, "Write JUnit XML to this file");
-  vehicle->add_option("--baseline", baseline_path, "Expected failures (one case id per line); the run is judged against it");
-  vehicle->add_option("--write-baseline", write_baseline, "Write this run's failures as a baseline file");
-  vehicle->add_option("command", command, "-- CMD ARGS…: launch the client; OCP_PORT and {port} carry the port");
+  // Both suites take the same options (CLI11 binds each subcommand's copy to one variable).
+  for (CLI::App* suite : {vehicle, operator_side}) {
+    const bool is_vehicle = suite == vehicle;
+    suite->add_option("--port", port, is_vehicle ? "Port to listen on (default: 4000 waiting for an external client; ephemeral when launching one)"
+                                                 : "Port to listen on (default: 4001 waiting for an external client; ephemeral when launching one)")
+        ->check(CLI::Range(0, 65535));
+    suite->add_flag("--restart-per-case", options.restart_per_case, "Launch a fresh client for every case");
+    suite->add_option("--jobs,-j", options.jobs, "Cases run concurrently (launched clients only; one client and port per job)")
+        ->check(CLI::Range(1, 16));
+    suite->add_flag("--list", list, "List the cases and exit");
+    suite->add_flag("--markdown", markdown, "With --list: the Markdown table of docs/conformance.md");
+    suite->add_option("--cases", include, "Only these cases: comma-separated ids, prefixes or globs (vehicle/2,vehicle/3.3/*)");
+    suite->add_option("--exclude", exclude, "Skip these cases (same syntax)");
+    suite->add_option("--timeout-scale", options.timeout_scale, "Multiply every timeout (slow machines, sanitizers)")
+        ->check(CLI::Range(0.1, 100.0));
+    suite->add_option("--out", out_dir, "Write index.json, report.html and client logs into this directory");
+    suite->add_option("--junit", junit, "Write JUnit XML to this file");
+    suite->add_option("--baseline", baseline_path, "Expected failures (one case id per line); the run is judged against it");
+    suite->add_option("--write-baseline", write_baseline, "Write this run's failures as a baseline file");
+    suite->add_option("command", command, "-- CMD ARGS…: launch the client; OCP_PORT and {port} carry the port");
+  }
 
   try {
     app.parse(argc, argv);
@@ -68,12 +73,9 @@ int main(int argc, char** argv) {
     const int code = app.exit(error);
     return code == 0 ? 0 : 2;
   }
-  if (operator_side->parsed()) {
-    std::cerr << "ocp_conformance operator: not implemented yet (see docs/conformance.md)\n";
-    return 2;
-  }
-
-  std::vector<VehicleCase> cases = select_cases(vehicle_cases(), include, exclude);
+  const bool operator_suite = operator_side->parsed();
+  const std::string suite_name = operator_suite ? "operator" : "vehicle";
+  std::vector<VehicleCase> cases = select_cases(operator_suite ? operator_cases() : vehicle_cases(), include, exclude);
   if (list) {
     std::vector<CaseInfo> infos;
     for (const auto& c : cases) infos.push_back(c.body.info);
@@ -94,7 +96,7 @@ int main(int argc, char** argv) {
     baseline = *loaded;
   }
   options.command = command;
-  options.port = static_cast<std::uint16_t>(port >= 0 ? port : (command.empty() ? 4000 : 0));
+  options.port = static_cast<std::uint16_t>(port >= 0 ? port : (command.empty() ? (operator_suite ? 4001 : 4000) : 0));
   if (!out_dir.empty()) {
     std::error_code error;
     std::filesystem::create_directories(out_dir + "/clients", error);
@@ -113,7 +115,7 @@ int main(int argc, char** argv) {
     client.clear();
     for (const auto& word : command) client += (client.empty() ? "" : " ") + word;
   }
-  std::cout << "ocp_conformance vehicle: " << cases.size() << " cases against " << client << "\n";
+  std::cout << "ocp_conformance " << suite_name << ": " << cases.size() << " cases against " << client << "\n";
   if (command.empty()) std::cout << "waiting for the client to connect to 127.0.0.1:" << options.port << " …\n";
   options.on_result = [](const CaseResult& r) {
     print_case_line(std::cout, r);
@@ -123,7 +125,7 @@ int main(int argc, char** argv) {
 
   std::optional<BaselineDiff> diff;
   if (baseline) diff = diff_baseline(*baseline, summary.results);
-  ReportContext context{"vehicle", client, &summary, diff ? &*diff : nullptr};
+  ReportContext context{suite_name, client, &summary, diff ? &*diff : nullptr};
   print_summary(std::cout, context);
   bool wrote = true;
   if (!out_dir.empty()) {

@@ -28,7 +28,7 @@ bool CaseContext::wait_until(const std::function<bool()>& done, std::chrono::mil
 }
 
 bool CaseContext::wait_connected(std::chrono::milliseconds timeout) {
-  return wait_until([&] { return host_.has_streamer() && host_.streamer().vehicle_connected(); }, timeout);
+  return wait_until([&] { return host_.client_connected(); }, timeout);
 }
 
 void CaseContext::restart_streamer(const StreamerSetup& setup) {
@@ -38,7 +38,7 @@ void CaseContext::restart_streamer(const StreamerSetup& setup) {
   if (auto status = host_.restart(setup); !status) {
     throw std::runtime_error("restart failed: " + status.error().message());
   }
-  log_.attach(host_.streamer().events());
+  log_.attach(host_.client_events(), setup.operator_side ? Wire::operator_ : Wire::vehicle);
 }
 
 }  // namespace ocp::conformance

@@ -59,7 +59,7 @@ CaseResult run_one(Shared& shared, StreamerHost& host, const VehicleCase& vc, st
   if (auto status = host.start_streamer(vc.setup); !status) {
     throw std::runtime_error("cannot start the Streamer: " + status.error().message());
   }
-  log.attach(host.streamer().events());
+  log.attach(host.client_events(), vc.setup.operator_side ? Wire::operator_ : Wire::vehicle);
   const bool launching = !options.command.empty();
   if (launching && (options.restart_per_case || !client || !client->running())) {
     // A shared client that died is relaunched: the next cases still get graded.

@@ -10,7 +10,9 @@ StreamerHost::StreamerHost(LogSink sink)
       sink_(std::move(sink)),
       server_(io_, [this](std::shared_ptr<ByteStream> stream) {
         // Between two cases there is no Streamer: the client is turned away and retries.
-        if (world_) {
+        if (world_ && operator_side_) {
+          world_->player().accept_client_connection(std::move(stream));
+        } else if (world_) {
           world_->accept_vehicle_connection(host_vehicle_name, std::move(stream));
         } else {
           stream->close();
@@ -38,13 +40,15 @@ Status StreamerHost::start_streamer(const StreamerSetup& setup) {
   vehicle.name = host_vehicle_name;
   vehicle.streamer.ack_time_offset = setup.ack_time_offset;
   vehicle.streamer.vehicle_write_queue_limit_bytes = setup.write_queue_limit_bytes;
-  vehicle.in_process_client = false;  // the client under test connects over TCP
+  // Vehicle API: the client under test is the vehicle. Operator API: the reference client is.
+  vehicle.in_process_client = setup.operator_side;
   config.vehicles.push_back(std::move(vehicle));
   auto world = std::make_unique<World>(executor_, std::move(config), sink_);
   if (auto status = world->start(); !status) return status;
   // Before the io_context runs again, so no client can connect to an unpaused Streamer.
   world->streamer(host_vehicle_name).set_control_output_paused(setup.control_paused);
   world_ = std::move(world);
+  operator_side_ = setup.operator_side;
   return Ok{};
 }
 
@@ -70,6 +74,14 @@ Status StreamerHost::restart(const StreamerSetup& setup) {
 }
 
 StreamerCore& StreamerHost::streamer() { return world_->streamer(host_vehicle_name); }
+PlayerCore& StreamerHost::player() { return world_->player(); }
+
+bool StreamerHost::client_connected() {
+  if (!world_) return false;
+  return operator_side_ ? world_->player().client_connected() : streamer().vehicle_connected();
+}
+
+EventBus& StreamerHost::client_events() { return operator_side_ ? world_->player().events() : streamer().events(); }
 
 bool StreamerHost::run_until(const std::function<bool()>& done, std::chrono::milliseconds timeout) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;

@@ -30,14 +30,14 @@ bool WireLog::full() {
   return true;
 }
 
-void WireLog::attach(EventBus& bus) {
-  subscription_ = bus.subscribe([this](const Event& event) {
+void WireLog::attach(EventBus& bus, Wire wire) {
+  subscription_ = bus.subscribe([this, wire](const Event& event) {
     if (full()) return;
     std::visit(
         [&](const auto& body) {
           using T = std::decay_t<decltype(body)>;
           if constexpr (std::is_same_v<T, WireFrame>) {
-            if (body.wire != Wire::vehicle) return;
+            if (body.wire != wire) return;
             WireLogEntry entry;
             entry.time_us = event.time.count();
             entry.kind = body.direction == FrameDirection::out ? WireEntryKind::out : WireEntryKind::in;
@@ -47,7 +47,7 @@ void WireLog::attach(EventBus& bus) {
             entry.text = std::string(body.payload);
             entries_.push_back(std::move(entry));
           } else if constexpr (std::is_same_v<T, ConnectionEvent>) {
-            if (body.wire != Wire::vehicle) return;
+            if (body.wire != wire) return;
             WireLogEntry entry;
             entry.time_us = event.time.count();
             entry.text = std::string(body.peer);

@@ -23,6 +23,8 @@ LIMIT = 16384
 BROKEN = {"echo-only", "timer-echo", "naive-recv", "reject-oversized", "require-controller",
           "fault-enum", "flat-user-data", "strict-schema", "bad-pos", "no-reconnect",
           "sticky-pair", "early-echo", "scalar-user-data"}
+# Operator-side (:4001) clients: op-echo behaves; the others break one rule.
+OPERATOR = {"op-echo", "op-corrupt", "op-stale", "op-double", "op-oversized"}
 HOSTILE = {"garbage", "flood", "huge-prefix", "half-open", "never-read"}
 FAULT_NAMES = {"", "Vehicle No Response", "No Control Message", "Camera Lost", "Streamer Slow", "High Latency",
                "Operator Station Has Error", "Latency Loop Not Closed", "Control Thread Channel Slow"}
@@ -81,10 +83,45 @@ def hostile(sock):
             time.sleep(0.01)
 
 
+def operator_session(sock):
+    """Returns every vehicle's latest pair in ClientOcpShared, one frame per VehicleOcpShared."""
+    buf = b""
+    first = {}
+    while True:
+        data = sock.recv(65536)
+        if not data:
+            return
+        buf += data
+        while len(buf) >= 4:
+            (length,) = struct.unpack("<I", buf[:4])
+            if len(buf) < 4 + length:
+                break
+            msg = json.loads(buf[4:4 + length])
+            buf = buf[4 + length:]
+            entries = {}
+            for name, feedback in msg.get("vehicle_feedback", {}).items():
+                pair = (feedback["ack_time"], feedback["ack_time_mac"])
+                first.setdefault(name, pair)
+                if MODE == "op-stale":
+                    pair = first[name]
+                if MODE == "op-corrupt":
+                    pair = (pair[0], pair[1] ^ 0xA5A5A5A5)
+                if MODE == "op-double":
+                    pair = (int(float(pair[0])), pair[1])
+                entry = {"ack_time_returned": pair[0], "ack_time_mac_returned": pair[1]}
+                if MODE == "op-oversized":
+                    entry["user_data"] = {"blob": "x" * 17000}
+                entries[name] = entry
+            sock.sendall(frame({"client_user_data": entries}))
+
+
 def session(sock, last_pair):
     """One connection. Returns the last pair seen (sticky-pair keeps it across sessions)."""
     if MODE in HOSTILE:
         hostile(sock)
+    if MODE in OPERATOR:
+        operator_session(sock)
+        return None
     sock.settimeout(0.01)
     buf = b""
     pair = last_pair if MODE == "sticky-pair" else None
@@ -154,7 +191,7 @@ def session(sock, last_pair):
 
 
 def main():
-    if MODE not in BROKEN | HOSTILE:
+    if MODE not in BROKEN | HOSTILE | OPERATOR:
         sys.exit(f"unknown mode {MODE}")
     pair = None
     while True:

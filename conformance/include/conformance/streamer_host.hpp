@@ -28,6 +28,9 @@ struct StreamerSetup {
   std::uint64_t ack_time_offset = std::uint64_t{1} << 53;  // SPEC §5: conformance uses ≥ 2^53
   bool control_paused = false;   // paused before any client can connect
   std::size_t write_queue_limit_bytes = 256 * 1024;   // a client that never reads is cut off sooner
+  // `ocp_conformance operator`: the port is the Player's :4001 operator API (SPEC §4.2) and the
+  // vehicle side is the reference VehicleClient, in-process, so the latency loop turns.
+  bool operator_side = false;
 };
 
 class StreamerHost {
@@ -49,6 +52,12 @@ class StreamerHost {
 
   bool has_streamer() const { return world_ != nullptr; }
   StreamerCore& streamer();
+  PlayerCore& player();
+  bool operator_side() const { return operator_side_; }
+  // The client under test is connected (vehicle API or operator API, by the setup).
+  bool client_connected();
+  // The event bus that carries the client's wire (the Streamer's or the Player's).
+  EventBus& client_events();
   AsioExecutor& executor() { return executor_; }
   boost::asio::io_context& io() { return io_; }
   std::int64_t now_us() const { return executor_.now().count(); }
@@ -64,6 +73,7 @@ class StreamerHost {
   TcpServer server_;
   std::uint16_t port_ = 0;
   std::unique_ptr<World> world_;
+  bool operator_side_ = false;
 };
 
 inline constexpr const char* host_vehicle_name = "vehicle";

@@ -13,6 +13,8 @@ struct VehicleCase {
 };
 
 std::vector<VehicleCase> vehicle_cases();
+// `ocp_conformance operator`: the Player's :4001 API (SPEC §4.2), same runner and reports.
+std::vector<VehicleCase> operator_cases();
 
 // By concern (one file each), concatenated by vehicle_cases().
 void add_echo_cases(std::vector<VehicleCase>& cases);

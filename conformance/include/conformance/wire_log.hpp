@@ -34,7 +34,7 @@ class WireLog {
  public:
   // Records everything `bus` publishes about the vehicle wire from now on (replaces any
   // previous subscription: a restarted Streamer has a new bus).
-  void attach(EventBus& bus);
+  void attach(EventBus& bus, Wire wire = Wire::vehicle);
   void detach() { subscription_.reset(); }
   void note(std::int64_t time_us, std::string text);
 
