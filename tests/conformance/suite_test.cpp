@@ -57,10 +57,11 @@ struct SuiteRun {
   }
 };
 
-SuiteRun run_suite(const std::string& name, const std::string& options, const std::string& client) {
+SuiteRun run_suite(const std::string& name, const std::string& options, const std::string& client,
+                   const std::string& suite = "vehicle") {
   const std::string dir = fresh_dir(name);
   SuiteRun result;
-  result.exit_code = run(harness + " vehicle --out " + dir + " " + options + " -- " + client, dir + "/out.txt");
+  result.exit_code = run(harness + " " + suite + " --out " + dir + " " + options + " -- " + client, dir + "/out.txt");
   result.output = read_file(dir + "/out.txt");
   const std::string json = read_file(dir + "/index.json");
   result.index.Parse<rapidjson::kParseValidateEncodingFlag>(json.c_str());   // reports stay valid UTF-8
@@ -232,7 +233,7 @@ TEST(ConformanceSuite, HarnessErrorsExitTwo) {
   EXPECT_EQ(run(harness + " vehicle --cases vehicle/2/1 -- /nonexistent/client", dir + "/a.txt"), 2);
   EXPECT_EQ(run(harness + " vehicle --cases no/such/case -- true", dir + "/b.txt"), 2);
   EXPECT_EQ(run(harness + " vehicle --bogus-option", dir + "/c.txt"), 2);
-  EXPECT_EQ(run(harness + " operator", dir + "/d.txt"), 2);
+  EXPECT_EQ(run(harness + " operator --cases no/such/case -- true", dir + "/d.txt"), 2);
   // Port in use: a listener of our own.
   const int listener = socket(AF_INET, SOCK_STREAM, 0);
   sockaddr_in address{};
@@ -248,17 +249,49 @@ TEST(ConformanceSuite, HarnessErrorsExitTwo) {
   close(listener);
 }
 
-TEST(ConformanceSuite, DocsListTheCasesGeneratedFromTheCode) {
-  const std::string dir = fresh_dir("docs");
-  ASSERT_EQ(run(harness + " vehicle --list --markdown", dir + "/list.md"), 0);
+// `ocp_conformance operator`: python's op-echo behaves; each op-* mode breaks one rule.
+TEST(OperatorSuite, WellBehavedClientPassesEveryCase) {
+  const SuiteRun r = run_suite("operator_echo", "", python_client("op-echo"), "operator");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  ASSERT_TRUE(r.index.IsObject()) << r.output;
+  for (const auto& c : r.index["cases"].GetArray()) {
+    EXPECT_STREQ(c["verdict"].GetString(), "OK") << c["id"].GetString() << ": " << c["actual"].GetString();
+  }
+  EXPECT_EQ(r.index["cases"].Size(), 3u);
+}
+
+class OperatorClient : public ::testing::TestWithParam<BrokenCase> {};
+
+TEST_P(OperatorClient, FailsItsOwnCase) {
+  const BrokenCase& p = GetParam();
+  const SuiteRun r = run_suite("operator_" + p.client, "--cases " + p.case_id, python_client(p.client), "operator");
+  EXPECT_EQ(r.verdict(p.case_id), p.verdict) << r.output;
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+}
+
+INSTANTIATE_TEST_SUITE_P(OneRuleEach, OperatorClient,
+                         ::testing::Values(BrokenCase{"op-oversized", "operator/2/1", "FAILED"},
+                                           BrokenCase{"op-corrupt", "operator/4.2/1", "FAILED"},
+                                           BrokenCase{"op-stale", "operator/4.2/1", "FAILED"},
+                                           BrokenCase{"op-double", "operator/4.2/2", "FAILED"}));
+
+void expect_doc_section(const std::string& suite, const std::string& marker) {
+  const std::string dir = fresh_dir("docs_" + suite);
+  ASSERT_EQ(run(harness + " " + suite + " --list --markdown", dir + "/list.md"), 0);
   const std::string generated = read_file(dir + "/list.md");
   const std::string doc = read_file(OCP_CONFORMANCE_DOC_PATH);
-  const std::string begin = "<!-- cases:begin -->\n", end = "<!-- cases:end -->";
+  const std::string begin = "<!-- " + marker + ":begin -->\n", end = "<!-- " + marker + ":end -->";
   const auto from = doc.find(begin), to = doc.find(end);
   ASSERT_NE(from, std::string::npos);
   ASSERT_NE(to, std::string::npos);
   EXPECT_EQ(doc.substr(from + begin.size(), to - from - begin.size()), generated)
-      << "regenerate: ocp_conformance vehicle --list --markdown, between the cases markers of docs/conformance.md";
+      << "regenerate: ocp_conformance " << suite << " --list --markdown, between the " << marker
+      << " markers of docs/conformance.md";
+}
+
+TEST(ConformanceSuite, DocsListTheCasesGeneratedFromTheCode) {
+  expect_doc_section("vehicle", "cases");
+  expect_doc_section("operator", "operator-cases");
 }
 
 }  // namespace
