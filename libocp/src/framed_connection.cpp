@@ -112,6 +112,24 @@ Status FramedConnection::send(std::string_view payload, std::optional<AckPair> c
   return framed;
 }
 
+Status FramedConnection::write_raw(std::string_view bytes) {
+  if (!open_) {
+    return Error{LocalError::not_connected,
+                 fmt::format("{} connection {} is closed", options_.label, peer_)};
+  }
+  const std::size_t queued = stream_->queued_bytes();
+  if (queued + bytes.size() > options_.write_queue_limit_bytes) {
+    CloseReason reason{PeerError::not_reading,
+                       fmt::format("peer not reading: {} bytes already queued for it (limit {})",
+                                   queued, options_.write_queue_limit_bytes)};
+    close(reason);
+    return reason;
+  }
+  add(counters_.bytes_out, bytes.size());
+  stream_->write(bytes);
+  return Ok{};
+}
+
 void FramedConnection::publish_frame(FrameDirection direction, WireMessageKind kind,
                                      std::uint32_t length_prefix, std::string_view payload,
                                      bool drained, std::optional<AckPair> carried) {

@@ -14,7 +14,7 @@ void StreamerCore::State::on_control_tick(SimTime deadline) {
   const SimTime now = executor.now();
   evaluate_tick_faults(now);
   control_sent = false;
-  if (vehicle) {
+  if (vehicle && !control_output_paused) {
     build_control_message(now);
     send_control_message();
   }

@@ -101,6 +101,19 @@ void StreamerCore::set_control_thread_stalled(bool stalled) {
   state_->evaluate_inbox_fault();
 }
 
+void StreamerCore::set_control_output_paused(bool paused) { state_->control_output_paused = paused; }
+bool StreamerCore::control_output_paused() const { return state_->control_output_paused; }
+
+Status StreamerCore::write_raw_to_vehicle(std::string bytes, std::vector<std::size_t> cuts, Micros gap) {
+  return state_->write_raw_to_vehicle(std::move(bytes), std::move(cuts), gap);
+}
+
+void StreamerCore::close_vehicle_connection() {
+  if (state_->vehicle) {
+    state_->vehicle->close(CloseReason{LocalError::shut_down, "closed by the server on request"});
+  }
+}
+
 EventBus& StreamerCore::events() { return state_->events; }
 
 const FaultSet& StreamerCore::faults() const { return state_->faults.faults(); }

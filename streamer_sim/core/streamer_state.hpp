@@ -31,6 +31,7 @@ struct StreamerCore::State {
   void accept_vehicle(std::shared_ptr<ByteStream> stream);
   void on_vehicle_response(VehicleResponseMessage&& response);
   void on_vehicle_closed(const CloseReason& reason);
+  Status write_raw_to_vehicle(std::string bytes, std::vector<std::size_t> cuts, Micros gap);
 
   // operator_side.cpp
   void handle_link_message(LinkMessage&& message);
@@ -91,6 +92,7 @@ struct StreamerCore::State {
   OcpControlMessage outgoing;                    // reused every tick
   std::string json_buffer;                       // reused every tick
   bool control_sent = false;
+  bool control_output_paused = false;            // conformance: ticks write no control frame
   std::optional<Controller> last_sent_controller;
   std::vector<std::string> missing_cameras;      // as of the last evaluation
 

@@ -91,6 +91,11 @@ class FramedConnection : public std::enable_shared_from_this<FramedConnection> {
   // `carried`: the ack pair the payload carries, when the caller knows it — saves decoding the
   // payload again for the WireFrame event while somebody listens.
   [[nodiscard]] Status send(std::string_view payload, std::optional<AckPair> carried = std::nullopt);
+  // Writes `bytes` exactly as given — no framing, no size check — under the same write-queue
+  // rule as send(). For the conformance suite, which must be able to put an oversized or
+  // hand-cut frame on the wire; protocol code always uses send(). Publishes no WireFrame (the
+  // caller knows what the bytes mean and publishes one if it wants).
+  [[nodiscard]] Status write_raw(std::string_view bytes);
   // Closes with `reason` (logged as a warning), closes the stream, reports on_closed.
   void close(CloseReason reason);
 

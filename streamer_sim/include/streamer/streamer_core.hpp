@@ -149,6 +149,24 @@ class StreamerCore {
   void set_camera_stalled(std::string_view camera, bool stalled);
   void inject_frame_loop_stall(Micros duration);
   void set_control_thread_stalled(bool stalled);      // lets the control queue back up
+
+  // Conformance testing (the `ocp_conformance vehicle` suite plays this Streamer against a
+  // client under test and needs to shape what goes on the wire):
+  // * Paused control output: ticks still run (faults, latency samples) but write no control
+  //   frame, so a client can be watched while control pauses or fed hand-made frames only.
+  void set_control_output_paused(bool paused);
+  bool control_output_paused() const;
+  // * Writes `bytes` (normally a whole frame: length prefix + payload, possibly oversized or
+  //   deliberately odd) to the vehicle as-is: cut at the byte offsets in `cuts` (ascending,
+  //   inside the bytes) into pieces written `gap` apart, on the executor. Publishes one
+  //   WireFrame out (length prefix read from the first 4 bytes, payload = the rest) when the
+  //   first piece is written. Pieces due after the connection changed are dropped. Error:
+  //   no vehicle connected (LocalError::not_connected), or what the first write returned.
+  [[nodiscard]] Status write_raw_to_vehicle(std::string bytes, std::vector<std::size_t> cuts = {},
+                                            Micros gap = Micros{0});
+  // * Closes the active vehicle connection from the server side (LocalError::shut_down), as
+  //   a Streamer going away would; the client is expected to reconnect. No-op without one.
+  void close_vehicle_connection();
   // Everything this Streamer does, as typed events (see the header comment).
   EventBus& events();
 

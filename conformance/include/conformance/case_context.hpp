@@ -1,0 +1,49 @@
+#pragma once
+// What a case body sees: the Streamer host (already listening, with a fresh Streamer), the
+// wire log of this case, and bounded waits. Every wait is cut at the case deadline: past it,
+// CaseTimeout is thrown and the runner turns it into a FAILED verdict — a case can never hang.
+#include <chrono>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "conformance/streamer_host.hpp"
+#include "conformance/wire_log.hpp"
+
+namespace ocp::conformance {
+
+struct CaseTimeout : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+class CaseContext {
+ public:
+  CaseContext(StreamerHost& host, WireLog& log, std::chrono::steady_clock::time_point deadline,
+              double timeout_scale);
+
+  StreamerHost& host() { return host_; }
+  StreamerCore& streamer() { return host_.streamer(); }
+  WireLog& log() { return log_; }
+  const std::vector<WireLogEntry>& entries() const { return log_.entries(); }
+  std::int64_t now_us() const { return host_.now_us(); }
+  void note(std::string text) { log_.note(now_us(), std::move(text)); }
+
+  // Observation window: runs the Streamer for `duration` (not scaled: it is what we watch).
+  void run_for(std::chrono::milliseconds duration);
+  // Waits for `done` at most `timeout` × timeout_scale (and never past the case deadline).
+  bool wait_until(const std::function<bool()>& done, std::chrono::milliseconds timeout);
+  // Waits for a client connection to the current Streamer.
+  bool wait_connected(std::chrono::milliseconds timeout = std::chrono::milliseconds(10'000));
+  // Restarts the Streamer (StreamerHost::restart) and moves the wire log to the new one.
+  void restart_streamer(const StreamerSetup& setup);
+
+ private:
+  void check_deadline() const;
+  StreamerHost& host_;
+  WireLog& log_;
+  std::chrono::steady_clock::time_point deadline_;
+  double timeout_scale_;
+};
+
+}  // namespace ocp::conformance

@@ -1,0 +1,43 @@
+#pragma once
+// Launches the client under test: `-- CMD ARGS…` with the port in env OCP_PORT and every
+// "{port}" in the arguments replaced. The child gets its own process group, and is killed
+// (SIGTERM, then SIGKILL after a grace period) on every path: destructor, kill(), and the
+// harness's own SIGINT/SIGTERM (kill_all_clients, async-signal-safe).
+#include <sys/types.h>
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ocp/error.hpp"
+
+namespace ocp::conformance {
+
+class ClientProcess {
+ public:
+  // Output (stdout + stderr) goes to `log_path` ("" → /dev/null).
+  static Result<std::unique_ptr<ClientProcess>> launch(const std::vector<std::string>& command,
+                                                       std::uint16_t port, const std::string& log_path);
+  ~ClientProcess();
+  ClientProcess(const ClientProcess&) = delete;
+  ClientProcess& operator=(const ClientProcess&) = delete;
+
+  void kill();                       // idempotent; waits for the child
+  bool running();                    // reaps it when it exited
+  std::optional<int> exit_status() const { return exit_status_; }
+  pid_t pid() const { return pid_; }
+
+ private:
+  explicit ClientProcess(pid_t child) : pid_(child) {}
+  pid_t pid_;
+  std::optional<int> exit_status_;
+};
+
+// Replaces "{port}" in every argument.
+std::vector<std::string> substitute_port(const std::vector<std::string>& command, std::uint16_t port);
+// Kills every client still running (from a signal handler: only async-signal-safe calls).
+void kill_all_clients() noexcept;
+
+}  // namespace ocp::conformance

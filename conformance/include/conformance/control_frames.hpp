@@ -1,0 +1,35 @@
+#pragma once
+// Hand-made OcpControlMessage frames for the cases that feed a client shapes the simulated
+// operator would not produce on demand (controller null, default controller with fault, deep
+// client_user_data, unknown fields, extreme pairs, oversized or hand-cut frames).
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "ocp/messages.hpp"
+
+namespace ocp::conformance {
+
+enum class CraftedController { driving, null, safe_default };
+
+struct CraftedControl {
+  CraftedControl() = default;
+  explicit CraftedControl(AckPair pair) : ack(pair) {}
+  AckPair ack;
+  CraftedController controller = CraftedController::driving;
+  bool fault = false;
+  std::string fault_reason;
+  std::string client_user_data;   // raw JSON value; empty → field omitted
+  bool unknown_fields = false;    // extra fields at top level, in telemetry and in controller
+};
+
+// The JSON text (u64 / u32 written as integers, never through a double).
+std::string control_payload(const CraftedControl& control);
+// uint32 LE length prefix + payload, with no size check (oversized frames are the point).
+std::string frame_bytes(std::string_view payload);
+// A frame whose prefix claims `declared_length` bytes of filler (an oversized frame).
+std::string oversized_frame(std::uint32_t declared_length);
+// Nested JSON objects and arrays `depth` levels deep.
+std::string nested_user_data(int depth);
+
+}  // namespace ocp::conformance

@@ -1,0 +1,39 @@
+#pragma once
+// Runs the selected cases: one StreamerHost per worker (its own io_context, thread and port),
+// the client under test either external (waits on --port) or launched per worker, or per case
+// with --restart-per-case. Independent cases run concurrently with jobs > 1 (launched clients
+// only: each worker has its own client and port).
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "conformance/case.hpp"
+#include "conformance/vehicle_cases.hpp"
+
+namespace ocp::conformance {
+
+struct RunOptions {
+  std::vector<std::string> command;   // empty: wait for an external client on `port`
+  std::uint16_t port = 4000;          // with a command: 0 = ephemeral (one per worker)
+  bool restart_per_case = false;
+  unsigned jobs = 1;
+  double timeout_scale = 1.0;
+  std::string client_log_dir;         // launched clients' output (one file each); "" → /dev/null
+  std::function<void(const CaseResult&)> on_result;   // progress, called from worker threads (serialized)
+};
+
+struct RunSummary {
+  std::vector<CaseResult> results;    // in case order
+  double duration_ms = 0.0;
+  std::string harness_error;          // non-empty: the run could not be done (exit 2)
+};
+
+RunSummary run_cases(const std::vector<VehicleCase>& cases, const RunOptions& options);
+
+// Case selection: comma-separated glob patterns ('*' and '?') over ids; empty = all.
+bool matches_any(const std::string& id, const std::string& patterns);
+std::vector<VehicleCase> select_cases(std::vector<VehicleCase> cases, const std::string& include,
+                                      const std::string& exclude);
+
+}  // namespace ocp::conformance

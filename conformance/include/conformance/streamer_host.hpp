@@ -1,0 +1,81 @@
+#pragma once
+// The Streamer side the suite plays: a real StreamerCore in a World (one vehicle, a simulated
+// operator with self-echo, no in-process vehicle client) on an AsioExecutor, behind a real TCP
+// listening socket on 127.0.0.1. One host per worker thread; it owns its io_context.
+//
+// The listening socket outlives the Streamers: each case gets a fresh World (new MAC key,
+// latency loop from zero, its own ack_time_offset) while a client that stays up across cases
+// reconnects to the same port. restart() is the defined Streamer restart a case can ask for:
+// the connection is closed, the listening socket is closed and opened anew on the same port,
+// and a new World (new CSPRNG MAC key, new latency loop) takes over.
+#include <boost/asio/io_context.hpp>
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+
+#include "ocp/asio_executor.hpp"
+#include "ocp/error.hpp"
+#include "ocp/log.hpp"
+#include "ocp/tcp_server.hpp"
+#include "streamer/streamer_core.hpp"
+#include "world/world.hpp"
+
+namespace ocp::conformance {
+
+struct StreamerSetup {
+  std::uint64_t ack_time_offset = std::uint64_t{1} << 53;  // SPEC §5: conformance uses ≥ 2^53
+  bool control_paused = false;   // paused before any client can connect
+  std::size_t write_queue_limit_bytes = 256 * 1024;   // a client that never reads is cut off sooner
+  // `ocp_conformance operator`: the port is the Player's :4001 operator API (SPEC §4.2) and the
+  // vehicle side is the reference VehicleClient, in-process, so the latency loop turns.
+  bool operator_side = false;
+};
+
+class StreamerHost {
+ public:
+  explicit StreamerHost(LogSink sink = make_null_sink());
+  ~StreamerHost();
+  StreamerHost(const StreamerHost&) = delete;
+  StreamerHost& operator=(const StreamerHost&) = delete;
+
+  // Binds 127.0.0.1:port (0 = ephemeral). Errors as TcpServer::listen.
+  [[nodiscard]] Status listen(std::uint16_t port);
+  std::uint16_t port() const { return port_; }
+
+  // A fresh World + Streamer; the previous one (if any) is stopped first.
+  [[nodiscard]] Status start_streamer(const StreamerSetup& setup);
+  void stop_streamer();
+  // Defined restart (see above). Errors: the port could not be bound again.
+  [[nodiscard]] Status restart(const StreamerSetup& setup);
+
+  bool has_streamer() const { return world_ != nullptr; }
+  StreamerCore& streamer();
+  PlayerCore& player();
+  bool operator_side() const { return operator_side_; }
+  // The client under test is connected (vehicle API or operator API, by the setup).
+  bool client_connected();
+  // The event bus that carries the client's wire (the Streamer's or the Player's).
+  EventBus& client_events();
+  AsioExecutor& executor() { return executor_; }
+  boost::asio::io_context& io() { return io_; }
+  std::int64_t now_us() const { return executor_.now().count(); }
+
+  // Runs the io_context until `done()` or `timeout` passed; returns done(). Never a sleep.
+  bool run_until(const std::function<bool()>& done, std::chrono::milliseconds timeout);
+  void run_for(std::chrono::milliseconds duration);
+
+ private:
+  boost::asio::io_context io_;
+  AsioExecutor executor_;
+  LogSink sink_;
+  TcpServer server_;
+  std::uint16_t port_ = 0;
+  std::unique_ptr<World> world_;
+  bool operator_side_ = false;
+};
+
+inline constexpr const char* host_vehicle_name = "vehicle";
+
+}  // namespace ocp::conformance

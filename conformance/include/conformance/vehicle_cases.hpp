@@ -1,0 +1,25 @@
+#pragma once
+// The vehicle-side suite (`ocp_conformance vehicle`): every case, in a stable order.
+#include <vector>
+
+#include "conformance/case.hpp"
+#include "conformance/streamer_host.hpp"
+
+namespace ocp::conformance {
+
+struct VehicleCase {
+  Case body;
+  StreamerSetup setup;   // how the Streamer is started for this case
+};
+
+std::vector<VehicleCase> vehicle_cases();
+// `ocp_conformance operator`: the Player's :4001 API (SPEC §4.2), same runner and reports.
+std::vector<VehicleCase> operator_cases();
+
+// By concern (one file each), concatenated by vehicle_cases().
+void add_echo_cases(std::vector<VehicleCase>& cases);
+void add_framing_cases(std::vector<VehicleCase>& cases);
+void add_message_cases(std::vector<VehicleCase>& cases);
+void add_connection_cases(std::vector<VehicleCase>& cases);
+
+}  // namespace ocp::conformance

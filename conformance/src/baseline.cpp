@@ -1,0 +1,52 @@
+#include "conformance/baseline.hpp"
+
+#include <fstream>
+#include <sstream>
+
+namespace ocp::conformance {
+
+Result<Baseline> load_baseline(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return Error{std::make_error_code(std::errc::no_such_file_or_directory), "cannot read baseline " + path};
+  Baseline baseline;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
+    std::istringstream words(line);
+    std::string id;
+    if (words >> id) baseline.insert(id);   // "id [anything]": only the id counts
+  }
+  return baseline;
+}
+
+std::string baseline_text(const std::vector<CaseResult>& results) {
+  std::string out = "# ocp_conformance baseline: cases expected to fail\n";
+  for (const CaseResult& r : results) {
+    if (r.verdict == Verdict::failed) out += r.info.id + "  # " + r.info.title + "\n";
+  }
+  return out;
+}
+
+BaselineDiff diff_baseline(const Baseline& baseline, const std::vector<CaseResult>& results) {
+  BaselineDiff diff;
+  for (const CaseResult& r : results) {
+    const bool expected = baseline.count(r.info.id) > 0;
+    if (r.verdict == Verdict::failed) {
+      (expected ? diff.still_failing : diff.new_failures).push_back(r.info.id);
+    } else if (expected) {
+      diff.fixed.push_back(r.info.id);
+    }
+  }
+  return diff;
+}
+
+int exit_code(const std::vector<CaseResult>& results, const Baseline* baseline) {
+  for (const CaseResult& r : results) {
+    if (r.verdict != Verdict::failed || r.info.tier != Tier::must) continue;
+    if (baseline != nullptr && baseline->count(r.info.id) > 0) continue;
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace ocp::conformance

@@ -1,0 +1,131 @@
+#pragma once
+// Shared pieces of the vehicle case bodies (private to the library).
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "conformance/case.hpp"
+#include "conformance/case_context.hpp"
+#include "conformance/control_frames.hpp"
+#include "conformance/observations.hpp"
+
+namespace ocp::conformance::detail {
+
+using std::chrono::milliseconds;
+
+inline Outcome ok(std::string actual) { return {Verdict::ok, std::move(actual)}; }
+inline Outcome non_strict(std::string actual) { return {Verdict::non_strict, std::move(actual)}; }
+inline Outcome failed(std::string actual) { return {Verdict::failed, std::move(actual)}; }
+
+inline std::string last_close(const Observations& obs) {
+  return obs.close_codes.empty() ? std::string("unknown reason") : obs.close_codes.back();
+}
+
+inline std::string describe(const AckPair& pair) {
+  return fmt::format("({}, {})", pair.ack_time, pair.ack_time_mac);
+}
+
+// The client must be connected before anything else is graded.
+inline bool connected(CaseContext& ctx, Outcome& outcome) {
+  if (ctx.wait_connected()) return true;
+  outcome = failed("the client did not connect within 10 s");
+  return false;
+}
+
+// First response at or after `after_us` carrying exactly `pair`, or nullptr.
+inline const Response* first_echo(const Observations& obs, const AckPair& pair, std::int64_t after_us) {
+  for (const Response& r : obs.responses) {
+    if (r.time_us >= after_us && r.ack && *r.ack == pair) return &r;
+  }
+  return nullptr;
+}
+
+// Responses at or after `after_us` whose pair is neither one the Streamer sent nor `extra`.
+// A made-up pair sent before the client had seen any control frame may reach us after our
+// first frame left (they cross on the wire): that is vehicle/3.3/4's business, so counting
+// starts at the client's first echo of a real pair — or at `after_us` if it never echoes one.
+inline std::vector<AckPair> unknown_pairs(const Observations& obs, std::int64_t after_us,
+                                          const std::vector<AckPair>& extra = {}) {
+  const auto known = [&](const AckPair& pair) {
+    if (obs.find_sent(pair) >= 0) return true;
+    for (const AckPair& p : extra) {
+      if (p == pair) return true;
+    }
+    return false;
+  };
+  std::int64_t from = after_us;
+  for (const Response& r : obs.responses) {
+    if (r.time_us >= after_us && r.ack && known(*r.ack)) {
+      from = r.time_us;
+      break;
+    }
+  }
+  std::vector<AckPair> out;
+  for (const Response& r : obs.responses) {
+    if (r.time_us >= from && r.ack && !known(*r.ack)) out.push_back(*r.ack);
+  }
+  return out;
+}
+
+inline std::string list_pairs(const std::vector<AckPair>& pairs, std::size_t max = 3) {
+  std::string out;
+  for (std::size_t i = 0; i < pairs.size() && i < max; ++i) {
+      out += i ? ", " : ""; out += describe(pairs[i]);
+    }
+  if (pairs.size() > max) out += fmt::format(" … ({} in all)", pairs.size());
+  return out;
+}
+
+// Hand-made frames: pauses the Streamer's own output, writes `count` frames `gap` apart, then
+// watches `settle` more. Pairs are distinct and large (u64 above 2^63, u32 above 2^31).
+struct CraftedRun {
+  std::vector<AckPair> pairs;
+  std::int64_t start_us = 0;
+  std::size_t closes_before = 0;
+};
+
+inline AckPair crafted_pair(std::uint64_t salt, std::size_t i) {
+  return AckPair{(std::uint64_t{1} << 63) + salt * 1'000'000 + i, 0x80000000u + static_cast<std::uint32_t>(salt * 1000 + i)};
+}
+
+inline CraftedRun send_crafted(CaseContext& ctx, std::size_t count, milliseconds gap, milliseconds settle,
+                               const std::function<CraftedControl(std::size_t)>& make) {
+  CraftedRun run;
+  run.start_us = ctx.now_us();
+  run.closes_before = Observations::from(ctx.entries()).closed_us.size();
+  ctx.streamer().set_control_output_paused(true);
+  for (std::size_t i = 0; i < count; ++i) {
+    CraftedControl control = make(i);
+    run.pairs.push_back(control.ack);
+    if (!ctx.streamer().vehicle_connected()) break;
+    (void)ctx.streamer().write_raw_to_vehicle(frame_bytes(control_payload(control)));
+    ctx.run_for(gap);
+  }
+  ctx.run_for(settle);
+  return run;
+}
+
+// The common verdict of "the client must accept these frames": still connected, the last pair
+// echoed, no pair echoed that nobody sent.
+inline Outcome grade_crafted(CaseContext& ctx, const CraftedRun& run, const std::string& what) {
+  const Observations obs = Observations::from(ctx.entries());
+  std::size_t echoed = 0;
+  for (const AckPair& p : run.pairs) echoed += first_echo(obs, p, run.start_us) != nullptr;
+  const bool closed = obs.closed_us.size() > run.closes_before;
+  const auto unknown = unknown_pairs(obs, run.start_us);
+  const bool last = !run.pairs.empty() && first_echo(obs, run.pairs.back(), run.start_us) != nullptr;
+  const std::string counts = fmt::format("{} frames {}; {} of their pairs echoed", run.pairs.size(), what, echoed);
+  if (closed) {
+    return failed(fmt::format("{}; the connection closed ({})", counts,
+                              obs.close_codes.empty() ? "?" : obs.close_codes.back()));
+  }
+  if (!unknown.empty()) return failed(fmt::format("{}; echoed pairs never sent: {}", counts, list_pairs(unknown)));
+  if (!last) return failed(fmt::format("{}; the last pair {} was never echoed", counts, describe(run.pairs.back())));
+  return ok(fmt::format("{}; last pair echoed; connection kept", counts));
+}
+
+}  // namespace ocp::conformance::detail

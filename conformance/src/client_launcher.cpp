@@ -1,0 +1,157 @@
+#include "conformance/client_launcher.hpp"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <atomic>
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <memory>
+#include <thread>
+
+namespace ocp::conformance {
+namespace {
+
+// Live children, for kill_all_clients() from a signal handler: a fixed array of atomics.
+constexpr std::size_t max_children = 64;
+std::array<std::atomic<pid_t>, max_children> live_children{};
+
+void remember(pid_t pid) {
+  for (auto& slot : live_children) {
+    pid_t empty = 0;
+    if (slot.compare_exchange_strong(empty, pid)) return;
+  }
+}
+
+void forget(pid_t pid) {
+  for (auto& slot : live_children) {
+    pid_t expected = pid;
+    if (slot.compare_exchange_strong(expected, 0)) return;
+  }
+}
+
+}  // namespace
+
+std::vector<std::string> substitute_port(const std::vector<std::string>& command, std::uint16_t port) {
+  std::vector<std::string> out;
+  const std::string value = std::to_string(port);
+  for (std::string arg : command) {
+    for (std::size_t at = arg.find("{port}"); at != std::string::npos; at = arg.find("{port}", at + value.size())) {
+      arg.replace(at, 6, value);
+    }
+    out.push_back(std::move(arg));
+  }
+  return out;
+}
+
+Result<std::unique_ptr<ClientProcess>> ClientProcess::launch(const std::vector<std::string>& command,
+                                                              std::uint16_t port, const std::string& log_path) {
+  if (command.empty()) return Error{std::make_error_code(std::errc::invalid_argument), "no client command"};
+  const std::vector<std::string> args = substitute_port(command, port);
+  std::vector<char*> argv;
+  for (const std::string& arg : args) argv.push_back(const_cast<char*>(arg.c_str()));
+  argv.push_back(nullptr);
+  const std::string port_env = std::to_string(port);
+  const std::string out_path = log_path.empty() ? "/dev/null" : log_path;
+
+  // An exec failure is reported through a close-on-exec pipe: EOF means exec succeeded.
+  int status_pipe[2];
+  if (pipe2(status_pipe, O_CLOEXEC) != 0) {
+    return Error{std::error_code(errno, std::generic_category()), "pipe2 failed"};
+  }
+  const pid_t pid = fork();
+  if (pid < 0) {
+    close(status_pipe[0]);
+    close(status_pipe[1]);
+    return Error{std::error_code(errno, std::generic_category()), "fork failed"};
+  }
+  if (pid == 0) {
+    setpgid(0, 0);
+    // Even if the harness dies without cleaning up (a crash, SIGKILL), the client goes too.
+    // (The launching worker thread outlives its clients: it kills them before it returns.)
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (getppid() == 1) _exit(127);
+    close(status_pipe[0]);
+    // The harness's sockets (listening socket, connections) must not live on in the client:
+    // an inherited listener would keep the port busy across a Streamer restart.
+    const long max_fd = sysconf(_SC_OPEN_MAX);
+    for (int fd = 3; fd < (max_fd > 0 ? max_fd : 1024); ++fd) {
+      if (fd != status_pipe[1]) close(fd);
+    }
+    const int fd = open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd >= 0) {
+      dup2(fd, STDOUT_FILENO);
+      dup2(fd, STDERR_FILENO);
+      close(fd);
+    }
+    const int null_in = open("/dev/null", O_RDONLY);
+    if (null_in >= 0) dup2(null_in, STDIN_FILENO);
+    setenv("OCP_PORT", port_env.c_str(), 1);
+    execvp(argv[0], argv.data());
+    const int error = errno;
+    (void)!write(status_pipe[1], &error, sizeof error);
+    _exit(127);
+  }
+  setpgid(pid, pid);  // also from the parent: no race with kill before the child ran
+  remember(pid);
+  close(status_pipe[1]);
+  int exec_error = 0;
+  ssize_t got;
+  do {
+    got = read(status_pipe[0], &exec_error, sizeof exec_error);
+  } while (got < 0 && errno == EINTR);
+  close(status_pipe[0]);
+  std::unique_ptr<ClientProcess> process(new ClientProcess(pid));
+  if (got == static_cast<ssize_t>(sizeof exec_error)) {
+    process->kill();
+    return Error{std::error_code(exec_error, std::generic_category()),
+                 "cannot run client '" + args[0] + "': " + std::strerror(exec_error)};
+  }
+  return process;
+}
+
+ClientProcess::~ClientProcess() { kill(); }
+
+bool ClientProcess::running() {
+  if (exit_status_) return false;
+  int status = 0;
+  const pid_t done = waitpid(pid_, &status, WNOHANG);
+  if (done == pid_) {
+    exit_status_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    forget(pid_);
+    ::kill(-pid_, SIGKILL);  // anything it left behind in its group
+    return false;
+  }
+  return true;
+}
+
+void ClientProcess::kill() {
+  if (!running()) return;
+  ::kill(-pid_, SIGTERM);
+  // Grace period for a clean exit, bounded; then SIGKILL the whole group.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(1000);
+  while (running() && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  if (running()) {
+    ::kill(-pid_, SIGKILL);
+    int status = 0;
+    waitpid(pid_, &status, 0);
+    exit_status_ = 128 + SIGKILL;
+    forget(pid_);
+  }
+}
+
+void kill_all_clients() noexcept {
+  for (auto& slot : live_children) {
+    const pid_t pid = slot.load();
+    if (pid > 0) ::kill(-pid, SIGKILL);
+  }
+}
+
+}  // namespace ocp::conformance

@@ -1,0 +1,89 @@
+// Connection lifecycle (SPEC §3.1, seed 000 "Connect from the vehicle process"): reconnect
+// after the server closes and after a Streamer restart, and never echo a stale pair.
+#include "case_helpers.hpp"
+#include "conformance/vehicle_cases.hpp"
+
+namespace ocp::conformance {
+namespace {
+
+using namespace detail;
+
+// After the break at `break_us`: reconnected, echoes pairs of the new session only.
+Outcome grade_reconnect(CaseContext& ctx, std::int64_t break_us, const std::vector<AckPair>& old_pairs) {
+  const bool back = ctx.wait_until(
+      [&] {
+        const Observations obs = Observations::from(ctx.entries(), break_us);
+        return !obs.opened_us.empty() && ctx.host().has_streamer() && ctx.streamer().vehicle_connected();
+      },
+      milliseconds(5000));
+  if (!back) return failed("the client did not reconnect within 5 s");
+  const Observations reopen = Observations::from(ctx.entries(), break_us);
+  const std::int64_t opened = reopen.opened_us.front();
+  ctx.run_for(milliseconds(500));
+  const Observations obs = Observations::from(ctx.entries(), opened);
+  std::vector<AckPair> stale;
+  std::size_t fresh = 0;
+  for (const Response& r : obs.responses) {
+    if (!r.ack) continue;
+    bool is_old = false;
+    for (const AckPair& p : old_pairs) is_old = is_old || p == *r.ack;
+    if (is_old) stale.push_back(*r.ack);
+    fresh += obs.find_sent(*r.ack) >= 0;
+  }
+  const std::string counts = fmt::format("reconnected {:.0f} ms after the break; {} echoes of new pairs, {} stale",
+                                         static_cast<double>(opened - break_us) / 1000.0, fresh, stale.size());
+  if (!stale.empty()) return failed(counts + "; stale pairs from before the break: " + list_pairs(stale));
+  if (fresh == 0) return failed(counts + "; no new pair echoed within 500 ms");
+  return ok(counts);
+}
+
+std::vector<AckPair> pairs_sent(CaseContext& ctx) {
+  std::vector<AckPair> out;
+  for (const SentPair& s : Observations::from(ctx.entries()).sent) out.push_back(s.ack);
+  return out;
+}
+
+Outcome after_server_close(CaseContext& ctx) {
+  Outcome outcome;
+  if (!connected(ctx, outcome)) return outcome;
+  ctx.run_for(milliseconds(400));
+  const auto old_pairs = pairs_sent(ctx);
+  const std::int64_t break_us = ctx.now_us();
+  ctx.note("server closes the vehicle connection");
+  ctx.streamer().close_vehicle_connection();
+  return grade_reconnect(ctx, break_us, old_pairs);
+}
+
+Outcome after_restart(CaseContext& ctx) {
+  Outcome outcome;
+  if (!connected(ctx, outcome)) return outcome;
+  ctx.run_for(milliseconds(400));
+  const auto old_pairs = pairs_sent(ctx);
+  const std::int64_t break_us = ctx.now_us();
+  StreamerSetup fresh;
+  fresh.ack_time_offset = (std::uint64_t{1} << 53) + (std::uint64_t{1} << 44);
+  ctx.restart_streamer(fresh);
+  return grade_reconnect(ctx, break_us, old_pairs);
+}
+
+}  // namespace
+
+void add_connection_cases(std::vector<VehicleCase>& cases) {
+  cases.push_back({{{"vehicle/3.1/1", "reconnects after the server closes; no stale pair", "seed 000 (Connect from the vehicle process), SPEC §3.1",
+                     "\"If the connection drops, reconnect from your process; when OCP accepts the next connection it clears old queued control messages\" — "
+                     "\"Treat disconnects as normal lifecycle events and reconnect after a short delay.\"",
+                     Tier::must, milliseconds(15'000),
+                     {"OK: reconnects within 5 s, then echoes pairs of the new connection only (none sent before the close)"},
+                     "broken_client.py no-reconnect (or sticky-pair)"},
+                    after_server_close},
+                   {}});
+  cases.push_back({{{"vehicle/3.1/2", "reconnects after a Streamer restart with a new MAC key; no stale pair", "SPEC §3.1, §5",
+                     "\"The 32-byte key is drawn from a CSPRNG at Streamer start\" — \"reconnect after a short delay\"; a pair of the old Streamer never validates again",
+                     Tier::must, milliseconds(15'000),
+                     {"OK: reconnects to the restarted Streamer within 5 s and echoes only its pairs"},
+                     "broken_client.py sticky-pair (or no-reconnect)"},
+                    after_restart},
+                   {}});
+}
+
+}  // namespace ocp::conformance

@@ -1,0 +1,70 @@
+#include "conformance/control_frames.hpp"
+
+#include <fmt/format.h>
+
+namespace ocp::conformance {
+
+std::string control_payload(const CraftedControl& c) {
+  std::string controller;
+  switch (c.controller) {
+    case CraftedController::null:
+      controller = "null";
+      break;
+    case CraftedController::driving:
+    case CraftedController::safe_default: {
+      const bool drive = c.controller == CraftedController::driving;
+      controller = fmt::format(
+          R"({{"buttons":{{"a":{0},"b":false,"x":false,"y":false,"left_bumper":false,"right_bumper":false,)"
+          R"("back":false,"start":false,"guide":false,"left_thumb":false,"right_thumb":false,"dpad_up":false,)"
+          R"("dpad_right":false,"dpad_down":false,"dpad_left":false{1}}},"axes":{{"left_x":{2},"left_y":0.0,)"
+          R"("right_x":0.0,"right_y":0.0,"left_trigger":-1.0,"right_trigger":{3}}}{4}}})",
+          drive ? "true" : "false", c.unknown_fields ? R"(,"paddle_1":true)" : "",
+          drive ? "0.25" : "0.0", drive ? "0.5" : "-1.0",
+          c.unknown_fields ? R"(,"haptics":{"rumble":[0.1,0.2]})" : "");
+      break;
+    }
+  }
+  std::string out = fmt::format(
+      R"({{{0}"controller":{1},"telemetry":{{"latency":12,"fault":{2},"fault_reason":"{3}","missing_cameras":[]{4}}},)"
+      R"("ack_time":{5},"ack_time_mac":{6})",
+      c.unknown_fields ? R"("protocol_revision":"2099.1","x_vendor":{"nested":[1,{"k":null}]},)" : "",
+      controller, c.fault ? "true" : "false", c.fault_reason,
+      c.unknown_fields ? R"(,"jitter_ms":1.5)" : "", c.ack.ack_time, c.ack.ack_time_mac);
+  if (!c.client_user_data.empty()) out += R"(,"client_user_data":)" + c.client_user_data;
+  if (c.unknown_fields) out += R"(,"future_flag":false)";
+  out += "}";
+  return out;
+}
+
+std::string frame_bytes(std::string_view payload) {
+  const auto n = static_cast<std::uint32_t>(payload.size());
+  std::string out;
+  out.reserve(payload.size() + 4);
+  for (int i = 0; i < 4; ++i) out.push_back(static_cast<char>((n >> (8 * i)) & 0xFFu));
+  out.append(payload);
+  return out;
+}
+
+std::string oversized_frame(std::uint32_t declared_length) {
+  // Filler that is JSON-looking, so a client that ignores the limit chokes visibly on it.
+  std::string payload = R"({"filler":")";
+  payload.append(declared_length - payload.size() - 2, 'x');
+  payload += "\"}";
+  return frame_bytes(payload);
+}
+
+std::string nested_user_data(int depth) {
+  std::string open, close;
+  for (int i = 0; i < depth; ++i) {
+    if (i % 2 == 0) {
+      open += fmt::format(R"({{"level{}":)", i);
+      close = "}" + close;
+    } else {
+      open += "[";
+      close = R"(,"tail",3.5,null,true])" + close;
+    }
+  }
+  return open + R"({"mode":"manual","unicode":"\u00e5\u00e4\u00f6"})" + close;
+}
+
+}  // namespace ocp::conformance

@@ -1,0 +1,180 @@
+// The latency-loop echo (SPEC §3.3, §5, seed 000 "Send responses"): the latest pair, unchanged,
+// at once.
+#include <algorithm>
+#include <limits>
+
+#include "case_helpers.hpp"
+#include "conformance/vehicle_cases.hpp"
+
+namespace ocp::conformance {
+namespace {
+
+using namespace detail;
+
+constexpr std::int64_t stale_limit_us = 200'000;
+
+Outcome latest_pair(CaseContext& ctx) {
+  Outcome outcome;
+  if (!connected(ctx, outcome)) return outcome;
+  ctx.run_for(milliseconds(1500));
+  const Observations obs = Observations::from(ctx.entries());
+  if (obs.sent.empty()) return failed("no control frame was sent (harness)");
+  const std::int64_t first_sent = obs.sent.front().time_us;
+  std::size_t graded = 0, stale = 0;
+  std::int64_t worst_age = 0;
+  for (const Response& r : obs.responses) {
+    if (r.time_us < first_sent || !r.ack) continue;
+    const std::int64_t index = obs.find_sent(*r.ack);
+    if (index < 0) continue;  // counted as unknown below
+    ++graded;
+    const std::int64_t latest = obs.latest_sent_before(r.time_us);
+    const std::int64_t age = obs.sent[static_cast<std::size_t>(latest)].time_us - obs.sent[static_cast<std::size_t>(index)].time_us;
+    worst_age = std::max(worst_age, age);
+    if (age > stale_limit_us) ++stale;
+  }
+  const auto unknown = unknown_pairs(obs, first_sent);
+  const std::string counts = fmt::format("{} control frames, {} responses echoing a sent pair, {} stale (> 200 ms behind), "
+                                         "worst {:.1f} ms behind, {} altered",
+                                         obs.sent.size(), graded, stale, static_cast<double>(worst_age) / 1000.0, unknown.size());
+  if (!unknown.empty()) return failed(counts + "; altered / never-sent pairs: " + list_pairs(unknown));
+  if (graded < 10) return failed(counts + "; fewer than 10 responses in 1.5 s");
+  if (static_cast<double>(stale) > 0.05 * static_cast<double>(graded)) return failed(counts);
+  return ok(counts);
+}
+
+Outcome ack_u64(CaseContext& ctx) {
+  Outcome outcome;
+  if (!connected(ctx, outcome)) return outcome;
+  ctx.run_for(milliseconds(600));
+  const std::int64_t normal_end = ctx.now_us();
+  // Extremes the Streamer's clock will not reach in a short run: hand-made frames.
+  const std::vector<AckPair> extremes{
+      {std::numeric_limits<std::uint64_t>::max(), std::numeric_limits<std::uint32_t>::max()},
+      {(std::uint64_t{1} << 53) + 1, 0x80000001u},
+      {(std::uint64_t{1} << 63) + 12345, (1u << 31) + 7},
+      {std::numeric_limits<std::uint64_t>::max() - 1, 0xFFFFFFFEu}};
+  const CraftedRun run = send_crafted(ctx, extremes.size() * 3, milliseconds(10), milliseconds(300),
+                                      [&](std::size_t i) { return CraftedControl{extremes[i % extremes.size()]}; });
+  const Observations obs = Observations::from(ctx.entries());
+  // From the first control frame on (a made-up pair before it is vehicle/3.3/4's business).
+  const auto unknown = unknown_pairs(obs, obs.sent.empty() ? 0 : obs.sent.front().time_us);
+  std::size_t normal_echoes = 0;
+  for (const Response& r : obs.responses) normal_echoes += r.time_us < normal_end && r.ack && obs.find_sent(*r.ack) >= 0;
+  std::vector<AckPair> missing;
+  for (const AckPair& p : extremes) {
+    if (!first_echo(obs, p, run.start_us)) missing.push_back(p);
+  }
+  const std::string counts = fmt::format(
+      "Streamer ack_time from 2^64-1-3e6 upwards: {} exact echoes; extremes {} of {} echoed exactly",
+      normal_echoes, extremes.size() - missing.size(), extremes.size());
+  if (!unknown.empty()) return failed(counts + "; echoed values that were never sent: " + list_pairs(unknown));
+  if (normal_echoes == 0) return failed(counts + "; no exact echo of the Streamer's own pairs");
+  if (!missing.empty()) return failed(counts + "; never echoed: " + list_pairs(missing));
+  return ok(counts);
+}
+
+// Irregular gaps (2–25 ms, fixed sequence) separate a client that echoes at once from one
+// that answers on its own timer: only the first keeps a small delay whatever the cadence.
+Outcome echo_delay(CaseContext& ctx) {
+  Outcome outcome;
+  if (!connected(ctx, outcome)) return outcome;
+  ctx.run_for(milliseconds(300));
+  static constexpr int gaps_ms[] = {3, 17, 7, 23, 2, 11, 19, 5, 13, 25, 4, 9};
+  std::vector<AckPair> pairs;
+  std::vector<std::int64_t> sent_at;
+  ctx.streamer().set_control_output_paused(true);
+  const std::int64_t start = ctx.now_us();
+  for (std::size_t i = 0; i < 100 && ctx.streamer().vehicle_connected(); ++i) {
+    const CraftedControl control{crafted_pair(3, i)};
+    pairs.push_back(control.ack);
+    sent_at.push_back(ctx.now_us());
+    (void)ctx.streamer().write_raw_to_vehicle(frame_bytes(control_payload(control)));
+    ctx.run_for(milliseconds(gaps_ms[i % std::size(gaps_ms)]));
+  }
+  ctx.run_for(milliseconds(300));
+  const Observations obs = Observations::from(ctx.entries(), start);
+  std::vector<double> delays_ms;
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    if (const Response* r = first_echo(obs, pairs[i], sent_at[i])) {
+      delays_ms.push_back(static_cast<double>(r->time_us - sent_at[i]) / 1000.0);
+    }
+  }
+  const double p50 = percentile(delays_ms, 50), p90 = percentile(delays_ms, 90), p99 = percentile(delays_ms, 99);
+  const double max = delays_ms.empty() ? 0.0 : *std::max_element(delays_ms.begin(), delays_ms.end());
+  const std::string stats = fmt::format("{} of {} pairs echoed; echo delay p50 {:.2f} ms, p90 {:.2f} ms, p99 {:.2f} ms, max {:.2f} ms",
+                                        delays_ms.size(), pairs.size(), p50, p90, p99, max);
+  if (delays_ms.size() < 10) return failed(stats);
+  if (p50 <= 3.0) return ok(stats);
+  if (p50 <= 20.0 && p90 <= 30.0) return non_strict(stats + " (answers on its own schedule, not at once)");
+  return failed(stats);
+}
+
+Outcome no_pair_before_control(CaseContext& ctx) {
+  Outcome outcome;
+  if (!connected(ctx, outcome)) return outcome;
+  const std::int64_t connected_at = ctx.now_us();
+  ctx.run_for(milliseconds(400));   // control output paused from the start (setup)
+  const Observations before = Observations::from(ctx.entries());
+  std::vector<AckPair> early;
+  for (const Response& r : before.responses) {
+    if (r.ack) early.push_back(*r.ack);
+  }
+  ctx.streamer().set_control_output_paused(false);
+  const std::int64_t resumed = ctx.now_us();
+  ctx.run_for(milliseconds(400));
+  const Observations after = Observations::from(ctx.entries(), resumed);
+  std::size_t echoes = 0;
+  for (const Response& r : after.responses) echoes += r.ack && after.find_sent(*r.ack) >= 0;
+  (void)connected_at;
+  if (echoes == 0) return failed(fmt::format("no echo of a sent pair within 400 ms after control started ({} responses before it)", early.size()));
+  if (!early.empty()) {
+    return non_strict(fmt::format("{} responses before any control message, carrying made-up pairs such as {}; "
+                                  "then {} echoes once control started", early.size(), describe(early.front()), echoes));
+  }
+  return ok(fmt::format("silent for 400 ms without control; {} echoes once control started", echoes));
+}
+
+}  // namespace
+
+void add_echo_cases(std::vector<VehicleCase>& cases) {
+  cases.push_back({{{"vehicle/3.3/1", "echoes the latest pair, unchanged", "SPEC §3.3, seed 001 (Response message)",
+                     "\"The response MUST include ack_time and ack_time_mac copied unmodified from the control message\" "
+                     "— \"The value should be the latest received by OCP.\"",
+                     Tier::must, milliseconds(15'000),
+                     {"OK: every echoed pair is one the Streamer sent, byte for byte, and ≤ 5 % of responses are more than 200 ms behind the latest"},
+                     "vehicle_client --misbehave-stop-echo (or --misbehave-corrupt-mac)"},
+                    latest_pair},
+                   {}});
+  StreamerSetup u64;
+  u64.ack_time_offset = std::numeric_limits<std::uint64_t>::max() - 3'000'000;
+  cases.push_back({{{"vehicle/2/2", "ack_time above 2^53 (up to 2^64-1) and ack_time_mac above 2^31 survive byte-exact",
+                     "SPEC §2, seed 000 (IMPORTANT box)",
+                     "\"Integers ack_time (u64) and ack_time_mac (u32) must survive byte-exact: never pass them through a double. "
+                     "Values above 2^53 are legal\" — \"must be copied byte-for-byte through your JSON number representation\"",
+                     Tier::must, milliseconds(15'000),
+                     {"OK: the Streamer's own pairs near 2^64-1 and hand-made pairs 2^64-1 / 2^53+1 / 2^63+12345 with MACs above 2^31 come back exactly"},
+                     "vehicle_client --misbehave-ack-through-double"},
+                    ack_u64},
+                   u64});
+  cases.push_back({{{"vehicle/3.3/2", "echo delay distribution: answers at once", "seed 000 (Send responses), SPEC §5",
+                     "\"Send a framed JSON response that copies ack_time and ack_time_mac from the latest control message\"; "
+                     "\"Do not let response generation block on slow vehicle subsystems\"",
+                     Tier::should, milliseconds(15'000),
+                     {"OK: median echo delay ≤ 3 ms over 100 control frames at irregular 2–25 ms gaps",
+                      "NON-STRICT: median ≤ 20 ms and p90 ≤ 30 ms (echoes on its own timer, e.g. every 10 ms)"},
+                     "vehicle_client --misbehave-delay-responses-ms 50 (FAILED); broken_client.py timer-echo (NON-STRICT)"},
+                    echo_delay},
+                   {}});
+  StreamerSetup paused;
+  paused.control_paused = true;
+  cases.push_back({{{"vehicle/3.3/4", "no pair echoed before any control message", "seed 000 (Send responses)",
+                     "\"The response must include the latest ack_time and ack_time_mac values copied from an OCP control message.\"",
+                     Tier::should, milliseconds(15'000),
+                     {"OK: no response before the first control message, then echoes",
+                      "NON-STRICT: responses with a made-up pair before any control message, then echoes"},
+                     "broken_client.py early-echo (NON-STRICT); vehicle_client --misbehave-silent (FAILED)"},
+                    no_pair_before_control},
+                   paused});
+}
+
+}  // namespace ocp::conformance

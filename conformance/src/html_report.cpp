@@ -1,0 +1,81 @@
+// A single self-contained HTML file (inline CSS, no scripts, no external resources): the case
+// matrix on top, then one section per case; the wire log for every case that is not OK.
+#include <fmt/format.h>
+
+#include "conformance/reports.hpp"
+#include "text_escape.hpp"
+
+namespace ocp::conformance {
+namespace {
+
+using detail::clip;
+using detail::markup_escape;
+
+constexpr const char* style = R"(
+body{font-family:system-ui,sans-serif;margin:2em;color:#222}
+table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #ccc;padding:4px 8px;text-align:left;vertical-align:top}
+.ok{background:#d9f2d9}.non-strict{background:#fff2c6}.informational{background:#dde8f8}.failed{background:#f8d0d0}
+pre{white-space:pre-wrap;word-break:break-all;margin:0;font-size:12px}
+.wire td{font-family:monospace;font-size:12px}.out{color:#064}.in{color:#036}.note{color:#777}
+section{border-top:1px solid #aaa;margin-top:2em}
+)";
+
+std::string wire_rows(const CaseResult& r) {
+  std::string rows;
+  const std::size_t n = r.wire_log.size();
+  const std::int64_t origin = n == 0 ? 0 : r.wire_log.front().time_us;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i >= wire_log_head && i + wire_log_tail < n) {
+      if (i == wire_log_head) rows += fmt::format("<tr><td colspan=5>… {} entries elided …</td></tr>\n", n - wire_log_head - wire_log_tail);
+      continue;
+    }
+    const WireLogEntry& e = r.wire_log[i];
+    const std::string kind(wire_entry_kind_name(e.kind));
+    const std::string length = (e.kind == WireEntryKind::out || e.kind == WireEntryKind::in)
+                                   ? fmt::format("{}{}", e.length_prefix, e.drained ? " (drained)" : "")
+                                   : "";
+    const std::string pair = e.ack ? fmt::format("{} / {}", e.ack->ack_time, e.ack->ack_time_mac) : "";
+    rows += fmt::format("<tr class=\"{}\"><td>{:.3f}</td><td>{}</td><td>{}</td><td>{}</td><td><pre>{}</pre></td></tr>\n",
+                        kind == "out" || kind == "in" ? kind : "note",
+                        static_cast<double>(e.time_us - origin) / 1000.0, kind, length, pair,
+                        markup_escape(clip(e.text, 600)));
+  }
+  return rows;
+}
+
+}  // namespace
+
+std::string html_report(const ReportContext& c) {
+  const RunSummary& s = *c.summary;
+  std::string html = fmt::format("<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>OCP conformance: {}</title><style>{}</style></head><body>\n",
+                                 c.suite, style);
+  html += fmt::format("<h1>OCP conformance — {} side</h1>\n<p>Client: <code>{}</code><br>{} cases in {:.1f} s; exit code {}</p>\n",
+                      c.suite, markup_escape(c.client), s.results.size(), s.duration_ms / 1000.0,
+                      s.harness_error.empty() ? exit_code(s.results, nullptr) : 2);
+  if (!s.harness_error.empty()) html += "<p class=\"failed\">Harness error: " + markup_escape(s.harness_error) + "</p>\n";
+  html += "<table><tr><th>case</th><th>tier</th><th>verdict</th><th>ms</th><th>title</th></tr>\n";
+  for (const CaseResult& r : s.results) {
+    html += fmt::format("<tr class=\"{}\"><td><a href=\"#{}\">{}</a></td><td>{}</td><td>{}</td><td>{:.0f}</td><td>{}</td></tr>\n",
+                        verdict_slug(r.verdict), markup_escape(r.info.id), markup_escape(r.info.id), tier_name(r.info.tier),
+                        verdict_name(r.verdict), r.duration_ms, markup_escape(r.info.title));
+  }
+  html += "</table>\n";
+  for (const CaseResult& r : s.results) {
+    html += fmt::format("<section id=\"{}\"><h2 class=\"{}\">{} — {} ({})</h2>\n", markup_escape(r.info.id), verdict_slug(r.verdict),
+                        markup_escape(r.info.id), verdict_name(r.verdict), tier_name(r.info.tier));
+    html += "<p><b>" + markup_escape(r.info.title) + "</b></p>\n";
+    html += "<p><b>Requirement</b> (" + markup_escape(r.info.source) + "): " + markup_escape(r.info.requirement) + "</p>\n<p><b>Expected</b></p><ul>";
+    for (const std::string& e : r.info.expected) html += "<li>" + markup_escape(e) + "</li>";
+    html += "</ul>\n<p><b>Actual</b>: " + markup_escape(r.actual) + fmt::format(" ({:.0f} ms)</p>\n", r.duration_ms);
+    if (!r.wire_log.empty()) {
+      html += fmt::format("<details{}><summary>Wire log ({} entries)</summary><table class=\"wire\"><tr><th>ms</th><th>dir</th><th>length prefix</th><th>ack_time / mac</th><th>payload</th></tr>\n",
+                          r.verdict == Verdict::failed ? " open" : "", r.wire_log.size());
+      html += wire_rows(r) + "</table></details>\n";
+    }
+    html += "</section>\n";
+  }
+  html += "</body></html>\n";
+  return html;
+}
+
+}  // namespace ocp::conformance

@@ -1,0 +1,74 @@
+#include <fmt/format.h>
+
+#include "conformance/reports.hpp"
+#include "text_escape.hpp"
+
+namespace ocp::conformance {
+namespace {
+
+using detail::clip;
+using detail::json_escape;
+
+std::string entry_json(const WireLogEntry& e, std::int64_t origin_us) {
+  std::string out = fmt::format(R"({{"t_ms":{:.3f},"kind":"{}")", static_cast<double>(e.time_us - origin_us) / 1000.0,
+                                wire_entry_kind_name(e.kind));
+  if (e.kind == WireEntryKind::out || e.kind == WireEntryKind::in) {
+    out += fmt::format(R"(,"length_prefix":{},"drained":{})", e.length_prefix, e.drained ? "true" : "false");
+  }
+  if (e.ack) out += fmt::format(R"(,"ack_time":{},"ack_time_mac":{})", e.ack->ack_time, e.ack->ack_time_mac);
+  if (!e.close_code.empty()) out += fmt::format(R"(,"close_code":"{}")", json_escape(e.close_code));
+  out += fmt::format(R"(,"text":"{}"}})", json_escape(clip(e.text)));
+  return out;
+}
+
+}  // namespace
+
+std::string index_json(const ReportContext& c) {
+  const RunSummary& s = *c.summary;
+  std::string out = fmt::format(R"({{"suite":"{}","client":"{}","duration_ms":{:.1f},"exit_code":{},"harness_error":"{}","cases":[)",
+                                c.suite, json_escape(c.client), s.duration_ms,
+                                s.harness_error.empty() ? exit_code(s.results, nullptr) : 2, json_escape(s.harness_error));
+  bool first = true;
+  for (const CaseResult& r : s.results) {
+    out += first ? "\n" : ",\n";
+    first = false;
+    out += fmt::format(R"({{"id":"{}","title":"{}","tier":"{}","verdict":"{}","duration_ms":{:.1f},"source":"{}","requirement":"{}","expected":[)",
+                       json_escape(r.info.id), json_escape(r.info.title), tier_name(r.info.tier), verdict_name(r.verdict),
+                       r.duration_ms, json_escape(r.info.source), json_escape(r.info.requirement));
+    for (std::size_t i = 0; i < r.info.expected.size(); ++i) {
+      out += i ? "," : ""; out += fmt::format(R"("{}")", json_escape(r.info.expected[i]));
+    }
+    out += fmt::format(R"(],"actual":"{}","client_log":"{}","wire_log":[)", json_escape(r.actual), json_escape(r.client_log_path));
+    const std::int64_t origin = r.wire_log.empty() ? 0 : r.wire_log.front().time_us;
+    const std::size_t n = r.wire_log.size();
+    bool any = false;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (i >= wire_log_head && i + wire_log_tail < n) {
+        if (i == wire_log_head) {
+          out += fmt::format(R"({}{{"kind":"elided","count":{}}})", any ? "," : "", n - wire_log_head - wire_log_tail);
+          any = true;
+        }
+        continue;
+      }
+      out += any ? "," : ""; out += entry_json(r.wire_log[i], origin);
+      any = true;
+    }
+    out += "]}";
+  }
+  out += "\n]";
+  if (c.baseline != nullptr) {
+    auto list = [](const std::vector<std::string>& ids) {
+      std::string text = "[";
+      for (std::size_t i = 0; i < ids.size(); ++i) {
+      text += i ? "," : ""; text += fmt::format(R"("{}")", json_escape(ids[i]));
+    }
+      return text + "]";
+    };
+    out += fmt::format(R"(,"baseline":{{"new_failures":{},"still_failing":{},"fixed":{}}})", list(c.baseline->new_failures),
+                       list(c.baseline->still_failing), list(c.baseline->fixed));
+  }
+  out += "}\n";
+  return out;
+}
+
+}  // namespace ocp::conformance

@@ -1,0 +1,59 @@
+#include <fmt/format.h>
+
+#include "conformance/reports.hpp"
+#include "text_escape.hpp"
+
+namespace ocp::conformance {
+
+std::string junit_xml(const ReportContext& c) {
+  const RunSummary& s = *c.summary;
+  std::size_t failures = 0;
+  for (const CaseResult& r : s.results) failures += r.verdict == Verdict::failed;
+  std::string xml = fmt::format("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites><testsuite name=\"ocp_conformance.{}\" tests=\"{}\" failures=\"{}\" errors=\"{}\" time=\"{:.3f}\">\n",
+                                c.suite, s.results.size(), failures, s.harness_error.empty() ? 0 : 1, s.duration_ms / 1000.0);
+  for (const CaseResult& r : s.results) {
+    xml += fmt::format("  <testcase classname=\"{}.{}\" name=\"{}\" time=\"{:.3f}\">\n", c.suite, tier_name(r.info.tier),
+                       detail::markup_escape(r.info.id), r.duration_ms / 1000.0);
+    std::string detail = "Requirement: " + r.info.requirement + "\n";
+    for (const auto& e : r.info.expected) detail += "Expected: " + e + "\n";
+    detail += "Actual: " + r.actual;
+    if (r.verdict == Verdict::failed) {
+      xml += fmt::format("    <failure message=\"{}\">{}</failure>\n", detail::markup_escape(r.actual), detail::markup_escape(detail));
+    } else {
+      xml += fmt::format("    <system-out>{}: {}</system-out>\n", verdict_name(r.verdict), detail::markup_escape(detail));
+    }
+    xml += "  </testcase>\n";
+  }
+  if (!s.harness_error.empty()) {
+    xml += fmt::format("  <testcase classname=\"{}\" name=\"harness\"><error message=\"{}\"/></testcase>\n", c.suite,
+                       detail::markup_escape(s.harness_error));
+  }
+  xml += "</testsuite></testsuites>\n";
+  return xml;
+}
+
+std::string case_list(const std::vector<CaseInfo>& cases, bool markdown) {
+  std::string out;
+  if (!markdown) {
+    for (const CaseInfo& c : cases) out += fmt::format("{:<14} {:<6} {}\n", c.id, tier_name(c.tier), c.title);
+    return out;
+  }
+  auto cell = [](std::string text) {
+    std::string escaped;
+    for (char ch : text) escaped += ch == '|' ? std::string("\\|") : std::string(1, ch);
+    return escaped;
+  };
+  out += "| id | tier | case | requirement (source) | accepted outcomes | timeout | fails against |\n";
+  out += "|---|---|---|---|---|---|---|\n";
+  for (const CaseInfo& c : cases) {
+    std::string expected;
+    for (std::size_t i = 0; i < c.expected.size(); ++i) {
+      expected += i ? "<br>" : ""; expected += cell(c.expected[i]);
+    }
+    out += fmt::format("| `{}` | {} | {} | {} ({}) | {} | {} s | {} |\n", c.id, tier_name(c.tier), cell(c.title),
+                       cell(c.requirement), cell(c.source), expected, c.timeout.count() / 1000, cell(c.broken_by));
+  }
+  return out;
+}
+
+}  // namespace ocp::conformance

@@ -1,0 +1,67 @@
+#include "conformance/observations.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ocp::conformance {
+
+Observations Observations::from(const std::vector<WireLogEntry>& entries, std::int64_t since_us) {
+  Observations o;
+  for (const WireLogEntry& e : entries) {
+    if (e.time_us < since_us) continue;
+    switch (e.kind) {
+      case WireEntryKind::out:
+        if (e.ack) o.sent.push_back(SentPair{e.time_us, *e.ack});
+        break;
+      case WireEntryKind::in:
+        o.responses.push_back(Response{e.time_us, e.ack, e.drained, e.length_prefix, e.text});
+        break;
+      case WireEntryKind::opened:
+        o.opened_us.push_back(e.time_us);
+        break;
+      case WireEntryKind::closed:
+        o.close_codes.push_back(e.close_code);
+        o.closed_us.push_back(e.time_us);
+        break;
+      case WireEntryKind::refused:
+      case WireEntryKind::note:
+        break;
+    }
+  }
+  return o;
+}
+
+std::int64_t Observations::find_sent(const AckPair& ack) const {
+  for (std::size_t i = sent.size(); i-- > 0;) {
+    if (sent[i].ack == ack) return static_cast<std::int64_t>(i);
+  }
+  return -1;
+}
+
+std::int64_t Observations::latest_sent_before(std::int64_t time_us) const {
+  // `sent` is in time order.
+  auto it = std::upper_bound(sent.begin(), sent.end(), time_us,
+                             [](std::int64_t t, const SentPair& s) { return t < s.time_us; });
+  return static_cast<std::int64_t>(it - sent.begin()) - 1;
+}
+
+std::size_t Observations::responses_with_pair() const {
+  return static_cast<std::size_t>(std::count_if(responses.begin(), responses.end(),
+                                                [](const Response& r) { return r.ack.has_value(); }));
+}
+
+bool Observations::closed_by_peer_error() const {
+  return std::any_of(close_codes.begin(), close_codes.end(),
+                     [](const std::string& code) { return code.rfind("peer.", 0) == 0; });
+}
+
+double percentile(std::vector<double> values, double p) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const double rank = p / 100.0 * static_cast<double>(values.size() - 1);
+  const auto lo = static_cast<std::size_t>(std::floor(rank));
+  const auto hi = static_cast<std::size_t>(std::ceil(rank));
+  return values[lo] + (values[hi] - values[lo]) * (rank - static_cast<double>(lo));
+}
+
+}  // namespace ocp::conformance

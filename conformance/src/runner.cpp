@@ -1,0 +1,143 @@
+#include "conformance/runner.hpp"
+
+#include <fmt/format.h>
+
+#include <atomic>
+#include <chrono>
+#include <memory>
+#include <mutex>
+#include <thread>
+
+#include "conformance/case_context.hpp"
+#include "conformance/client_launcher.hpp"
+#include "conformance/streamer_host.hpp"
+
+namespace ocp::conformance {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+struct Shared {
+  Shared(const std::vector<VehicleCase>& all, const RunOptions& run_options) : cases(all), options(run_options) {}
+  const std::vector<VehicleCase>& cases;
+  const RunOptions& options;
+  std::atomic<std::size_t> next{0};
+  std::vector<CaseResult> results;
+  std::mutex mutex;
+  std::string harness_error;
+
+  void fail(std::string error) {
+    std::lock_guard lock(mutex);
+    if (harness_error.empty()) harness_error = std::move(error);
+  }
+  bool failed() {
+    std::lock_guard lock(mutex);
+    return !harness_error.empty();
+  }
+};
+
+std::string log_path(const RunOptions& options, const std::string& name) {
+  if (options.client_log_dir.empty()) return "";
+  std::string file = name;
+  for (char& c : file) {
+    if (c == '/') c = '_';
+  }
+  return options.client_log_dir + "/" + file + ".log";
+}
+
+CaseResult run_one(Shared& shared, StreamerHost& host, const VehicleCase& vc, std::unique_ptr<ClientProcess>& client,
+                   std::string& client_log, unsigned worker) {
+  const RunOptions& options = shared.options;
+  CaseResult result;
+  result.info = vc.body.info;
+  const auto start = Clock::now();
+  WireLog log;
+  if (auto status = host.start_streamer(vc.setup); !status) {
+    throw std::runtime_error("cannot start the Streamer: " + status.error().message());
+  }
+  log.attach(host.client_events(), vc.setup.operator_side ? Wire::operator_ : Wire::vehicle);
+  const bool launching = !options.command.empty();
+  if (launching && (options.restart_per_case || !client || !client->running())) {
+    // A shared client that died is relaunched: the next cases still get graded.
+    if (client && !options.restart_per_case) log.note(host.now_us(), "the client had exited: relaunched");
+    client.reset();
+    const std::string path = log_path(options, options.restart_per_case ? vc.body.info.id : fmt::format("worker-{}", worker));
+    auto launched = ClientProcess::launch(options.command, host.port(), path);
+    if (!launched) throw std::runtime_error(launched.error().message());
+    client = std::move(*launched);
+    client_log = path;
+  }
+  result.client_log_path = launching ? client_log : std::string();
+  const auto timeout = std::chrono::duration_cast<Clock::duration>(
+      std::chrono::duration<double, std::milli>(static_cast<double>(vc.body.info.timeout.count()) * options.timeout_scale));
+  CaseContext ctx(host, log, start + timeout, options.timeout_scale);
+  try {
+    const Outcome outcome = vc.body.run(ctx);
+    result.verdict = outcome.verdict;
+    result.actual = outcome.actual;
+  } catch (const CaseTimeout&) {
+    result.verdict = Verdict::failed;
+    result.actual = fmt::format("the case did not finish within its {:.1f} s timeout",
+                                std::chrono::duration<double>(timeout).count());
+  }
+  host.stop_streamer();
+  log.detach();
+  if (options.restart_per_case) client.reset();
+  result.duration_ms = ms_since(start);
+  if (result.verdict != Verdict::ok) result.wire_log = log.take();
+  return result;
+}
+
+void worker_main(Shared& shared, unsigned worker) {
+  const RunOptions& options = shared.options;
+  StreamerHost host;
+  const std::uint16_t port = options.command.empty() ? options.port : (options.jobs > 1 ? 0 : options.port);
+  if (auto status = host.listen(port); !status) {
+    shared.fail("cannot listen on 127.0.0.1:" + std::to_string(port) + ": " + status.error().message());
+    return;
+  }
+  std::unique_ptr<ClientProcess> client;
+  std::string client_log;
+  while (!shared.failed()) {
+    const std::size_t index = shared.next.fetch_add(1);
+    if (index >= shared.cases.size()) break;
+    try {
+      CaseResult result = run_one(shared, host, shared.cases[index], client, client_log, worker);
+      std::lock_guard lock(shared.mutex);
+      if (options.on_result) options.on_result(result);
+      shared.results[index] = std::move(result);
+    } catch (const std::exception& error) {
+      shared.fail(fmt::format("{}: harness error: {}", shared.cases[index].body.info.id, error.what()));
+    }
+  }
+  client.reset();   // killed on every path, also after a harness error
+}
+
+}  // namespace
+
+RunSummary run_cases(const std::vector<VehicleCase>& cases, const RunOptions& options) {
+  const auto start = Clock::now();
+  // Concurrency needs one client (and port) per worker: only with a launched client.
+  const unsigned jobs = options.command.empty() ? 1u : std::max(1u, std::min<unsigned>(options.jobs, static_cast<unsigned>(cases.size())));
+  RunOptions effective = options;
+  effective.jobs = jobs;
+  Shared run(cases, effective);
+  run.results.resize(cases.size());
+  std::vector<std::thread> workers;
+  for (unsigned w = 1; w < jobs; ++w) workers.emplace_back([&run, w] { worker_main(run, w); });
+  worker_main(run, 0);
+  for (std::thread& t : workers) t.join();
+  RunSummary summary;
+  summary.duration_ms = ms_since(start);
+  summary.harness_error = run.harness_error;
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    if (!run.results[i].info.id.empty()) summary.results.push_back(std::move(run.results[i]));
+  }
+  return summary;
+}
+
+}  // namespace ocp::conformance

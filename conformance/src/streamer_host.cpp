@@ -1,0 +1,106 @@
+#include "conformance/streamer_host.hpp"
+
+#include <thread>
+#include <utility>
+
+namespace ocp::conformance {
+
+StreamerHost::StreamerHost(LogSink sink)
+    : executor_(io_),
+      sink_(std::move(sink)),
+      server_(io_, [this](std::shared_ptr<ByteStream> stream) {
+        // Between two cases there is no Streamer: the client is turned away and retries.
+        if (world_ && operator_side_) {
+          world_->player().accept_client_connection(std::move(stream));
+        } else if (world_) {
+          world_->accept_vehicle_connection(host_vehicle_name, std::move(stream));
+        } else {
+          stream->close();
+        }
+      }) {}
+
+StreamerHost::~StreamerHost() {
+  stop_streamer();
+  server_.stop();
+}
+
+Status StreamerHost::listen(std::uint16_t port) {
+  if (auto status = server_.listen(TcpServerOptions{port, false}); !status) return status;
+  port_ = server_.port();
+  return Ok{};
+}
+
+Status StreamerHost::start_streamer(const StreamerSetup& setup) {
+  stop_streamer();
+  WorldConfig config;
+  config.seed = 1;
+  config.player.name = "operator";
+  config.player.frame_rate_hz = 100.0;
+  VehicleSpec vehicle;
+  vehicle.name = host_vehicle_name;
+  vehicle.streamer.ack_time_offset = setup.ack_time_offset;
+  vehicle.streamer.vehicle_write_queue_limit_bytes = setup.write_queue_limit_bytes;
+  // Vehicle API: the client under test is the vehicle. Operator API: the reference client is.
+  vehicle.in_process_client = setup.operator_side;
+  config.vehicles.push_back(std::move(vehicle));
+  auto world = std::make_unique<World>(executor_, std::move(config), sink_);
+  if (auto status = world->start(); !status) return status;
+  // Before the io_context runs again, so no client can connect to an unpaused Streamer.
+  world->streamer(host_vehicle_name).set_control_output_paused(setup.control_paused);
+  world_ = std::move(world);
+  operator_side_ = setup.operator_side;
+  return Ok{};
+}
+
+void StreamerHost::stop_streamer() {
+  if (!world_) return;
+  world_->stop();
+  world_.reset();
+}
+
+Status StreamerHost::restart(const StreamerSetup& setup) {
+  stop_streamer();
+  const std::uint16_t port = port_;
+  server_.stop();
+  // The closed sockets' handlers run on the io_context; until they have, the kernel may still
+  // see the old listener. Retry the bind for a bounded time.
+  Status bound = listen(port);
+  for (int attempt = 0; !bound && attempt < 100; ++attempt) {
+    run_for(std::chrono::milliseconds(20));
+    bound = listen(port);
+  }
+  if (!bound) return bound;
+  return start_streamer(setup);
+}
+
+StreamerCore& StreamerHost::streamer() { return world_->streamer(host_vehicle_name); }
+PlayerCore& StreamerHost::player() { return world_->player(); }
+
+bool StreamerHost::client_connected() {
+  if (!world_) return false;
+  return operator_side_ ? world_->player().client_connected() : streamer().vehicle_connected();
+}
+
+EventBus& StreamerHost::client_events() { return operator_side_ ? world_->player().events() : streamer().events(); }
+
+bool StreamerHost::run_until(const std::function<bool()>& done, std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (!done()) {
+    const auto now = std::chrono::steady_clock::now();
+    if (now >= deadline) return false;
+    if (io_.stopped()) io_.restart();
+    const auto slice = std::min<std::chrono::steady_clock::duration>(deadline - now, std::chrono::milliseconds(5));
+    if (io_.run_one_for(slice) == 0 && io_.stopped()) {
+      // No work at all: nothing changes until the client does something.
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+  }
+  return true;
+}
+
+void StreamerHost::run_for(std::chrono::milliseconds duration) {
+  const auto deadline = std::chrono::steady_clock::now() + duration;
+  run_until([&] { return std::chrono::steady_clock::now() >= deadline; }, duration + std::chrono::milliseconds(1));
+}
+
+}  // namespace ocp::conformance

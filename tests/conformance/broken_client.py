@@ -1,0 +1,211 @@
+#!/usr/bin/env python3
+"""Small vehicle clients that each break exactly one rule of the vehicle-side API, plus
+hostile ones, for the conformance suite's own tests: every case must be able to fail.
+
+    broken_client.py MODE PORT
+
+Without a broken mode's trigger the client behaves: it reads frames properly (any split,
+any coalescing), skips frames over 16 KiB, echoes the latest pair at once, sends a keep-alive
+response every 10 ms without control, and reconnects 100 ms after the connection ends.
+"""
+import json
+import os
+import socket
+import struct
+import sys
+import time
+
+MODE = sys.argv[1]
+PORT = int(sys.argv[2]) if len(sys.argv) > 2 else int(os.environ["OCP_PORT"])
+LIMIT = 16384
+
+# Broken modes (each fails one case) and hostile modes (the harness must stay in control).
+BROKEN = {"echo-only", "timer-echo", "naive-recv", "reject-oversized", "require-controller",
+          "fault-enum", "flat-user-data", "strict-schema", "bad-pos", "no-reconnect",
+          "sticky-pair", "early-echo", "scalar-user-data"}
+# Operator-side (:4001) clients: op-echo behaves; the others break one rule.
+OPERATOR = {"op-echo", "op-corrupt", "op-stale", "op-double", "op-oversized"}
+HOSTILE = {"garbage", "flood", "huge-prefix", "half-open", "never-read"}
+FAULT_NAMES = {"", "Vehicle No Response", "No Control Message", "Camera Lost", "Streamer Slow", "High Latency",
+               "Operator Station Has Error", "Latency Loop Not Closed", "Control Thread Channel Slow"}
+KNOWN_TOP = {"controller", "telemetry", "ack_time", "ack_time_mac", "client_user_data"}
+KNOWN_TELEMETRY = {"latency", "fault", "fault_reason", "missing_cameras"}
+
+
+def frame(obj):
+    payload = json.dumps(obj, separators=(",", ":")).encode()
+    return struct.pack("<I", len(payload)) + payload
+
+
+def response(pair):
+    pos = {"lat": "57.7", "lon": 11.9} if MODE == "bad-pos" else {"lat": 57.7, "lon": 11.9}
+    user_data = 1.4 if MODE == "scalar-user-data" else {"mode": MODE}
+    return frame({"ack_time": pair[0], "ack_time_mac": pair[1],
+                  "vehicle_user_data": {"pos": pos, "user_data": user_data}})
+
+
+def acceptable(msg):
+    """False: this broken client rejects the message (closes the connection)."""
+    if MODE == "require-controller" and msg.get("controller") is None:
+        return False
+    if MODE == "strict-schema":
+        if set(msg) - KNOWN_TOP or set(msg.get("telemetry", {})) - KNOWN_TELEMETRY:
+            return False
+    if MODE == "flat-user-data":
+        cud = msg.get("client_user_data")
+        if isinstance(cud, dict) and any(isinstance(v, (dict, list)) for v in cud.values()):
+            return False
+    return True
+
+
+def hostile(sock):
+    if MODE == "garbage":
+        while True:
+            sock.sendall(os.urandom(512))
+            time.sleep(0.005)
+    if MODE == "flood":
+        blob = response((1, 1)) * 200
+        while True:
+            sock.sendall(blob)
+    if MODE == "huge-prefix":
+        sock.sendall(struct.pack("<I", 0xFFFFFFF0))
+        while True:
+            sock.sendall(b"x" * 4096)
+            time.sleep(0.01)
+    if MODE == "half-open":
+        sock.shutdown(socket.SHUT_WR)
+        while sock.recv(65536):
+            pass
+        time.sleep(3600)
+    if MODE == "never-read":
+        while True:
+            sock.sendall(response((0, 0)))
+            time.sleep(0.01)
+
+
+def operator_session(sock):
+    """Returns every vehicle's latest pair in ClientOcpShared, one frame per VehicleOcpShared."""
+    buf = b""
+    first = {}
+    while True:
+        data = sock.recv(65536)
+        if not data:
+            return
+        buf += data
+        while len(buf) >= 4:
+            (length,) = struct.unpack("<I", buf[:4])
+            if len(buf) < 4 + length:
+                break
+            msg = json.loads(buf[4:4 + length])
+            buf = buf[4 + length:]
+            entries = {}
+            for name, feedback in msg.get("vehicle_feedback", {}).items():
+                pair = (feedback["ack_time"], feedback["ack_time_mac"])
+                first.setdefault(name, pair)
+                if MODE == "op-stale":
+                    pair = first[name]
+                if MODE == "op-corrupt":
+                    pair = (pair[0], pair[1] ^ 0xA5A5A5A5)
+                if MODE == "op-double":
+                    pair = (int(float(pair[0])), pair[1])
+                entry = {"ack_time_returned": pair[0], "ack_time_mac_returned": pair[1]}
+                if MODE == "op-oversized":
+                    entry["user_data"] = {"blob": "x" * 17000}
+                entries[name] = entry
+            sock.sendall(frame({"client_user_data": entries}))
+
+
+def session(sock, last_pair):
+    """One connection. Returns the last pair seen (sticky-pair keeps it across sessions)."""
+    if MODE in HOSTILE:
+        hostile(sock)
+    if MODE in OPERATOR:
+        operator_session(sock)
+        return None
+    sock.settimeout(0.01)
+    buf = b""
+    pair = last_pair if MODE == "sticky-pair" else None
+    if MODE == "early-echo":
+        sock.sendall(response((0, 0)))
+    if MODE == "sticky-pair" and pair:
+        sock.sendall(response(pair))
+    skip = 0
+    last_sent = time.monotonic()
+    next_timer = time.monotonic() + 0.01
+    while True:
+        if MODE == "timer-echo":
+            # Wake exactly at the timer (not when data happens to arrive).
+            sock.settimeout(max(0.0005, next_timer - time.monotonic()))
+        try:
+            data = sock.recv(65536)
+            if not data:
+                return pair
+        except socket.timeout:
+            data = b""
+        got_new = False
+        if MODE == "naive-recv" and data:
+            # Bug: one recv() is one frame.
+            msg = json.loads(data[4:4 + struct.unpack("<I", data[:4])[0]])
+            pair = (msg["ack_time"], msg["ack_time_mac"])
+            got_new = True
+            data = b""
+        buf += data
+        while True:
+            if skip:
+                n = min(skip, len(buf))
+                buf, skip = buf[n:], skip - n
+                if skip:
+                    break
+            if len(buf) < 4:
+                break
+            (length,) = struct.unpack("<I", buf[:4])
+            if length > LIMIT:
+                if MODE == "reject-oversized":
+                    return pair
+                buf, skip = buf[4:], length
+                continue
+            if len(buf) < 4 + length:
+                break
+            msg = json.loads(buf[4:4 + length])
+            buf = buf[4 + length:]
+            if not acceptable(msg):
+                return pair
+            if MODE == "fault-enum" and msg["telemetry"]["fault"] and msg["telemetry"]["fault_reason"] not in FAULT_NAMES:
+                return pair   # Bug: fault_reason parsed as one known display string.
+            pair = (msg["ack_time"], msg["ack_time_mac"])
+            got_new = True
+        now = time.monotonic()
+        if MODE == "timer-echo":
+            if now >= next_timer and pair:
+                sock.sendall(response(pair))
+                next_timer += 0.01
+                while next_timer < now:
+                    next_timer += 0.01
+            continue
+        if got_new:
+            sock.sendall(response(pair))
+            last_sent = now
+        elif MODE != "echo-only" and pair and now - last_sent >= 0.01:
+            sock.sendall(response(pair))
+            last_sent = now
+
+
+def main():
+    if MODE not in BROKEN | HOSTILE | OPERATOR:
+        sys.exit(f"unknown mode {MODE}")
+    pair = None
+    while True:
+        try:
+            sock = socket.create_connection(("127.0.0.1", PORT))
+            sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+            pair = session(sock, pair)
+            sock.close()
+        except (OSError, ValueError, KeyError):
+            pass
+        if MODE == "no-reconnect":
+            sys.exit(1)
+        time.sleep(0.1)
+
+
+if __name__ == "__main__":
+    main()
