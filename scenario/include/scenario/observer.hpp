@@ -1,0 +1,86 @@
+#pragma once
+// Observer: the one subscriber a scenario run adds to World::events(). It turns the event
+// stream into what verdicts and reports need — fault intervals, measured series, message
+// counts and safety-invariant violations — and nothing else: control payloads are decoded
+// only while a control-path fault is active and only when an invariant asks for it, so a
+// run stays close to the world's own speed.
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "ocp/event_bus.hpp"
+#include "ocp/faults.hpp"
+#include "ocp/time.hpp"
+
+namespace ocp::scenario {
+
+struct Interval {
+  SimTime start{0};
+  std::optional<SimTime> end;   // nullopt: still active when the run ended
+};
+
+struct Sample {
+  SimTime time{0};
+  double value = 0.0;
+};
+
+struct RouteCounters {
+  std::uint64_t sent = 0, delivered = 0, dropped = 0;
+};
+
+struct VehicleObservations {
+  std::vector<Sample> latency_ms;      // per Streamer control tick with a valid pair
+  std::vector<Sample> echo_delay_ms;   // control frame out → the response echoing its pair in
+  std::vector<Sample> control_gap_ms;  // between consecutive control frames to the vehicle
+  std::vector<Sample> feedback_gap_ms; // between consecutive feedback deliveries at the Player
+  RouteCounters to_streamer, to_player;
+  std::uint64_t connections_opened = 0;
+  std::uint64_t control_frames_checked = 0;   // decoded while a control-path fault was active
+};
+
+struct Violation {
+  SimTime time{0};
+  std::string vehicle;
+  std::string detail;
+};
+
+struct Observations {
+  std::map<std::string, VehicleObservations, std::less<>> vehicles;
+  // (vehicle, fault) → intervals in time order; both sides (the fault id says which).
+  std::map<std::pair<std::string, FaultId>, std::vector<Interval>> faults;
+  std::vector<std::pair<SimTime, std::optional<std::string>>> active_vehicle;   // changes
+  std::vector<Violation> controller_violations;   // non-default controller under a control-path fault
+  std::vector<Violation> stale_pair_violations;   // old pair echoed on a new connection
+  std::uint64_t reconnects = 0;                   // vehicle connections opened after a close
+  std::uint64_t events = 0;
+};
+
+struct ObserverOptions {
+  bool check_controllers = false;   // decode control frames under control-path faults
+};
+
+class Observer {
+ public:
+  Observer(EventBus& bus, ObserverOptions options);
+  ~Observer();
+  Observer(const Observer&) = delete;
+  Observer& operator=(const Observer&) = delete;
+
+  const Observations& observations() const { return observations_; }
+
+ private:
+  struct VehicleState;
+  void on_event(const Event& event);
+  VehicleState& state(std::string_view vehicle);
+
+  ObserverOptions options_;
+  Observations observations_;
+  std::map<std::string, std::unique_ptr<VehicleState>, std::less<>> states_;
+  EventBus::Subscription subscription_;
+};
+
+}  // namespace ocp::scenario

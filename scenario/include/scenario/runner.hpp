@@ -1,0 +1,53 @@
+#pragma once
+// Runs one scenario in virtual time: builds the World from the model, installs the gamepad
+// script, schedules every timeline action on the executor, attaches the Observer (and the
+// TraceRecorder) and runs to the scenario's duration. Same scenario + seed → same trace, byte
+// for byte (the World's determinism; the runner draws no randomness of its own).
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "scenario/model.hpp"
+#include "scenario/observer.hpp"
+#include "world/trace.hpp"
+
+namespace ocp::scenario {
+
+// The world refused to start (a configuration the World rejects): exit code 2, like a bad file.
+class HarnessError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct RunOptions {
+  std::optional<std::uint64_t> seed;   // overrides the file's seed
+  bool trace = true;                   // record trace.jsonl (frames without payloads)
+  bool trace_payloads = false;         // … with every frame's payload bytes
+};
+
+struct FiredEvent {
+  SimTime at{0};
+  std::string name;
+  std::string label;
+};
+
+struct RunResult {
+  std::uint64_t seed = 0;
+  SimTime duration{0};
+  Observations observations;
+  std::vector<FiredEvent> fired;
+  std::string trace_jsonl;   // empty unless RunOptions::trace
+  std::uint64_t trace_digest = 0;
+  std::uint64_t trace_lines = 0;
+  std::uint64_t executor_events = 0;
+  double wall_seconds = 0.0;
+};
+
+RunResult run_scenario(const Scenario& scenario, const RunOptions& options);
+
+// Whether any expectation of the scenario needs control payloads decoded.
+bool needs_controller_check(const Scenario& scenario);
+
+}  // namespace ocp::scenario
