@@ -466,7 +466,7 @@ class Parser {
   }
 
   void fault_expectation(const YAML::Node& node) {
-    read_.check_keys(node, "fault expectation", {"fault", "vehicle", "raised", "cleared", "never", "at", "on", "off"});
+    read_.check_keys(node, "fault expectation", {"fault", "vehicle", "raised", "cleared", "never", "from", "at", "on", "off"});
     const YAML::Node fault_node = read_.require(node, "fault", "fault expectation");
     const auto fault = parse_fault_identifier(read_.text(fault_node));
     if (!fault) read_.fail(fault_node, "unknown fault '" + fault_node.Scalar() + "' (SPEC §6 identifiers)");
@@ -476,13 +476,20 @@ class Parser {
     const bool edges = node["raised"] || node["cleared"];
     const bool never = static_cast<bool>(node["never"]);
     const bool state = static_cast<bool>(node["at"]);
+    if (node["from"] && !never) read_.fail(node["from"], "from only applies to never");
     if (int(edges) + int(never) + int(state) != 1) {
       read_.fail(node, "a fault expectation needs one of: raised/cleared, never, at (with on/off)");
     }
     if (never) {
       if (!read_.boolean(node["never"])) read_.fail(node["never"], "never: only true makes sense");
-      scenario_.expectations.push_back({fault_name + " never raised" + (vehicle ? " on " + *vehicle : ""),
-                                        read_.mark(node), FaultNeverExpectation{*fault, vehicle}});
+      FaultNeverExpectation expectation{*fault, vehicle, SimTime{0}};
+      std::string title = fault_name + " never raised" + (vehicle ? " on " + *vehicle : "");
+      if (node["from"]) {
+        std::string label;
+        std::tie(expectation.from, label) = anchor(node["from"]);
+        title += " from " + label;
+      }
+      scenario_.expectations.push_back({title, read_.mark(node), expectation});
       return;
     }
     if (edges) {

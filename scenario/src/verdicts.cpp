@@ -59,13 +59,17 @@ class Judge {
 
   void operator()(const FaultNeverExpectation& e, Verdict& v) const {
     v.kind = "fault_never";
-    v.expected = "never raised";
+    v.expected = e.from > SimTime{0} ? "never active from " + format_seconds(e.from) : "never raised";
     std::size_t raises = 0;
     std::optional<std::pair<SimTime, std::string>> first;
     for (const auto& [key, list] : observations_.faults) {
-      if (key.second != e.fault || (e.vehicle && key.first != *e.vehicle) || list.empty()) continue;
-      raises += list.size();
-      if (!first || list.front().start < first->first) first = {list.front().start, key.first};
+      if (key.second != e.fault || (e.vehicle && key.first != *e.vehicle)) continue;
+      for (const Interval& interval : list) {
+        // Raised before `from` but still active after it counts too: it was active then.
+        if (interval.end && *interval.end <= e.from) continue;
+        ++raises;
+        if (!first || interval.start < first->first) first = {interval.start, key.first};
+      }
     }
     v.passed = raises == 0;
     v.actual = raises == 0 ? "never raised"

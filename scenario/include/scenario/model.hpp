@@ -122,6 +122,7 @@ struct FaultEdgeExpectation {
 struct FaultNeverExpectation {
   FaultId fault = FaultId::InvalidMac;
   std::optional<std::string> vehicle;   // nullopt: on no vehicle
+  SimTime from{0};   // raises before this are not counted (start-up: no pair to echo yet)
 };
 // The fault's state at one instant on named vehicles (or every control vehicle but the
 // active one, which must then not have it).
