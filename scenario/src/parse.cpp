@@ -466,7 +466,7 @@ class Parser {
   }
 
   void fault_expectation(const YAML::Node& node) {
-    read_.check_keys(node, "fault expectation", {"fault", "vehicle", "raised", "cleared", "never", "from", "at", "on", "off"});
+    read_.check_keys(node, "fault expectation", {"fault", "vehicle", "raised", "cleared", "never", "from", "at", "active_on", "inactive_on"});
     const YAML::Node fault_node = read_.require(node, "fault", "fault expectation");
     const auto fault = parse_fault_identifier(read_.text(fault_node));
     if (!fault) read_.fail(fault_node, "unknown fault '" + fault_node.Scalar() + "' (SPEC §6 identifiers)");
@@ -478,7 +478,7 @@ class Parser {
     const bool state = static_cast<bool>(node["at"]);
     if (node["from"] && !never) read_.fail(node["from"], "from only applies to never");
     if (int(edges) + int(never) + int(state) != 1) {
-      read_.fail(node, "a fault expectation needs one of: raised/cleared, never, at (with on/off)");
+      read_.fail(node, "a fault expectation needs one of: raised/cleared, never, at (with active_on / inactive_on)");
     }
     if (never) {
       if (!read_.boolean(node["never"])) read_.fail(node["never"], "never: only true makes sense");
@@ -531,7 +531,7 @@ class Parser {
     auto names = [&](const char* key, std::vector<std::string>& out) {
       const YAML::Node list = node[key];
       if (!list) return;
-      if (list.IsScalar() && list.Scalar() == "every_vehicle_but_active" && std::string(key) == "on") {
+      if (list.IsScalar() && list.Scalar() == "every_vehicle_but_active" && std::string(key) == "active_on") {
         expectation.every_vehicle_but_active = true;
         return;
       }
@@ -542,16 +542,16 @@ class Parser {
         out.push_back(name);
       }
     };
-    names("on", expectation.active_on);
-    names("off", expectation.inactive_on);
+    names("active_on", expectation.active_on);
+    names("inactive_on", expectation.inactive_on);
     if (!expectation.every_vehicle_but_active && expectation.active_on.empty() && expectation.inactive_on.empty()) {
-      read_.fail(node, "at: say on which vehicles (on: [...], off: [...] or on: every_vehicle_but_active)");
+      read_.fail(node, "at: say on which vehicles (active_on: [...], inactive_on: [...] or active_on: every_vehicle_but_active)");
     }
     std::string title = fault_name + " at " + format_time(expectation.at) + ": ";
-    if (expectation.every_vehicle_but_active) title += "on every vehicle but the active one";
+    if (expectation.every_vehicle_but_active) title += "active on every vehicle but the active one";
     else {
-      for (const auto& name : expectation.active_on) title += "on " + name + " ";
-      for (const auto& name : expectation.inactive_on) title += "off " + name + " ";
+      for (const auto& name : expectation.active_on) title += "active on " + name + " ";
+      for (const auto& name : expectation.inactive_on) title += "inactive on " + name + " ";
       title.pop_back();
     }
     scenario_.expectations.push_back({title, read_.mark(node), expectation});
@@ -592,6 +592,11 @@ class Parser {
         read_.fail(item, "unknown aggregate '" + t.aggregate + "' (avg, min, max, med, count, rate, p(N))");
       }
       if (!std::set<std::string>{"<", "<=", ">", ">=", "==", "!="}.count(t.op)) read_.fail(item, "unknown operator '" + t.op + "'");
+      const bool counter = metric.rfind("lost_", 0) == 0;
+      if (counter && t.aggregate != "count" && t.aggregate != "rate") {
+        read_.fail(item, metric + " counts messages: use count or rate, not " + t.aggregate);
+      }
+      if (!counter && t.aggregate == "rate") read_.fail(item, "rate applies to lost_to_streamer / lost_to_player only");
       char* end = nullptr;
       t.value = std::strtod(number_text.c_str(), &end);
       if (*end != '\0') read_.fail(item, "bad number '" + number_text + "' in '" + t.text + "'");

@@ -52,7 +52,7 @@ expect:
 TEST(BrokenExpectations, StateAtAnInstant) {
   const auto outcome = run_text(one_vehicle(R"(expect:
   faults:
-    - {fault: VehicleControlInactive, at: 3s, on: [truck-1]}
+    - {fault: VehicleControlInactive, at: 3s, active_on: [truck-1]}
 )"));
   EXPECT_FALSE(only(outcome).passed);
   EXPECT_EQ(only(outcome).expected, "truck-1=active");
