@@ -33,7 +33,7 @@ std::string num(double value) {
 }
 
 constexpr const char* palette[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b"};
-constexpr double width = 960, plot_height = 260, left = 50, right = 10, top = 10, band_height = 14;
+constexpr double width = 1100, plot_height = 260, left = 190, right = 10, top = 10, band_height = 14;
 // A polyline of at most this many points per vehicle (max per bucket, so spikes survive).
 constexpr std::size_t max_points = 1200;
 

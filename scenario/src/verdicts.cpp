@@ -21,7 +21,11 @@ bool active_at(const Observations& observations, const std::string& vehicle, Fau
   });
 }
 
-std::string ms_text(Micros duration) { return format_number(static_cast<double>(duration.count()) / 1000.0) + "ms"; }
+// Durations as people write them: "388.5ms", "3.74s".
+std::string ms_text(Micros duration) {
+  if (duration >= Micros{1'000'000}) return format_seconds(duration);
+  return format_number(static_cast<double>(duration.count()) / 1000.0) + "ms";
+}
 
 class Judge {
  public:

@@ -24,7 +24,7 @@ expect:
 )"));
   const Verdict& verdict = only(outcome);
   EXPECT_FALSE(verdict.passed);
-  EXPECT_EQ(verdict.expected, "raised within [500ms, 1000ms] after unplug");
+  EXPECT_EQ(verdict.expected, "raised within [500ms, 1s] after unplug");
   EXPECT_EQ(verdict.actual, "raised 0ms after unplug (at 2s)");
 }
 
