@@ -119,9 +119,10 @@ int main(int argc, char** argv) {
       const bool ok = all_passed(report.verdicts);
       const double sim_s = static_cast<double>(result.duration.count()) / 1e6;
       simulated_s += sim_s;
-      std::printf("\n%s %s  seed %llu  %.1fs simulated in %.3fs (%.0f:1)\n", ok ? "✓" : "✗", scenario.path.c_str(),
-                  static_cast<unsigned long long>(run_seed), sim_s, result.wall_seconds,
-                  result.wall_seconds > 0 ? sim_s / result.wall_seconds : 0.0);
+      std::printf("\n%s %s  seed %llu  %.1fs simulated in %.3fs wall (%.0f:1), %.3fs CPU (%.0f:1)\n", ok ? "✓" : "✗",
+                  scenario.path.c_str(), static_cast<unsigned long long>(run_seed), sim_s, result.wall_seconds,
+                  result.wall_seconds > 0 ? sim_s / result.wall_seconds : 0.0, result.cpu_seconds,
+                  result.cpu_seconds > 0 ? sim_s / result.cpu_seconds : 0.0);
       std::cout << console_verdicts(report);
       if (!ok) std::cout << "  reproduce: " << report.reproduce << "\n";
       for (const Verdict& verdict : report.verdicts) (verdict.passed ? passed : failed)++;

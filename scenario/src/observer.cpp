@@ -18,8 +18,24 @@ struct Observer::VehicleState {
   std::optional<std::uint64_t> connection_first_ack;   // ack_time of that first frame
 };
 
-Observer::Observer(EventBus& bus, ObserverOptions options)
-    : options_(options), subscription_(bus.subscribe([this](const Event& event) { on_event(event); })) {}
+Observer::Observer(World& world, ObserverOptions options) : Observer(world.events(), options) {
+  world_ = &world;
+}
+
+Observer::Observer(EventBus& bus, ObserverOptions options) : options_(options) {
+  subscriptions_.push_back(bus.subscribe([this](const Event& event) { on_event(event); }));
+}
+
+void Observer::attach_parts() {
+  if (world_ == nullptr) return;
+  subscriptions_.clear();
+  auto handler = [this](const Event& event) { on_event(event); };
+  subscriptions_.push_back(world_->player().events().subscribe(handler));
+  for (const std::string& vehicle : world_->vehicles()) {
+    subscriptions_.push_back(world_->streamer(vehicle).events().subscribe(handler));
+    if (options_.link_events) subscriptions_.push_back(world_->link(vehicle).events().subscribe(handler));
+  }
+}
 
 Observer::~Observer() = default;
 

@@ -15,6 +15,7 @@
 #include "ocp/event_bus.hpp"
 #include "ocp/faults.hpp"
 #include "ocp/time.hpp"
+#include "world/world.hpp"
 
 namespace ocp::scenario {
 
@@ -61,16 +62,30 @@ struct Observations {
 
 struct ObserverOptions {
   bool check_controllers = false;   // decode control frames under control-path faults
+  // LinkEvents (feedback gaps, losses) are the most frequent events: a World builds them only
+  // while somebody listens to a link's bus, so the Observer listens only when asked to.
+  bool link_events = true;
 };
 
 class Observer {
+  // One subscriber, every event once: see attach_parts().
  public:
+  // Listens to `world.events()` from now on (construct before World::start() to see the very
+  // first events) …
+  Observer(World& world, ObserverOptions options);
+  // Listens to one bus only (tests publishing a hand-made stream); attach_parts does nothing.
   Observer(EventBus& bus, ObserverOptions options);
   ~Observer();
   Observer(const Observer&) = delete;
   Observer& operator=(const Observer&) = delete;
 
+  // … and, called right after start() (no event can happen in between in virtual time), moves
+  // to the Player's, Streamers' and (with link_events) links' own buses, so that the events
+  // nobody needs are never built.
+  void attach_parts();
+
   const Observations& observations() const { return observations_; }
+  Observations& observations() { return observations_; }
 
  private:
   struct VehicleState;
@@ -80,7 +95,8 @@ class Observer {
   ObserverOptions options_;
   Observations observations_;
   std::map<std::string, std::unique_ptr<VehicleState>, std::less<>> states_;
-  EventBus::Subscription subscription_;
+  World* world_ = nullptr;
+  std::vector<EventBus::Subscription> subscriptions_;
 };
 
 }  // namespace ocp::scenario

@@ -43,11 +43,14 @@ struct RunResult {
   std::uint64_t trace_lines = 0;
   std::uint64_t executor_events = 0;
   double wall_seconds = 0.0;
+  double cpu_seconds = 0.0;   // process CPU time of the run (the machine may be shared)
 };
 
 RunResult run_scenario(const Scenario& scenario, const RunOptions& options);
 
 // Whether any expectation of the scenario needs control payloads decoded.
 bool needs_controller_check(const Scenario& scenario);
+// Whether any expectation needs link events (feedback_gap_ms, lost_*).
+bool needs_link_events(const Scenario& scenario);
 
 }  // namespace ocp::scenario
