@@ -66,7 +66,12 @@ int main(int argc, char** argv) {
   run->add_flag("--list", list, "list files and expectations without running");
   run->add_flag("--no-trace", no_trace, "do not write trace.jsonl (faster long runs)");
   run->add_flag("--trace-payloads", trace_payloads, "include every frame's payload in trace.jsonl");
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    // --help is exit 0; a bad command line is a harness error like a bad file: 2.
+    return app.exit(error) == 0 ? exit_pass : exit_error;
+  }
 
   std::vector<Scenario> scenarios;
   bool bad = false;
