@@ -89,6 +89,21 @@ void Observer::on_event(const Event& event) {
           vehicle.awaiting_first_pair = false;
         }
       }
+      for (const DeliveryWindow& window : options_.delivery_windows) {
+        if (window.vehicle != event.component.name || now < window.start || now > window.end) continue;
+        if (auto message = decode_control_message(frame->payload)) {
+          Delivery delivery;
+          delivery.time = now;
+          delivery.vehicle = window.vehicle;
+          if (message->controller) {
+            delivery.controller = message->controller->is_safe_default() ? Delivery::Controller::default_
+                                                                         : Delivery::Controller::driving;
+          }
+          if (message->client_user_data) delivery.user_data_json = message->client_user_data->text;
+          observations_.deliveries.push_back(std::move(delivery));
+        }
+        break;   // one record per frame, however many windows overlap
+      }
       if (options_.check_controllers && !vehicle.control_faults.empty()) {
         ++vehicle.out->control_frames_checked;
         auto message = decode_control_message(frame->payload);

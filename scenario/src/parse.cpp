@@ -424,7 +424,11 @@ class Parser {
 
   // --- expectations ---------------------------------------------------------------------
   void expectations(const YAML::Node& node) {
-    read_.check_keys(node, "expect", {"faults", "thresholds", "invariants"});
+    read_.check_keys(node, "expect", {"faults", "thresholds", "invariants", "delivered"});
+    if (const YAML::Node delivered = node["delivered"]) {
+      if (!delivered.IsSequence()) read_.fail(delivered, "expect.delivered: expected a list");
+      for (const auto& item : delivered) delivery_expectation(item);
+    }
     if (const YAML::Node faults = node["faults"]) {
       if (!faults.IsSequence()) read_.fail(faults, "expect.faults: expected a list");
       for (const auto& item : faults) fault_expectation(item);
@@ -555,6 +559,33 @@ class Parser {
       title.pop_back();
     }
     scenario_.expectations.push_back({title, read_.mark(node), expectation});
+  }
+
+  void delivery_expectation(const YAML::Node& node) {
+    read_.check_keys(node, "delivered", {"vehicle", "after", "within", "controller", "user_data"});
+    DeliveryExpectation e;
+    e.vehicle = vehicle_of(node, "delivered");
+    std::tie(e.after, e.after_label) = anchor(read_.require(node, "after", "delivered"));
+    e.within = read_.duration(read_.require(node, "within", "delivered"));
+    std::string what;
+    if (const YAML::Node controller = node["controller"]) {
+      const std::string state = controller.IsNull() ? "null" : read_.text(controller);
+      if (state == "null") e.controller = DeliveryExpectation::ControllerState::null;
+      else if (state == "default") e.controller = DeliveryExpectation::ControllerState::default_;
+      else if (state == "driving") e.controller = DeliveryExpectation::ControllerState::driving;
+      else if (state == "any") e.controller = DeliveryExpectation::ControllerState::any;
+      else read_.fail(controller, "controller: expected null, default, driving or any");
+      what += "controller " + state;
+    }
+    if (node["user_data"]) {
+      e.user_data_json = read_.json(node["user_data"]);
+      what += std::string(what.empty() ? "" : ", ") + "user_data " + *e.user_data_json;
+    }
+    if (what.empty()) read_.fail(node, "delivered: say what must arrive (controller and / or user_data)");
+    if (find_vehicle(e.vehicle)->monitor) read_.fail(node, "a monitor vehicle is sent no control");
+    scenario_.expectations.push_back(
+        {e.vehicle + " received " + what + " within " + format_time(e.within) + " after " + e.after_label,
+         read_.mark(node), e});
   }
 
   void threshold_expectations(const YAML::Node& key, const YAML::Node& list) {

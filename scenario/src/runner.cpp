@@ -62,7 +62,13 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   }
   // With a trace every event is built anyway: the Observer may as well count link messages.
   const bool link_events = options.trace || needs_link_events(scenario);
-  Observer observer(world, ObserverOptions{needs_controller_check(scenario), link_events});
+  ObserverOptions observer_options{needs_controller_check(scenario), link_events, {}};
+  for (const Expectation& expectation : scenario.expectations) {
+    if (const auto* delivery = std::get_if<DeliveryExpectation>(&expectation.kind)) {
+      observer_options.delivery_windows.push_back({delivery->vehicle, delivery->after, delivery->after + delivery->within});
+    }
+  }
+  Observer observer(world, observer_options);
   if (auto status = world.start(); !status) {
     throw HarnessError("the world did not start: " + status.error().message());
   }

@@ -3,6 +3,8 @@
 
 #include <algorithm>
 
+#include <rapidjson/document.h>
+
 #include "scenario/metrics.hpp"
 
 namespace ocp::scenario {
@@ -22,6 +24,22 @@ bool active_at(const Observations& observations, const std::string& vehicle, Fau
 }
 
 // Durations as people write them: "388.5ms", "3.74s".
+bool same_json(const std::string& a, const std::string& b) {
+  rapidjson::Document x, y;
+  x.Parse(a.c_str());
+  y.Parse(b.c_str());
+  return !x.HasParseError() && !y.HasParseError() && x == y;
+}
+
+std::string_view controller_name(Delivery::Controller controller) {
+  switch (controller) {
+    case Delivery::Controller::null: return "null";
+    case Delivery::Controller::default_: return "default";
+    case Delivery::Controller::driving: return "driving";
+  }
+  return "?";
+}
+
 std::string ms_text(Micros duration) {
   if (duration >= Micros{1'000'000}) return format_seconds(duration);
   return format_number(static_cast<double>(duration.count()) / 1000.0) + "ms";
@@ -133,6 +151,41 @@ class Judge {
     else if (e.op == "==") v.passed = x == e.value;
     else v.passed = x != e.value;
     v.actual = e.aggregate + " = " + format_number(x);
+  }
+
+  void operator()(const DeliveryExpectation& e, Verdict& v) const {
+    v.kind = "delivery";
+    using State = DeliveryExpectation::ControllerState;
+    auto wanted = [&](const Delivery& d) {
+      const bool controller_ok = e.controller == State::any ||
+                                 (e.controller == State::null && d.controller == Delivery::Controller::null) ||
+                                 (e.controller == State::default_ && d.controller == Delivery::Controller::default_) ||
+                                 (e.controller == State::driving && d.controller == Delivery::Controller::driving);
+      return controller_ok && (!e.user_data_json || (d.user_data_json && same_json(*d.user_data_json, *e.user_data_json)));
+    };
+    v.expected = "a control frame with";
+    if (e.controller != State::any) {
+      v.expected += std::string(" controller ") +
+                    (e.controller == State::null ? "null" : e.controller == State::default_ ? "default" : "driving");
+    }
+    if (e.user_data_json) v.expected += " user_data " + *e.user_data_json;
+    v.expected += " within " + ms_text(e.within) + " after " + e.after_label;
+    const Delivery* last = nullptr;
+    for (const Delivery& d : observations_.deliveries) {
+      if (d.vehicle != e.vehicle || d.time < e.after || d.time > e.after + e.within) continue;
+      if (wanted(d)) {
+        v.passed = true;
+        v.actual = "received " + ms_text(d.time - e.after) + " after " + e.after_label + " (at " + format_seconds(d.time) + ")";
+        return;
+      }
+      last = &d;
+    }
+    if (last == nullptr) {
+      v.actual = "no control frame reached " + e.vehicle + " in the window";
+    } else {
+      v.actual = "last frame in the window: controller " + std::string(controller_name(last->controller)) +
+                 ", user_data " + last->user_data_json.value_or("none");
+    }
   }
 
   void operator()(const InvariantExpectation& e, Verdict& v) const {

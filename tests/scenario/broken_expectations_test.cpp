@@ -69,6 +69,18 @@ TEST(BrokenExpectations, Threshold) {
   EXPECT_EQ(only(outcome).actual.rfind("p(99) = ", 0), 0u) << only(outcome).actual;
 }
 
+TEST(BrokenExpectations, DeliveryOfTheWrongUserData) {
+  const auto outcome = run_text(one_vehicle(R"(timeline:
+  - {at: 2s, name: command, client_data: {source: plugin, vehicles: {truck-1: {user_data: {command: park}, echo: latest}}, every: 10ms}}
+expect:
+  delivered:
+    - {after: command, within: 100ms, user_data: {command: drive}}
+)"));
+  EXPECT_FALSE(only(outcome).passed);
+  EXPECT_EQ(only(outcome).expected, "a control frame with user_data {\"command\":\"drive\"} within 100ms after command");
+  EXPECT_EQ(only(outcome).actual, "last frame in the window: controller driving, user_data {\"command\":\"park\"}");
+}
+
 TEST(BrokenExpectations, InvariantWithNothingToCheck) {
   const auto outcome = run_text(one_vehicle(R"(expect:
   invariants: [no_stale_pair_after_reconnect]
@@ -81,7 +93,7 @@ TEST(BrokenExpectations, InvariantWithNothingToCheck) {
 // hand-made event stream: the Observer sees exactly what the World would publish.
 struct HandMadeStream {
   EventBus bus;
-  Observer observer{bus, ObserverOptions{true}};
+  Observer observer{bus, ObserverOptions{true, true, {}}};
   void publish(SimTime time, EventBody body) { bus.publish(Event{time, Component{ComponentKind::streamer, "truck-1"}, std::move(body)}); }
   void control(SimTime time, std::uint64_t ack_time, const Controller& controller) {
     OcpControlMessage message;

@@ -146,9 +146,21 @@ struct InvariantExpectation {
   Invariant invariant = Invariant::default_controller_during_control_fault;
 };
 
+// What reached a vehicle: within `within` after `after`, a control frame to it must carry this
+// controller state and / or this client user data (operator commands through user data).
+struct DeliveryExpectation {
+  enum class ControllerState { any, null, default_, driving };
+  std::string vehicle;
+  SimTime after{0};
+  std::string after_label;
+  Micros within{0};
+  ControllerState controller = ControllerState::any;
+  std::optional<std::string> user_data_json;   // compared as JSON values
+};
+
 using ExpectationKind = std::variant<FaultEdgeExpectation, FaultNeverExpectation,
                                      FaultStateExpectation, ThresholdExpectation,
-                                     InvariantExpectation>;
+                                     InvariantExpectation, DeliveryExpectation>;
 struct Expectation {
   std::string title;   // one line, as printed in the verdict list
   Mark mark;

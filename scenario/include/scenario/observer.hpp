@@ -49,6 +49,19 @@ struct Violation {
   std::string detail;
 };
 
+// A control frame decoded inside a delivery window (DeliveryExpectation).
+struct Delivery {
+  SimTime time{0};
+  std::string vehicle;
+  enum class Controller { null, default_, driving } controller = Controller::null;
+  std::optional<std::string> user_data_json;
+};
+
+struct DeliveryWindow {
+  std::string vehicle;
+  SimTime start{0}, end{0};
+};
+
 struct Observations {
   std::map<std::string, VehicleObservations, std::less<>> vehicles;
   // (vehicle, fault) → intervals in time order; both sides (the fault id says which).
@@ -56,6 +69,7 @@ struct Observations {
   std::vector<std::pair<SimTime, std::optional<std::string>>> active_vehicle;   // changes
   std::vector<Violation> controller_violations;   // non-default controller under a control-path fault
   std::vector<Violation> stale_pair_violations;   // old pair echoed on a new connection
+  std::vector<Delivery> deliveries;               // decoded inside delivery windows only
   std::uint64_t reconnects = 0;                   // vehicle connections opened after a close
   std::uint64_t events = 0;
 };
@@ -65,6 +79,7 @@ struct ObserverOptions {
   // LinkEvents (feedback gaps, losses) are the most frequent events: a World builds them only
   // while somebody listens to a link's bus, so the Observer listens only when asked to.
   bool link_events = true;
+  std::vector<DeliveryWindow> delivery_windows;   // decode control frames to these vehicles then
 };
 
 class Observer {
