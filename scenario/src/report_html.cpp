@@ -47,6 +47,7 @@ std::string svg(const RunReport& report) {
   }
   for (const auto& [name, data] : obs.vehicles) {
     for (const Sample& s : data.latency_ms) y_max = std::max(y_max, s.value);
+    for (const Sample& s : data.ping_ms) y_max = std::max(y_max, s.value);
   }
   y_max *= 1.1;
   const double plot_width = width - left - right;
@@ -75,18 +76,23 @@ std::string svg(const RunReport& report) {
     out += "<line x1=\"" + num(left) + "\" x2=\"" + num(left + plot_width) + "\" y1=\"" + num(y_of(limit)) + "\" y2=\"" + num(y_of(limit)) +
            "\" stroke=\"#d62728\" stroke-dasharray=\"2,2\"><title>latency_limit " + escape(spec.name) + "</title></line>\n";
   }
-  std::size_t color = 0;
-  for (const auto& [name, data] : obs.vehicles) {
-    const auto& samples = data.latency_ms;
-    if (samples.empty()) continue;
+  auto polyline = [&](const std::vector<Sample>& samples, const std::string& color, const char* style,
+                      const std::string& title) {
+    if (samples.empty()) return;
     const std::size_t bucket = std::max<std::size_t>(1, (samples.size() + max_points - 1) / max_points);
-    out += "<polyline fill=\"none\" stroke=\"" + std::string(palette[color++ % 6]) + "\" stroke-width=\"1\" points=\"";
+    out += "<polyline fill=\"none\" stroke=\"" + color + "\" stroke-width=\"1\" " + style + " points=\"";
     for (std::size_t i = 0; i < samples.size(); i += bucket) {
       double peak = 0;
       for (std::size_t j = i; j < std::min(samples.size(), i + bucket); ++j) peak = std::max(peak, samples[j].value);
       out += num(x_of(samples[i].time)) + "," + num(y_of(peak)) + " ";
     }
-    out += "\"><title>latency_ms " + escape(name) + "</title></polyline>\n";
+    out += "\"><title>" + escape(title) + "</title></polyline>\n";
+  };
+  std::size_t color = 0;
+  for (const auto& [name, data] : obs.vehicles) {
+    const std::string stroke = palette[color++ % 6];
+    polyline(data.latency_ms, stroke, "", "latency_ms " + name);
+    polyline(data.ping_ms, stroke, "stroke-dasharray=\"1,2\" opacity=\"0.7\"", "ping_ms " + name);
   }
   for (const FiredEvent& event : report.run->fired) {
     const std::string x = num(x_of(event.at));
@@ -132,8 +138,8 @@ std::string report_html(const RunReport& report, const std::string& summary) {
   out += "<p>seed <b>" + std::to_string(report.run->seed) + "</b>, " + format_seconds(report.run->duration) +
          " simulated. Reproduce: <code>" + escape(report.reproduce) + "</code></p>\n";
   out += "<h2>Latency (ms) and faults</h2>\n<p>Lines: measured latency per vehicle (red dashes: latency_limit); "
-         "bands: fault intervals (pink: vehicle side, teal: operator side); dashed verticals: timeline events. "
-         "Ping is not part of the event stream, so it is not plotted.</p>\n";
+         "dotted: ping per vehicle (the Player's ping_latency_ms, sampled every 100 ms); "
+         "bands: fault intervals (pink: vehicle side, teal: operator side); dashed verticals: timeline events.</p>\n";
   out += svg(report);
   out += "<h2>Verdicts</h2>\n<table><tr><th></th><th>expectation</th><th>expected</th><th>actual</th><th>line</th></tr>\n";
   for (const Verdict& verdict : report.verdicts) {

@@ -36,6 +36,8 @@ bool needs_link_events(const Scenario& scenario) {
 
 namespace {
 
+constexpr Micros ping_sample_period{100'000};
+
 void add(RouteCounters& out, const DirectionCounters& counters) {
   out.sent = counters.sent;
   out.delivered = counters.delivered;
@@ -75,7 +77,16 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   observer.attach_parts();
   apply_gamepad(world.player().gamepad(), scenario.gamepad, executor.now());
   const auto keep_alive = schedule_timeline(world, scenario.timeline, scenario.duration, result.fired);
+  // Ping is not on the event stream; sample what the Player shows, for the report's plot.
+  Observations& observations = observer.observations();
+  PeriodicTimer ping_sampler(executor, ping_sample_period, [&](SimTime now) {
+    for (const auto& [vehicle, feedback] : world.player().last_shared().vehicle_feedback) {
+      observations.vehicles[vehicle].ping_ms.push_back({now, static_cast<double>(feedback.ping_latency_ms)});
+    }
+  });
+  ping_sampler.start(executor.now() + ping_sample_period);
   executor.run_until(scenario.duration);
+  ping_sampler.stop();
   result.executor_events = executor.events_run();
   if (!link_events) {
     // Message counts for the summary, from the links themselves (no expectation needs them).

@@ -66,6 +66,15 @@ std::string summary_json(const RunReport& report) {
   }
   json.EndObject();
 
+  key(json, "ping_ms");   // sampled every 100 ms from the Player's feedback (plot only)
+  {
+    std::vector<double> pings;
+    for (const auto& [name, data] : obs.vehicles) {
+      for (const Sample& sample : data.ping_ms) pings.push_back(sample.value);
+    }
+    latency(json, std::move(pings));
+  }
+
   key(json, "faults");
   json.StartArray();
   for (const auto& [fault_key, list] : obs.faults) {

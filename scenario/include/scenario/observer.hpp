@@ -39,6 +39,9 @@ struct VehicleObservations {
   std::vector<Sample> control_gap_ms;  // between consecutive control frames to the vehicle
   std::vector<Sample> feedback_gap_ms; // between consecutive feedback deliveries at the Player
   RouteCounters to_streamer, to_player;
+  // The Player's ping_latency_ms, sampled every 100 ms by the runner (not an event: for the
+  // report's plot only, never for a verdict).
+  std::vector<Sample> ping_ms;
   std::uint64_t connections_opened = 0;
   std::uint64_t control_frames_checked = 0;   // decoded while a control-path fault was active
 };
