@@ -49,7 +49,19 @@ bool write_file(const fs::path& path, const std::string& text) {
 
 }  // namespace
 
+int run_tool(int argc, char** argv);
+
 int main(int argc, char** argv) {
+  try {
+    return run_tool(argc, argv);
+  } catch (const std::exception& error) {
+    // Anything unexpected (a results folder that cannot be made, …) is a harness error.
+    std::cerr << "error: " << error.what() << "\n";
+    return 2;
+  }
+}
+
+int run_tool(int argc, char** argv) {
   CLI::App app{"ocp_scenario: scenario files with verdicts, run in virtual time (docs/scenarios.md)"};
   app.require_subcommand(1);
   CLI::App* run = app.add_subcommand("run", "run scenario files (or every *.yaml in a folder)");

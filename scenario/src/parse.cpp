@@ -642,7 +642,12 @@ class Parser {
 }  // namespace
 
 Scenario parse_scenario(const std::string& text, const std::string& path) {
-  return Parser(path).parse(text);
+  try {
+    return Parser(path).parse(text);
+  } catch (const YAML::Exception& error) {
+    // yaml-cpp's own conversions (a non-scalar key, …) carry a position too.
+    throw ScenarioError(path, error.mark.line + 1, error.mark.column + 1, error.msg);
+  }
 }
 
 Scenario load_scenario(const std::string& path) {
