@@ -39,5 +39,22 @@ TEST(ScenarioDeterminism, OtherSeedOtherTrace) {
   EXPECT_NE(first.run.trace_digest, other.run.trace_digest);
 }
 
+// The trace and the Observer's choice of buses must not change what is observed: the same
+// faults, series and message counts with and without trace.jsonl.
+TEST(ScenarioDeterminism, TraceDoesNotChangeTheVerdicts) {
+  RunOptions with_trace, without_trace;
+  without_trace.trace = false;
+  const auto traced = test::run_text(jittery, with_trace);
+  const auto bare = test::run_text(jittery, without_trace);
+  EXPECT_EQ(traced.run.observations.faults, bare.run.observations.faults);
+  const auto& a = traced.run.observations.vehicles.at("truck-1");
+  const auto& b = bare.run.observations.vehicles.at("truck-1");
+  ASSERT_EQ(a.latency_ms.size(), b.latency_ms.size());
+  for (std::size_t i = 0; i < a.latency_ms.size(); ++i) EXPECT_EQ(a.latency_ms[i].value, b.latency_ms[i].value);
+  EXPECT_EQ(a.to_streamer.dropped, b.to_streamer.dropped);
+  EXPECT_EQ(a.to_player.sent, b.to_player.sent);
+  EXPECT_EQ(traced.verdicts.front().actual, bare.verdicts.front().actual);
+}
+
 }  // namespace
 }  // namespace ocp::scenario

@@ -22,6 +22,7 @@ namespace ocp::scenario {
 struct Interval {
   SimTime start{0};
   std::optional<SimTime> end;   // nullopt: still active when the run ended
+  bool operator==(const Interval&) const = default;
 };
 
 struct Sample {
