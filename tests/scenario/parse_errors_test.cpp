@@ -47,6 +47,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadFile{"no expectation", head + "expect: {}\n", 6, "no expectation"},
         BadFile{"missing duration", "seed: 1\nworld:\n  vehicles: [{name: a}]\nexpect: {invariants: [no_stale_pair_after_reconnect]}\n", 1, "missing required key 'duration'"},
         BadFile{"YAML syntax", head + "expect: [\n", 7, ""},
+        BadFile{"non-scalar key", head + "      [x, y]: 3\nexpect: {invariants: [no_stale_pair_after_reconnect]}\n", 6, "bad conversion"},
         BadFile{"two actions in one event", head + "timeline:\n  - {at: 1s, gamepad: unplug, disconnect: {}}\nexpect: {invariants: [no_stale_pair_after_reconnect]}\n", 7, "exactly one action"}),
     [](const ::testing::TestParamInfo<BadFile>& info) {
       std::string name = info.param.what;
