@@ -25,7 +25,10 @@ std::string junit_xml(const std::vector<RunReport>& reports) {
   for (const RunReport& report : reports) {
     std::size_t failures = 0;
     for (const Verdict& verdict : report.verdicts) failures += verdict.passed ? 0 : 1;
-    out += "  <testsuite name=\"" + xml(report.scenario->name) + "\" file=\"" + xml(report.scenario->path) + "\" tests=\"" +
+    // Repeated runs (--repeat, --seed) of one file stay apart: the seed joins the name.
+    std::string name = report.scenario->name;
+    if (report.run->seed != report.scenario->seed) name += " (seed " + std::to_string(report.run->seed) + ")";
+    out += "  <testsuite name=\"" + xml(name) + "\" file=\"" + xml(report.scenario->path) + "\" tests=\"" +
            std::to_string(report.verdicts.size()) + "\" failures=\"" + std::to_string(failures) + "\" time=\"" +
            std::to_string(report.run->wall_seconds) + "\">\n";
     out += "    <properties><property name=\"seed\" value=\"" + std::to_string(report.run->seed) +
