@@ -69,7 +69,8 @@ int run_tool(int argc, char** argv) {
   std::optional<std::uint64_t> seed;
   unsigned repeat = 1;
   std::string junit, out_dir = "scenario-results";
-  bool list = false, no_trace = false, trace_payloads = false;
+  bool list = false, no_trace = false, trace_payloads = false, realtime = false;
+  std::uint16_t tcp_port = 4000;
   run->add_option("files", inputs, "scenario files or folders")->required();
   run->add_option("--seed", seed, "override every file's seed");
   run->add_option("--repeat", repeat, "run each file K times with seeds derived from its seed")->check(CLI::Range(1u, 100000u));
@@ -78,6 +79,11 @@ int run_tool(int argc, char** argv) {
   run->add_flag("--list", list, "list files and expectations without running");
   run->add_flag("--no-trace", no_trace, "do not write trace.jsonl (faster long runs)");
   run->add_flag("--trace-payloads", trace_payloads, "include every frame's payload in trace.jsonl");
+  run->add_flag("--realtime", realtime,
+                "run in real time (not reproducible); vehicles with in_process_client: false wait for "
+                "external vehicle clients over TCP");
+  run->add_option("--tcp-port", tcp_port, "--realtime: port of the first external vehicle (the next +1, …; 0: any)")
+      ->capture_default_str();
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
@@ -125,14 +131,25 @@ int run_tool(int argc, char** argv) {
       options.trace = !no_trace;
       options.trace_payloads = trace_payloads;
       try {
-        runs.push_back(run_scenario(scenario, options));
+        if (realtime) {
+          RealTimeOptions real_time;
+          real_time.tcp_port = tcp_port;
+          real_time.on_listening = [](const std::string& vehicle, const std::string& address) {
+            std::printf("%s: waiting for a vehicle client on %s\n", vehicle.c_str(), address.c_str());
+            std::fflush(stdout);
+          };
+          runs.push_back(run_scenario_realtime(scenario, options, real_time));
+        } else {
+          runs.push_back(run_scenario(scenario, options));
+        }
       } catch (const HarnessError& error) {
         std::cerr << "error: " << scenario.path << ": " << error.what() << "\n";
         return exit_error;
       }
       const RunResult& result = runs.back();
       RunReport report{&scenario, &result, evaluate(scenario, result),
-                       "ocp_scenario run " + scenario.path + " --seed " + std::to_string(run_seed)};
+                       "ocp_scenario run " + scenario.path + " --seed " + std::to_string(run_seed) +
+                           (realtime ? " --realtime (real time: not reproducible)" : "")};
       const bool ok = all_passed(report.verdicts);
       const double sim_s = static_cast<double>(result.duration.count()) / 1e6;
       simulated_s += sim_s;

@@ -54,7 +54,7 @@ double to_ms(Micros duration) { return static_cast<double>(duration.count()) / 1
 
 void Observer::on_event(const Event& event) {
   ++observations_.events;
-  const SimTime now = event.time;
+  const SimTime now = event.time - origin_;
   if (const auto* sample = std::get_if<LatencySample>(&event.body)) {
     if (sample->latency_ms) {
       state(event.component.name).out->latency_ms.push_back({now, static_cast<double>(*sample->latency_ms)});

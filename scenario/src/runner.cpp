@@ -1,4 +1,4 @@
-// One scenario run in virtual time (runner.hpp). Not VirtualWorld: its TraceRecorder would
+// One scenario run (runner.hpp); virtual time here, real time in runner_realtime.cpp. Not VirtualWorld: its TraceRecorder would
 // listen to every bus even without a trace, and every event would be built; here the trace
 // listens only when asked for, and the Observer only to the buses it needs.
 #include "scenario/runner.hpp"
@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "ocp/virtual_executor.hpp"
+#include "run_world.hpp"
 #include "timeline.hpp"
 #include "world_setup.hpp"
 
@@ -46,16 +47,18 @@ void add(RouteCounters& out, const DirectionCounters& counters) {
 
 }  // namespace
 
-RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
+RunResult run_world(Executor& executor, const Scenario& scenario, const RunOptions& options,
+                    bool deterministic_keys, const ClockDriver& drive) {
   const auto wall_start = std::chrono::steady_clock::now();
   const std::clock_t cpu_start = std::clock();
   RunResult result;
   result.seed = options.seed.value_or(scenario.seed);
   result.duration = scenario.duration;
 
-  VirtualExecutor executor;
+  WorldConfig config = world_config(scenario, result.seed);
+  config.deterministic_keys = deterministic_keys;
   // Log lines are not part of a scenario's outcome (the trace is): they go nowhere.
-  World world(executor, world_config(scenario, result.seed), make_null_sink());
+  World world(executor, config, make_null_sink());
   std::unique_ptr<TraceRecorder> trace;
   if (options.trace) {
     TraceOptions trace_options;
@@ -71,23 +74,24 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
     }
   }
   Observer observer(world, observer_options);
+  const SimTime origin = executor.now();
+  observer.set_origin(origin);
   if (auto status = world.start(); !status) {
     throw HarnessError("the world did not start: " + status.error().message());
   }
   observer.attach_parts();
   apply_gamepad(world.player().gamepad(), scenario.gamepad, executor.now());
-  const auto keep_alive = schedule_timeline(world, scenario.timeline, scenario.duration, result.fired);
+  const auto keep_alive = schedule_timeline(world, scenario.timeline, scenario.duration, result.fired, origin);
   // Ping is not on the event stream; sample what the Player shows, for the report's plot.
   Observations& observations = observer.observations();
   PeriodicTimer ping_sampler(executor, ping_sample_period, [&](SimTime now) {
     for (const auto& [vehicle, feedback] : world.player().last_shared().vehicle_feedback) {
-      observations.vehicles[vehicle].ping_ms.push_back({now, static_cast<double>(feedback.ping_latency_ms)});
+      observations.vehicles[vehicle].ping_ms.push_back({now - origin, static_cast<double>(feedback.ping_latency_ms)});
     }
   });
   ping_sampler.start(executor.now() + ping_sample_period);
-  executor.run_until(scenario.duration);
+  drive(world, origin + scenario.duration);
   ping_sampler.stop();
-  result.executor_events = executor.events_run();
   if (!link_events) {
     // Message counts for the summary, from the links themselves (no expectation needs them).
     for (const std::string& vehicle : world.vehicles()) {
@@ -105,6 +109,15 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   world.stop();
   result.cpu_seconds = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
   result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  return result;
+}
+
+RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
+  VirtualExecutor executor;
+  RunResult result = run_world(executor, scenario, options, true, [&](World&, SimTime end) {
+    executor.run_until(end);
+  });
+  result.executor_events = executor.events_run();
   return result;
 }
 

@@ -28,7 +28,9 @@ std::vector<LinkDirection*> directions(World& world, const std::string& vehicle,
 
 class Actions {
  public:
-  Actions(World& world, SimTime end) : world_(world), executor_(world.executor()), end_(end) {}
+  // `end` is relative to `origin` (the executor's time when the run started).
+  Actions(World& world, SimTime end, SimTime origin)
+      : world_(world), executor_(world.executor()), end_(origin + end), origin_(origin) {}
 
   void operator()(const SetImpairments& set) {
     for (LinkDirection* direction : directions(world_, set.vehicle, set.direction)) {
@@ -86,7 +88,7 @@ class Actions {
   void operator()(const ClientDataAction& data) {
     send_client_data(world_, data);
     if (data.every <= Micros{0}) return;
-    const SimTime until = data.until.value_or(end_);
+    const SimTime until = data.until ? origin_ + *data.until : end_;
     // A source that keeps sending (a plugin echoing every frame): reschedules itself.
     auto repeat = std::make_shared<std::function<void()>>();
     World* world = &world_;
@@ -127,17 +129,18 @@ class Actions {
  private:
   World& world_;
   Executor& executor_;
-  SimTime end_;
+  SimTime end_;      // absolute
+  SimTime origin_;
 };
 
 }  // namespace
 
 std::shared_ptr<void> schedule_timeline(World& world, const std::vector<TimelineEvent>& timeline, SimTime end,
-                       std::vector<FiredEvent>& fired) {
-  auto actions = std::make_shared<Actions>(world, end);
+                       std::vector<FiredEvent>& fired, SimTime origin) {
+  auto actions = std::make_shared<Actions>(world, end, origin);
   for (const TimelineEvent& event : timeline) {
-    world.executor().call_at(event.at, [actions, &event, &fired, &world] {
-      fired.push_back({world.executor().now(), event.name, event.label});
+    world.executor().call_at(origin + event.at, [actions, &event, &fired, &world, origin] {
+      fired.push_back({world.executor().now() - origin, event.name, event.label});
       std::visit(*actions, event.action);
     });
   }

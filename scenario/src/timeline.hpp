@@ -13,6 +13,6 @@ namespace ocp::scenario {
 // repeating actions (client data every N ms). The returned handle keeps the actions' state
 // (repeating sources) alive: hold it until the run ends.
 [[nodiscard]] std::shared_ptr<void> schedule_timeline(World& world, const std::vector<TimelineEvent>& timeline, SimTime end,
-                       std::vector<FiredEvent>& fired);
+                       std::vector<FiredEvent>& fired, SimTime origin = SimTime{0});
 
 }  // namespace ocp::scenario

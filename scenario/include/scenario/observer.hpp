@@ -102,6 +102,8 @@ class Observer {
   // to the Player's, Streamers' and (with link_events) links' own buses, so that the events
   // nobody needs are never built.
   void attach_parts();
+  // Times are kept relative to this instant (real-time runs: the executor's clock at start).
+  void set_origin(SimTime origin) { origin_ = origin; }
 
   const Observations& observations() const { return observations_; }
   Observations& observations() { return observations_; }
@@ -115,6 +117,7 @@ class Observer {
   Observations observations_;
   std::map<std::string, std::unique_ptr<VehicleState>, std::less<>> states_;
   World* world_ = nullptr;
+  SimTime origin_{0};
   std::vector<EventBus::Subscription> subscriptions_;
 };
 

@@ -4,6 +4,7 @@
 // TraceRecorder) and runs to the scenario's duration. Same scenario + seed → same trace, byte
 // for byte (the World's determinism; the runner draws no randomness of its own).
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -47,6 +48,17 @@ struct RunResult {
 };
 
 RunResult run_scenario(const Scenario& scenario, const RunOptions& options);
+
+// Real time (--realtime): the same World on an AsioExecutor for `duration` of wall time, with
+// CSPRNG MAC keys (not reproducible). Every vehicle with `in_process_client: false` gets a TCP
+// server for an external vehicle client: the first on `tcp_port`, the next on tcp_port + 1, …
+// (0: ephemeral ports). `on_listening(vehicle, address)` tells where.
+struct RealTimeOptions {
+  std::uint16_t tcp_port = 4000;
+  std::function<void(const std::string& vehicle, const std::string& address)> on_listening;
+};
+RunResult run_scenario_realtime(const Scenario& scenario, const RunOptions& options,
+                                const RealTimeOptions& real_time);
 
 // Whether any expectation of the scenario needs control payloads decoded.
 bool needs_controller_check(const Scenario& scenario);
