@@ -1,0 +1,185 @@
+#pragma once
+// The scenario model: what a scenario file says, after parsing and validation (parse.hpp).
+// Everything here is already checked: vehicle and camera names exist, times are ordered,
+// expectations refer to events that exist. The runner (runner.hpp) never re-validates.
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "ocp/client_source.hpp"
+#include "ocp/faults.hpp"
+#include "ocp/impairments.hpp"
+#include "ocp/time.hpp"
+#include "player/gamepad.hpp"
+#include "world/world.hpp"
+
+namespace ocp::scenario {
+
+// Where something was written: 1-based line and column in the scenario file.
+struct Mark {
+  int line = 0;
+  int column = 0;
+};
+
+// Impairment fields a file sets; the rest keep their current value.
+struct ImpairmentPatch {
+  std::optional<Micros> delay, jitter, reorder_extra_delay;
+  std::optional<Impairments::JitterKind> jitter_kind;
+  std::optional<double> loss, duplicate, reorder, bandwidth_bps;
+  std::optional<double> good_to_bad, bad_to_good, loss_in_good, loss_in_bad;
+  std::optional<bool> burst_loss, down;
+  std::optional<std::size_t> queue_limit_bytes;
+};
+Impairments apply_patch(Impairments base, const ImpairmentPatch& patch);
+// Linear interpolation of the numeric fields (delay, jitter, probabilities, bandwidth) at
+// fraction f ∈ [0, 1]; the switches (burst_loss, down, jitter kind) take `to`'s value.
+Impairments interpolate(const Impairments& from, const Impairments& to, double fraction);
+
+enum class Direction { both, to_streamer, to_player };
+
+struct GamepadScriptSetting {
+  enum class Kind { idle, drive, constant, waveform } kind = Kind::idle;
+  Controller constant;
+  Waveform waveform;
+};
+
+// --- timeline actions -------------------------------------------------------------------
+struct SetImpairments {
+  std::string vehicle;
+  Direction direction = Direction::both;
+  ImpairmentPatch patch;
+  Micros ramp{0};   // > 0: move linearly from the current settings to the patched ones
+};
+struct LinkOutage {
+  std::string vehicle;
+  Direction direction = Direction::both;
+  Micros duration{0};
+};
+struct CameraStall {
+  std::string vehicle;
+  std::string camera;
+  bool stalled = true;
+  Micros duration{0};   // > 0: unstall again after this long
+};
+struct FrameLoopStall {
+  std::string vehicle;
+  Micros duration{0};
+};
+struct ControlThreadStall {
+  std::string vehicle;
+  Micros duration{0};
+};
+struct DisconnectVehicle {
+  std::string vehicle;
+};
+struct GamepadAction {
+  enum class Kind { unplug, replug, script } kind = Kind::unplug;
+  GamepadScriptSetting script;
+};
+struct SelectVehicle {
+  std::optional<std::string> vehicle;   // nullopt: clear the selection
+};
+// Client data from a second source (web view / plugin / tcp), once or repeatedly.
+struct ClientDataAction {
+  enum class Echo { none, latest, corrupt };   // the returned pair a plugin/tcp source puts in
+  struct Entry {
+    std::optional<std::string> user_data_json;
+    std::optional<bool> disable_gamepad;
+    Echo echo = Echo::none;
+  };
+  ClientSource source = ClientSource::plugin;
+  std::optional<std::string> active_vehicle;
+  std::map<std::string, Entry> vehicles;
+  Micros every{0};            // > 0: repeat at this period …
+  std::optional<SimTime> until;   // … until this time (default: the end of the run)
+};
+
+using Action = std::variant<SetImpairments, LinkOutage, CameraStall, FrameLoopStall,
+                            ControlThreadStall, DisconnectVehicle, GamepadAction, SelectVehicle,
+                            ClientDataAction>;
+
+struct TimelineEvent {
+  SimTime at{0};
+  std::string name;     // optional; expectations refer to events by name
+  std::string label;    // what happened, for reports ("impairments truck-1 both")
+  Mark mark;
+  Action action;
+};
+
+// --- expectations -----------------------------------------------------------------------
+// A fault's first raise (or clear) edge at or after `after` must come within [min, max].
+struct FaultEdgeExpectation {
+  FaultId fault = FaultId::HighLatency;
+  std::string vehicle;
+  bool raised = true;   // false: cleared
+  SimTime after{0};
+  std::string after_label;   // the event name or the time as written
+  Micros min{0}, max{0};
+};
+struct FaultNeverExpectation {
+  FaultId fault = FaultId::InvalidMac;
+  std::optional<std::string> vehicle;   // nullopt: on no vehicle
+  SimTime from{0};   // raises before this are not counted (start-up: no pair to echo yet)
+};
+// The fault's state at one instant on named vehicles (or every control vehicle but the
+// active one, which must then not have it).
+struct FaultStateExpectation {
+  FaultId fault = FaultId::VehicleControlInactive;
+  SimTime at{0};
+  std::vector<std::string> active_on, inactive_on;
+  bool every_vehicle_but_active = false;
+};
+struct ThresholdExpectation {
+  std::string metric;                   // latency_ms, echo_delay_ms, …
+  std::optional<std::string> vehicle;   // nullopt: all vehicles together
+  std::string aggregate;                // avg min max med count rate p(N)
+  double percentile = 0.0;              // for p(N)
+  std::string op;                       // < <= > >= == !=
+  double value = 0.0;
+  std::string text;                     // as written, "p(99) < 150"
+};
+enum class Invariant { default_controller_during_control_fault, no_stale_pair_after_reconnect };
+struct InvariantExpectation {
+  Invariant invariant = Invariant::default_controller_during_control_fault;
+};
+
+// What reached a vehicle: within `within` after `after`, a control frame to it must carry this
+// controller state and / or this client user data (operator commands through user data).
+struct DeliveryExpectation {
+  enum class ControllerState { any, null, default_, driving };
+  std::string vehicle;
+  SimTime after{0};
+  std::string after_label;
+  Micros within{0};
+  ControllerState controller = ControllerState::any;
+  std::optional<std::string> user_data_json;   // compared as JSON values
+};
+
+using ExpectationKind = std::variant<FaultEdgeExpectation, FaultNeverExpectation,
+                                     FaultStateExpectation, ThresholdExpectation,
+                                     InvariantExpectation, DeliveryExpectation>;
+struct Expectation {
+  std::string title;   // one line, as printed in the verdict list
+  Mark mark;
+  ExpectationKind kind;
+};
+
+struct Scenario {
+  std::string path;
+  std::string name;          // the file's stem
+  std::string description;
+  std::uint64_t seed = 1;
+  SimTime duration{0};
+  WorldConfig world;         // vehicles, links, timers, misbehaviours (seed set by the runner)
+  GamepadScriptSetting gamepad;
+  std::vector<TimelineEvent> timeline;   // ordered by `at`
+  std::vector<Expectation> expectations;
+};
+
+std::string_view invariant_name(Invariant invariant);
+std::string_view direction_name(Direction direction);
+
+}  // namespace ocp::scenario

@@ -1,0 +1,124 @@
+#pragma once
+// Observer: the one subscriber a scenario run adds to World::events(). It turns the event
+// stream into what verdicts and reports need — fault intervals, measured series, message
+// counts and safety-invariant violations — and nothing else: control payloads are decoded
+// only while a control-path fault is active and only when an invariant asks for it, so a
+// run stays close to the world's own speed.
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "ocp/event_bus.hpp"
+#include "ocp/faults.hpp"
+#include "ocp/time.hpp"
+#include "world/world.hpp"
+
+namespace ocp::scenario {
+
+struct Interval {
+  SimTime start{0};
+  std::optional<SimTime> end;   // nullopt: still active when the run ended
+  bool operator==(const Interval&) const = default;
+};
+
+struct Sample {
+  SimTime time{0};
+  double value = 0.0;
+};
+
+struct RouteCounters {
+  std::uint64_t sent = 0, delivered = 0, dropped = 0;
+};
+
+struct VehicleObservations {
+  std::vector<Sample> latency_ms;      // per Streamer control tick with a valid pair
+  std::vector<Sample> echo_delay_ms;   // control frame out → the response echoing its pair in
+  std::vector<Sample> control_gap_ms;  // between consecutive control frames to the vehicle
+  std::vector<Sample> feedback_gap_ms; // between consecutive feedback deliveries at the Player
+  RouteCounters to_streamer, to_player;
+  // The Player's ping_latency_ms, sampled every 100 ms by the runner (not an event: for the
+  // report's plot only, never for a verdict).
+  std::vector<Sample> ping_ms;
+  std::uint64_t connections_opened = 0;
+  std::uint64_t control_frames_checked = 0;   // decoded while a control-path fault was active
+};
+
+struct Violation {
+  SimTime time{0};
+  std::string vehicle;
+  std::string detail;
+};
+
+// A control frame decoded inside a delivery window (DeliveryExpectation).
+struct Delivery {
+  SimTime time{0};
+  std::string vehicle;
+  enum class Controller { null, default_, driving } controller = Controller::null;
+  std::optional<std::string> user_data_json;
+};
+
+struct DeliveryWindow {
+  std::string vehicle;
+  SimTime start{0}, end{0};
+};
+
+struct Observations {
+  std::map<std::string, VehicleObservations, std::less<>> vehicles;
+  // (vehicle, fault) → intervals in time order; both sides (the fault id says which).
+  std::map<std::pair<std::string, FaultId>, std::vector<Interval>> faults;
+  std::vector<std::pair<SimTime, std::optional<std::string>>> active_vehicle;   // changes
+  std::vector<Violation> controller_violations;   // non-default controller under a control-path fault
+  std::vector<Violation> stale_pair_violations;   // old pair echoed on a new connection
+  std::vector<Delivery> deliveries;               // decoded inside delivery windows only
+  std::uint64_t reconnects = 0;                   // vehicle connections opened after a close
+  std::uint64_t events = 0;
+};
+
+struct ObserverOptions {
+  bool check_controllers = false;   // decode control frames under control-path faults
+  // LinkEvents (feedback gaps, losses) are the most frequent events: a World builds them only
+  // while somebody listens to a link's bus, so the Observer listens only when asked to.
+  bool link_events = true;
+  std::vector<DeliveryWindow> delivery_windows;   // decode control frames to these vehicles then
+};
+
+class Observer {
+  // One subscriber, every event once: see attach_parts().
+ public:
+  // Listens to `world.events()` from now on (construct before World::start() to see the very
+  // first events) …
+  Observer(World& world, ObserverOptions options);
+  // Listens to one bus only (tests publishing a hand-made stream); attach_parts does nothing.
+  Observer(EventBus& bus, ObserverOptions options);
+  ~Observer();
+  Observer(const Observer&) = delete;
+  Observer& operator=(const Observer&) = delete;
+
+  // … and, called right after start() (no event can happen in between in virtual time), moves
+  // to the Player's, Streamers' and (with link_events) links' own buses, so that the events
+  // nobody needs are never built.
+  void attach_parts();
+  // Times are kept relative to this instant (real-time runs: the executor's clock at start).
+  void set_origin(SimTime origin) { origin_ = origin; }
+
+  const Observations& observations() const { return observations_; }
+  Observations& observations() { return observations_; }
+
+ private:
+  struct VehicleState;
+  void on_event(const Event& event);
+  VehicleState& state(std::string_view vehicle);
+
+  ObserverOptions options_;
+  Observations observations_;
+  std::map<std::string, std::unique_ptr<VehicleState>, std::less<>> states_;
+  World* world_ = nullptr;
+  SimTime origin_{0};
+  std::vector<EventBus::Subscription> subscriptions_;
+};
+
+}  // namespace ocp::scenario

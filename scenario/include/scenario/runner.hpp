@@ -1,0 +1,68 @@
+#pragma once
+// Runs one scenario in virtual time: builds the World from the model, installs the gamepad
+// script, schedules every timeline action on the executor, attaches the Observer (and the
+// TraceRecorder) and runs to the scenario's duration. Same scenario + seed → same trace, byte
+// for byte (the World's determinism; the runner draws no randomness of its own).
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "scenario/model.hpp"
+#include "scenario/observer.hpp"
+#include "world/trace.hpp"
+
+namespace ocp::scenario {
+
+// The world refused to start (a configuration the World rejects): exit code 2, like a bad file.
+class HarnessError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct RunOptions {
+  std::optional<std::uint64_t> seed;   // overrides the file's seed
+  bool trace = true;                   // record trace.jsonl (frames without payloads)
+  bool trace_payloads = false;         // … with every frame's payload bytes
+};
+
+struct FiredEvent {
+  SimTime at{0};
+  std::string name;
+  std::string label;
+};
+
+struct RunResult {
+  std::uint64_t seed = 0;
+  SimTime duration{0};
+  Observations observations;
+  std::vector<FiredEvent> fired;
+  std::string trace_jsonl;   // empty unless RunOptions::trace
+  std::uint64_t trace_digest = 0;
+  std::uint64_t trace_lines = 0;
+  std::uint64_t executor_events = 0;
+  double wall_seconds = 0.0;
+  double cpu_seconds = 0.0;   // process CPU time of the run (the machine may be shared)
+};
+
+RunResult run_scenario(const Scenario& scenario, const RunOptions& options);
+
+// Real time (--realtime): the same World on an AsioExecutor for `duration` of wall time, with
+// CSPRNG MAC keys (not reproducible). Every vehicle with `in_process_client: false` gets a TCP
+// server for an external vehicle client: the first on `tcp_port`, the next on tcp_port + 1, …
+// (0: ephemeral ports). `on_listening(vehicle, address)` tells where.
+struct RealTimeOptions {
+  std::uint16_t tcp_port = 4000;
+  std::function<void(const std::string& vehicle, const std::string& address)> on_listening;
+};
+RunResult run_scenario_realtime(const Scenario& scenario, const RunOptions& options,
+                                const RealTimeOptions& real_time);
+
+// Whether any expectation of the scenario needs control payloads decoded.
+bool needs_controller_check(const Scenario& scenario);
+// Whether any expectation needs link events (feedback_gap_ms, lost_*).
+bool needs_link_events(const Scenario& scenario);
+
+}  // namespace ocp::scenario

@@ -1,0 +1,51 @@
+// JUnit XML (reports.hpp): one testsuite per run, one testcase per expectation.
+#include "scenario/reports.hpp"
+
+namespace ocp::scenario {
+namespace {
+
+std::string xml(std::string_view text) {
+  std::string out;
+  for (const char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string junit_xml(const std::vector<RunReport>& reports) {
+  std::string out = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites>\n";
+  for (const RunReport& report : reports) {
+    std::size_t failures = 0;
+    for (const Verdict& verdict : report.verdicts) failures += verdict.passed ? 0 : 1;
+    // Repeated runs (--repeat, --seed) of one file stay apart: the seed joins the name.
+    std::string name = report.scenario->name;
+    if (report.run->seed != report.scenario->seed) name += " (seed " + std::to_string(report.run->seed) + ")";
+    out += "  <testsuite name=\"" + xml(name) + "\" file=\"" + xml(report.scenario->path) + "\" tests=\"" +
+           std::to_string(report.verdicts.size()) + "\" failures=\"" + std::to_string(failures) + "\" time=\"" +
+           std::to_string(report.run->wall_seconds) + "\">\n";
+    out += "    <properties><property name=\"seed\" value=\"" + std::to_string(report.run->seed) +
+           "\"/><property name=\"reproduce\" value=\"" + xml(report.reproduce) + "\"/></properties>\n";
+    for (const Verdict& verdict : report.verdicts) {
+      out += "    <testcase classname=\"" + xml(report.scenario->name) + "\" name=\"" + xml(verdict.title) + "\"";
+      if (verdict.passed) {
+        out += "/>\n";
+      } else {
+        out += ">\n      <failure message=\"expected " + xml(verdict.expected) + ", actual " + xml(verdict.actual) +
+               "\">" + xml(report.scenario->path + ":" + std::to_string(verdict.mark.line) + " reproduce: " + report.reproduce) +
+               "</failure>\n    </testcase>\n";
+      }
+    }
+    out += "  </testsuite>\n";
+  }
+  return out + "</testsuites>\n";
+}
+
+}  // namespace ocp::scenario

@@ -1,0 +1,170 @@
+// The scenario run's subscriber (observer.hpp): event stream → fault intervals, series,
+// counters and invariant violations.
+#include "scenario/observer.hpp"
+
+#include <deque>
+
+#include "ocp/json_codec.hpp"
+
+namespace ocp::scenario {
+
+struct Observer::VehicleState {
+  VehicleObservations* out = nullptr;
+  std::deque<std::pair<std::uint64_t, SimTime>> pending_pairs;   // control pairs awaiting echo
+  std::optional<SimTime> last_control, last_feedback;
+  FaultSet control_faults;            // active vehicle-side control-path faults
+  bool had_close = false;             // a connection closed: the next opened one is a reconnect
+  bool awaiting_first_pair = false;   // first control frame on a new connection not yet seen
+  std::optional<std::uint64_t> connection_first_ack;   // ack_time of that first frame
+};
+
+Observer::Observer(World& world, ObserverOptions options) : Observer(world.events(), options) {
+  world_ = &world;
+}
+
+Observer::Observer(EventBus& bus, ObserverOptions options) : options_(options) {
+  subscriptions_.push_back(bus.subscribe([this](const Event& event) { on_event(event); }));
+}
+
+void Observer::attach_parts() {
+  if (world_ == nullptr) return;
+  subscriptions_.clear();
+  auto handler = [this](const Event& event) { on_event(event); };
+  subscriptions_.push_back(world_->player().events().subscribe(handler));
+  for (const std::string& vehicle : world_->vehicles()) {
+    subscriptions_.push_back(world_->streamer(vehicle).events().subscribe(handler));
+    if (options_.link_events) subscriptions_.push_back(world_->link(vehicle).events().subscribe(handler));
+  }
+}
+
+Observer::~Observer() = default;
+
+Observer::VehicleState& Observer::state(std::string_view vehicle) {
+  auto found = states_.find(vehicle);
+  if (found == states_.end()) {
+    found = states_.emplace(std::string(vehicle), std::make_unique<VehicleState>()).first;
+    found->second->out = &observations_.vehicles[std::string(vehicle)];
+  }
+  return *found->second;
+}
+
+namespace {
+double to_ms(Micros duration) { return static_cast<double>(duration.count()) / 1000.0; }
+}  // namespace
+
+void Observer::on_event(const Event& event) {
+  ++observations_.events;
+  const SimTime now = event.time - origin_;
+  if (const auto* sample = std::get_if<LatencySample>(&event.body)) {
+    if (sample->latency_ms) {
+      state(event.component.name).out->latency_ms.push_back({now, static_cast<double>(*sample->latency_ms)});
+    }
+    return;
+  }
+  if (const auto* link = std::get_if<LinkEvent>(&event.body)) {
+    VehicleState& vehicle = state(event.component.name);
+    RouteCounters& counters = link->route == LinkRoute::to_streamer ? vehicle.out->to_streamer : vehicle.out->to_player;
+    switch (link->outcome) {
+      case LinkOutcome::sent: ++counters.sent; break;
+      case LinkOutcome::delivered: ++counters.delivered; break;
+      case LinkOutcome::dropped: ++counters.dropped; break;
+    }
+    if (link->outcome == LinkOutcome::delivered && link->kind == LinkMessageKind::feedback) {
+      if (vehicle.last_feedback) vehicle.out->feedback_gap_ms.push_back({now, to_ms(now - *vehicle.last_feedback)});
+      vehicle.last_feedback = now;
+    }
+    return;
+  }
+  if (const auto* frame = std::get_if<WireFrame>(&event.body)) {
+    if (frame->wire != Wire::vehicle || event.component.kind != ComponentKind::streamer) return;
+    VehicleState& vehicle = state(event.component.name);
+    if (frame->kind == WireMessageKind::control && frame->direction == FrameDirection::out) {
+      if (vehicle.last_control) vehicle.out->control_gap_ms.push_back({now, to_ms(now - *vehicle.last_control)});
+      vehicle.last_control = now;
+      if (frame->ack) {
+        vehicle.pending_pairs.emplace_back(frame->ack->ack_time, now);
+        if (vehicle.pending_pairs.size() > 4096) vehicle.pending_pairs.pop_front();   // never echoed
+        if (vehicle.awaiting_first_pair) {
+          vehicle.connection_first_ack = frame->ack->ack_time;
+          vehicle.awaiting_first_pair = false;
+        }
+      }
+      for (const DeliveryWindow& window : options_.delivery_windows) {
+        if (window.vehicle != event.component.name || now < window.start || now > window.end) continue;
+        if (auto message = decode_control_message(frame->payload)) {
+          Delivery delivery;
+          delivery.time = now;
+          delivery.vehicle = window.vehicle;
+          if (message->controller) {
+            delivery.controller = message->controller->is_safe_default() ? Delivery::Controller::default_
+                                                                         : Delivery::Controller::driving;
+          }
+          if (message->client_user_data) delivery.user_data_json = message->client_user_data->text;
+          observations_.deliveries.push_back(std::move(delivery));
+        }
+        break;   // one record per frame, however many windows overlap
+      }
+      if (options_.check_controllers && !vehicle.control_faults.empty()) {
+        ++vehicle.out->control_frames_checked;
+        auto message = decode_control_message(frame->payload);
+        if (!message) {
+          observations_.controller_violations.push_back({now, std::string(event.component.name), "undecodable control frame"});
+        } else if (message->controller && !message->controller->is_safe_default()) {
+          observations_.controller_violations.push_back(
+              {now, std::string(event.component.name),
+               "non-default controller while " + vehicle.control_faults.fault_reason() + " active"});
+        }
+      }
+    } else if (frame->kind == WireMessageKind::vehicle_response && frame->direction == FrameDirection::in && frame->ack) {
+      const std::uint64_t ack = frame->ack->ack_time;
+      if (vehicle.connection_first_ack && ack < *vehicle.connection_first_ack) {
+        observations_.stale_pair_violations.push_back(
+            {now, std::string(event.component.name),
+             "pair ack_time " + std::to_string(ack) + " from before the reconnect (first on the new connection: " +
+                 std::to_string(*vehicle.connection_first_ack) + ")"});
+      }
+      auto& pending = vehicle.pending_pairs;
+      while (!pending.empty() && pending.front().first < ack) pending.pop_front();
+      if (!pending.empty() && pending.front().first == ack) {
+        vehicle.out->echo_delay_ms.push_back({now, to_ms(now - pending.front().second)});
+        pending.pop_front();   // a keep-alive repeating the pair is not a second echo
+      }
+    }
+    return;
+  }
+  if (const auto* fault = std::get_if<FaultEvent>(&event.body)) {
+    auto& intervals = observations_.faults[{std::string(fault->vehicle), fault->id}];
+    if (fault->active) {
+      if (intervals.empty() || intervals.back().end) intervals.push_back({now, std::nullopt});
+    } else if (!intervals.empty() && !intervals.back().end) {
+      intervals.back().end = now;
+    }
+    if (fault->side == FaultSide::vehicle && is_control_path_fault(fault->id)) {
+      state(fault->vehicle).control_faults.set(fault->id, fault->active);
+    }
+    return;
+  }
+  if (const auto* connection = std::get_if<ConnectionEvent>(&event.body)) {
+    if (connection->wire != Wire::vehicle || event.component.kind != ComponentKind::streamer) return;
+    VehicleState& vehicle = state(event.component.name);
+    if (connection->change == ConnectionChange::opened) {
+      ++vehicle.out->connections_opened;
+      if (vehicle.had_close) {
+        ++observations_.reconnects;
+        vehicle.awaiting_first_pair = true;
+        vehicle.connection_first_ack.reset();
+      }
+      vehicle.pending_pairs.clear();
+    } else if (connection->change == ConnectionChange::closed) {
+      vehicle.had_close = true;
+    }
+    return;
+  }
+  if (const auto* change = std::get_if<ActiveVehicleChange>(&event.body)) {
+    std::optional<std::string> vehicle;
+    if (change->vehicle) vehicle = std::string(*change->vehicle);
+    observations_.active_vehicle.emplace_back(now, std::move(vehicle));
+  }
+}
+
+}  // namespace ocp::scenario

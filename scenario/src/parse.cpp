@@ -1,0 +1,61 @@
+// Scenario file → Scenario (the format: docs/scenarios.md, scenario/scenario.schema.json).
+// One pass over the YAML tree; every check fails with the offending node's line and column.
+// The sections are read in parse_world.cpp, parse_timeline.cpp and parse_expect.cpp.
+#include "scenario/parse.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "parser.hpp"
+
+namespace ocp::scenario {
+
+std::string format_time(Micros time) {
+  const auto us = time.count();
+  if (us % 1'000'000 == 0) return std::to_string(us / 1'000'000) + "s";
+  if (us % 1000 == 0) return std::to_string(us / 1000) + "ms";
+  return std::to_string(us) + "us";
+}
+
+Scenario Parser::parse(const std::string& text) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::ParserException& error) {
+    throw ScenarioError(read_.file(), error.mark.line + 1, error.mark.column + 1, error.msg);
+  }
+  if (!root || root.IsNull()) throw ScenarioError(read_.file(), 1, 1, "empty scenario file");
+  read_.check_keys(root, "scenario", {"description", "seed", "duration", "world", "timeline", "expect"});
+  scenario_.name = std::filesystem::path(scenario_.path).stem().string();
+  if (root["description"]) scenario_.description = read_.text(root["description"]);
+  if (root["seed"]) scenario_.seed = read_.integer(root["seed"]);
+  scenario_.duration = read_.duration(read_.require(root, "duration", "scenario"));
+  if (scenario_.duration <= Micros{0}) read_.fail(root["duration"], "duration must be > 0");
+  world(read_.require(root, "world", "scenario"));
+  if (root["timeline"]) timeline(root["timeline"]);
+  expectations(read_.require(root, "expect", "scenario"));
+  return std::move(scenario_);
+}
+
+
+Scenario parse_scenario(const std::string& text, const std::string& path) {
+  try {
+    return Parser(path).parse(text);
+  } catch (const YAML::Exception& error) {
+    // yaml-cpp's own conversions (a non-scalar key, …) carry a position too.
+    throw ScenarioError(path, error.mark.line + 1, error.mark.column + 1, error.msg);
+  }
+}
+
+Scenario load_scenario(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ScenarioError(path, 0, 0, "cannot read the file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_scenario(text.str(), path);
+}
+
+}  // namespace ocp::scenario

@@ -1,0 +1,196 @@
+// Scenario files: the `timeline` section (events in time order, one action each).
+#include <algorithm>
+#include <set>
+
+#include "parser.hpp"
+
+namespace ocp::scenario {
+
+const VehicleSpec* Parser::find_vehicle(const std::string& name) const {
+  for (const VehicleSpec& spec : scenario_.world.vehicles) {
+    if (spec.name == name) return &spec;
+  }
+  return nullptr;
+}
+
+// The `vehicle` key of an action; may be left out when the world has one vehicle.
+std::string Parser::vehicle_of(const YAML::Node& node, std::string_view what) {
+  if (!node["vehicle"]) {
+    if (scenario_.world.vehicles.size() == 1) return scenario_.world.vehicles.front().name;
+    read_.fail(node, std::string(what) + ": name the vehicle (the world has several)");
+  }
+  const std::string name = read_.text(node["vehicle"]);
+  if (find_vehicle(name) == nullptr) read_.fail(node["vehicle"], "unknown vehicle '" + name + "'");
+  return name;
+}
+
+Direction Parser::direction_of(const YAML::Node& node) {
+  if (!node["direction"]) return Direction::both;
+  const std::string name = read_.text(node["direction"]);
+  if (name == "both") return Direction::both;
+  if (name == "to_streamer") return Direction::to_streamer;
+  if (name == "to_player") return Direction::to_player;
+  read_.fail(node["direction"], "direction: expected both, to_streamer or to_player");
+}
+
+void Parser::timeline(const YAML::Node& node) {
+  if (!node.IsSequence()) read_.fail(node, "timeline: expected a list of events");
+  SimTime previous{0};
+  std::set<std::string> names;
+  for (const auto& item : node) {
+    read_.check_keys(item, "timeline event",
+                     {"at", "name", "impair", "ramp", "outage", "camera_stall", "camera_unstall",
+                      "frame_loop_stall", "control_thread_stall", "disconnect", "gamepad",
+                      "select_vehicle", "client_data"});
+    TimelineEvent event;
+    event.mark = read_.mark(item);
+    event.at = read_.duration(read_.require(item, "at", "timeline event"));
+    if (event.at < previous) {
+      read_.fail(item["at"], "event at " + format_time(event.at) + " is before the previous one at " +
+                                 format_time(previous) + " (the timeline must be in time order)");
+    }
+    if (event.at > scenario_.duration) read_.fail(item["at"], "event after the end of the run (duration " + format_time(scenario_.duration) + ")");
+    previous = event.at;
+    if (item["name"]) {
+      event.name = read_.text(item["name"]);
+      if (!names.insert(event.name).second) read_.fail(item["name"], "duplicate event name '" + event.name + "'");
+    }
+    action(item, event);
+    scenario_.timeline.push_back(std::move(event));
+  }
+}
+
+void Parser::action(const YAML::Node& item, TimelineEvent& event) {
+  int actions = 0;
+  for (const auto& entry : item) {
+    const std::string key = entry.first.as<std::string>();
+    if (key != "at" && key != "name" && key != "ramp") ++actions;
+  }
+  if (actions != 1) read_.fail(item, "a timeline event needs exactly one action (impair, outage, camera_stall, …)");
+  if (item["ramp"] && !item["impair"]) read_.fail(item["ramp"], "ramp only applies to impair");
+
+  if (const YAML::Node n = item["impair"]) {
+    SetImpairments set;
+    set.vehicle = vehicle_of(n, "impair");
+    set.direction = direction_of(n);
+    set.patch = impairments(n, true);
+    if (item["ramp"]) set.ramp = read_.duration(item["ramp"]);
+    event.label = "impair " + set.vehicle + " " + std::string(direction_name(set.direction)) +
+                  (set.ramp > Micros{0} ? " (ramp " + format_time(set.ramp) + ")" : "");
+    event.action = set;
+  } else if (const YAML::Node n = item["outage"]) {
+    read_.check_keys(n, "outage", {"vehicle", "direction", "for"});
+    LinkOutage outage{vehicle_of(n, "outage"), direction_of(n), read_.duration(read_.require(n, "for", "outage"))};
+    event.label = "outage " + outage.vehicle + " " + std::string(direction_name(outage.direction)) + " for " + format_time(outage.duration);
+    event.action = outage;
+  } else if (item["camera_stall"] || item["camera_unstall"]) {
+    const bool stalled = static_cast<bool>(item["camera_stall"]);
+    const YAML::Node n = stalled ? item["camera_stall"] : item["camera_unstall"];
+    read_.check_keys(n, "camera_stall", {"vehicle", "camera", "for"});
+    CameraStall stall;
+    stall.vehicle = vehicle_of(n, "camera_stall");
+    stall.stalled = stalled;
+    const VehicleSpec& spec = *find_vehicle(stall.vehicle);
+    if (n["camera"]) {
+      stall.camera = read_.text(n["camera"]);
+    } else if (spec.streamer.cameras.size() == 1) {
+      stall.camera = spec.streamer.cameras.front().name;
+    } else {
+      read_.fail(n, "name the camera");
+    }
+    const bool known = std::any_of(spec.streamer.cameras.begin(), spec.streamer.cameras.end(),
+                                   [&](const CameraConfig& c) { return c.name == stall.camera; });
+    if (!known) read_.fail(n["camera"], "vehicle '" + stall.vehicle + "' has no camera '" + stall.camera + "'");
+    if (n["for"]) {
+      if (!stalled) read_.fail(n["for"], "camera_unstall takes no 'for'");
+      stall.duration = read_.duration(n["for"]);
+    }
+    event.label = std::string(stalled ? "camera stall " : "camera unstall ") + stall.vehicle + "/" + stall.camera;
+    event.action = stall;
+  } else if (const YAML::Node n = item["frame_loop_stall"]) {
+    read_.check_keys(n, "frame_loop_stall", {"vehicle", "for"});
+    FrameLoopStall stall{vehicle_of(n, "frame_loop_stall"), read_.duration(read_.require(n, "for", "frame_loop_stall"))};
+    event.label = "frame loop stall " + stall.vehicle + " " + format_time(stall.duration);
+    event.action = stall;
+  } else if (const YAML::Node n = item["control_thread_stall"]) {
+    read_.check_keys(n, "control_thread_stall", {"vehicle", "for"});
+    ControlThreadStall stall{vehicle_of(n, "control_thread_stall"), read_.duration(read_.require(n, "for", "control_thread_stall"))};
+    event.label = "control thread stall " + stall.vehicle + " " + format_time(stall.duration);
+    event.action = stall;
+  } else if (const YAML::Node n = item["disconnect"]) {
+    read_.check_keys(n, "disconnect", {"vehicle"});
+    DisconnectVehicle disconnect{vehicle_of(n, "disconnect")};
+    if (!find_vehicle(disconnect.vehicle)->in_process_client) read_.fail(n, "disconnect needs an in-process client");
+    event.label = "disconnect " + disconnect.vehicle;
+    event.action = disconnect;
+  } else if (const YAML::Node n = item["gamepad"]) {
+    GamepadAction pad;
+    if (n.IsScalar() && n.Scalar() == "unplug") {
+      pad.kind = GamepadAction::Kind::unplug;
+    } else if (n.IsScalar() && n.Scalar() == "replug") {
+      pad.kind = GamepadAction::Kind::replug;
+    } else {
+      pad.kind = GamepadAction::Kind::script;
+      pad.script = gamepad_script(n);
+    }
+    event.label = "gamepad " + (n.IsScalar() ? n.Scalar() : std::string("script"));
+    event.action = pad;
+  } else if (const YAML::Node n = item["select_vehicle"]) {
+    SelectVehicle select;
+    if (!n.IsNull() && n.Scalar() != "none") {
+      select.vehicle = read_.text(n);
+      if (find_vehicle(*select.vehicle) == nullptr) read_.fail(n, "unknown vehicle '" + *select.vehicle + "'");
+    }
+    event.label = "select vehicle " + select.vehicle.value_or("none");
+    event.action = select;
+  } else if (const YAML::Node n = item["client_data"]) {
+    event.action = client_data(n, event);
+  }
+}
+
+ClientDataAction Parser::client_data(const YAML::Node& n, TimelineEvent& event) {
+  read_.check_keys(n, "client_data", {"source", "active_vehicle", "vehicles", "every", "until"});
+  ClientDataAction data;
+  const std::string source = n["source"] ? read_.text(n["source"]) : "plugin";
+  if (source == "plugin") data.source = ClientSource::plugin;
+  else if (source == "webview") data.source = ClientSource::webview;
+  else if (source == "tcp") data.source = ClientSource::tcp;
+  else read_.fail(n["source"], "source: expected plugin, webview or tcp");
+  if (n["active_vehicle"]) {
+    data.active_vehicle = read_.text(n["active_vehicle"]);
+    if (find_vehicle(*data.active_vehicle) == nullptr) read_.fail(n["active_vehicle"], "unknown vehicle '" + *data.active_vehicle + "'");
+  }
+  if (const YAML::Node vehicles = n["vehicles"]) {
+    if (!vehicles.IsMap()) read_.fail(vehicles, "vehicles: expected a mapping vehicle → entry");
+    for (const auto& item : vehicles) {
+      const std::string name = item.first.as<std::string>();
+      if (find_vehicle(name) == nullptr) read_.fail(item.first, "unknown vehicle '" + name + "'");
+      const YAML::Node entry = item.second;
+      read_.check_keys(entry, "client_data entry", {"user_data", "disable_gamepad", "echo"});
+      ClientDataAction::Entry out;
+      if (entry["user_data"]) out.user_data_json = read_.json(entry["user_data"]);
+      if (entry["disable_gamepad"]) out.disable_gamepad = read_.boolean(entry["disable_gamepad"]);
+      if (entry["echo"]) {
+        const std::string echo = read_.text(entry["echo"]);
+        if (echo == "none") out.echo = ClientDataAction::Echo::none;
+        else if (echo == "latest") out.echo = ClientDataAction::Echo::latest;
+        else if (echo == "corrupt") out.echo = ClientDataAction::Echo::corrupt;
+        else read_.fail(entry["echo"], "echo: expected none, latest or corrupt");
+        if (data.source == ClientSource::webview && out.echo != ClientDataAction::Echo::none) {
+          read_.fail(entry["echo"], "the web view sends no pair (the Player injects it, SPEC §4.2)");
+        }
+      }
+      data.vehicles[name] = out;
+    }
+  }
+  if (n["every"]) data.every = read_.duration(n["every"]);
+  if (n["until"]) {
+    if (data.every <= Micros{0}) read_.fail(n["until"], "until needs every");
+    data.until = read_.duration(n["until"]);
+    if (*data.until < event.at) read_.fail(n["until"], "until is before the event");
+  }
+  event.label = "client data (" + source + ")" + (data.every > Micros{0} ? " every " + format_time(data.every) : "");
+  return data;
+}
+
+}  // namespace ocp::scenario

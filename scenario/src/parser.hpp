@@ -1,0 +1,50 @@
+#pragma once
+// The scenario file parser's one class, internal to the parser: its methods live in
+// parse.cpp (top level), parse_world.cpp, parse_timeline.cpp and parse_expect.cpp.
+#include <yaml-cpp/yaml.h>
+
+#include <string>
+#include <string_view>
+#include <utility>
+
+#include "scenario/model.hpp"
+#include "yaml_read.hpp"
+
+namespace ocp::scenario {
+
+// "12s", "350ms", "250us": how times appear in titles and errors.
+std::string format_time(Micros time);
+
+class Parser {
+ public:
+  explicit Parser(std::string path) : read_(path) { scenario_.path = std::move(path); }
+  Scenario parse(const std::string& text);
+
+ private:
+  void world(const YAML::Node& node);
+  void player(const YAML::Node& node);
+  VehicleSpec vehicle(const YAML::Node& node);
+  void misbehave(const YAML::Node& node, Misbehaviour& m);
+  // `targeted`: the timeline's impair action, which also names vehicle and direction.
+  ImpairmentPatch impairments(const YAML::Node& node, bool targeted = false);
+  Controller controller(const YAML::Node& node);
+  GamepadScriptSetting gamepad_script(const YAML::Node& node);
+  const VehicleSpec* find_vehicle(const std::string& name) const;
+  // The `vehicle` key of an action; may be left out when the world has one vehicle.
+  std::string vehicle_of(const YAML::Node& node, std::string_view what);
+  Direction direction_of(const YAML::Node& node);
+  void timeline(const YAML::Node& node);
+  void action(const YAML::Node& item, TimelineEvent& event);
+  ClientDataAction client_data(const YAML::Node& n, TimelineEvent& event);
+  void expectations(const YAML::Node& node);
+  // `after`: an event name or a time.
+  std::pair<SimTime, std::string> anchor(const YAML::Node& node);
+  void fault_expectation(const YAML::Node& node);
+  void delivery_expectation(const YAML::Node& node);
+  void threshold_expectations(const YAML::Node& key, const YAML::Node& list);
+
+  YamlReader read_;
+  Scenario scenario_;
+};
+
+}  // namespace ocp::scenario

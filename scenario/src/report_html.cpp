@@ -1,0 +1,158 @@
+// report.html (reports.hpp): one self-contained page — no script, no network. Latency over
+// time as an inline SVG polyline per vehicle, fault intervals of both sides as bands under
+// it, timeline events as marked lines, the verdicts, the seed and the reproduce command. The
+// summary is embedded as JSON so a test (or a person) can check the page against summary.json.
+#include <algorithm>
+#include <cstdio>
+#include <string>
+
+#include "scenario/metrics.hpp"
+#include "scenario/reports.hpp"
+
+namespace ocp::scenario {
+namespace {
+
+std::string escape(std::string_view text) {
+  std::string out;
+  for (const char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+std::string num(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.1f", value);
+  return buffer;
+}
+
+constexpr const char* palette[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b"};
+constexpr double width = 1100, plot_height = 260, left = 190, right = 10, top = 10, band_height = 14;
+// A polyline of at most this many points per vehicle (max per bucket, so spikes survive).
+constexpr std::size_t max_points = 1200;
+
+std::string svg(const RunReport& report) {
+  const Scenario& scenario = *report.scenario;
+  const Observations& obs = report.run->observations;
+  const double duration_us = static_cast<double>(std::max<std::int64_t>(1, report.run->duration.count()));
+  double y_max = 1;
+  for (const VehicleSpec& spec : scenario.world.vehicles) {
+    y_max = std::max(y_max, static_cast<double>(spec.streamer.latency_limit.count()) / 1000.0);
+  }
+  for (const auto& [name, data] : obs.vehicles) {
+    for (const Sample& s : data.latency_ms) y_max = std::max(y_max, s.value);
+    for (const Sample& s : data.ping_ms) y_max = std::max(y_max, s.value);
+  }
+  y_max *= 1.1;
+  const double plot_width = width - left - right;
+  auto x_of = [&](SimTime t) { return left + plot_width * static_cast<double>(t.count()) / duration_us; };
+  auto y_of = [&](double ms) { return top + plot_height * (1.0 - ms / y_max); };
+  const std::size_t bands = obs.faults.size();
+  const double bands_top = top + plot_height + 24;
+  const double height = bands_top + band_height * static_cast<double>(bands) + 20;
+
+  std::string out = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + num(width) + "\" height=\"" + num(height) +
+                    "\" font-family=\"sans-serif\" font-size=\"10\">\n";
+  out += "<rect x=\"" + num(left) + "\" y=\"" + num(top) + "\" width=\"" + num(plot_width) + "\" height=\"" + num(plot_height) +
+         "\" fill=\"#fafafa\" stroke=\"#999\"/>\n";
+  for (int i = 0; i <= 4; ++i) {   // y axis ticks
+    const double ms = y_max * i / 4;
+    out += "<text x=\"" + num(left - 4) + "\" y=\"" + num(y_of(ms) + 3) + "\" text-anchor=\"end\">" + format_number(std::round(ms)) + "</text>\n";
+  }
+  out += "<text x=\"4\" y=\"" + num(top + 10) + "\">ms</text>\n";
+  for (int i = 0; i <= 10; ++i) {   // x axis ticks
+    const SimTime t{static_cast<std::int64_t>(duration_us * i / 10)};
+    out += "<text x=\"" + num(x_of(t)) + "\" y=\"" + num(top + plot_height + 12) + "\" text-anchor=\"middle\">" + format_seconds(t) + "</text>\n";
+  }
+  // latency_limit of each vehicle (usually one line).
+  for (const VehicleSpec& spec : scenario.world.vehicles) {
+    const double limit = static_cast<double>(spec.streamer.latency_limit.count()) / 1000.0;
+    out += "<line x1=\"" + num(left) + "\" x2=\"" + num(left + plot_width) + "\" y1=\"" + num(y_of(limit)) + "\" y2=\"" + num(y_of(limit)) +
+           "\" stroke=\"#d62728\" stroke-dasharray=\"2,2\"><title>latency_limit " + escape(spec.name) + "</title></line>\n";
+  }
+  auto polyline = [&](const std::vector<Sample>& samples, const std::string& color, const char* style,
+                      const std::string& title) {
+    if (samples.empty()) return;
+    const std::size_t bucket = std::max<std::size_t>(1, (samples.size() + max_points - 1) / max_points);
+    out += "<polyline fill=\"none\" stroke=\"" + color + "\" stroke-width=\"1\" " + style + " points=\"";
+    for (std::size_t i = 0; i < samples.size(); i += bucket) {
+      double peak = 0;
+      for (std::size_t j = i; j < std::min(samples.size(), i + bucket); ++j) peak = std::max(peak, samples[j].value);
+      out += num(x_of(samples[i].time)) + "," + num(y_of(peak)) + " ";
+    }
+    out += "\"><title>" + escape(title) + "</title></polyline>\n";
+  };
+  std::size_t color = 0;
+  for (const auto& [name, data] : obs.vehicles) {
+    const std::string stroke = palette[color++ % 6];
+    polyline(data.latency_ms, stroke, "", "latency_ms " + name);
+    polyline(data.ping_ms, stroke, "stroke-dasharray=\"1,2\" opacity=\"0.7\"", "ping_ms " + name);
+  }
+  for (const FiredEvent& event : report.run->fired) {
+    const std::string x = num(x_of(event.at));
+    out += "<line x1=\"" + x + "\" x2=\"" + x + "\" y1=\"" + num(top) + "\" y2=\"" + num(height - 20) +
+           "\" stroke=\"#555\" stroke-dasharray=\"4,3\"><title>" + escape(format_seconds(event.at) + " " + event.label) + "</title></line>\n";
+    out += "<text x=\"" + x + "\" y=\"" + num(top + 10) + "\" transform=\"rotate(90 " + x + " " + num(top + 10) +
+           ")\" fill=\"#555\">" + escape(event.name.empty() ? event.label : event.name) + "</text>\n";
+  }
+  double y = bands_top;
+  for (const auto& [fault_key, list] : obs.faults) {
+    const bool vehicle_side = fault_side(fault_key.second) == FaultSide::vehicle;
+    const std::string fill = vehicle_side ? "#e377c2" : "#17becf";
+    out += "<text x=\"" + num(left - 4) + "\" y=\"" + num(y + 10) + "\" text-anchor=\"end\" font-size=\"8\">" +
+           escape(fault_key.first + " " + std::string(fault_identifier(fault_key.second))) + "</text>\n";
+    for (const Interval& interval : list) {
+      const double x1 = x_of(interval.start);
+      const double x2 = x_of(interval.end.value_or(report.run->duration));
+      out += "<rect x=\"" + num(x1) + "\" y=\"" + num(y) + "\" width=\"" + num(std::max(1.0, x2 - x1)) + "\" height=\"" + num(band_height - 2) +
+             "\" fill=\"" + fill + "\"><title>" + escape(std::string(fault_identifier(fault_key.second)) + " (" +
+                                                         std::string(fault_side_name(fault_side(fault_key.second))) + ") " +
+                                                         format_seconds(interval.start) + " – " +
+                                                         (interval.end ? format_seconds(*interval.end) : "end")) + "</title></rect>\n";
+    }
+    y += band_height;
+  }
+  out += "</svg>\n";
+  return out;
+}
+
+}  // namespace
+
+std::string report_html(const RunReport& report, const std::string& summary) {
+  const Scenario& scenario = *report.scenario;
+  const bool passed = all_passed(report.verdicts);
+  std::string embedded = summary;
+  for (std::size_t at = 0; (at = embedded.find("</", at)) != std::string::npos; at += 3) embedded.replace(at, 2, "<\\/");
+
+  std::string out = "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>" + escape(scenario.name) + " — ocp_scenario</title>\n";
+  out += "<style>body{font-family:sans-serif;margin:20px}td,th{padding:2px 8px;text-align:left}"
+         ".pass{color:#2ca02c}.fail{color:#d62728}code{background:#eee;padding:2px}</style></head><body>\n";
+  out += "<h1>" + escape(scenario.name) + " <span class=\"" + (passed ? "pass\">✓ passed" : "fail\">✗ failed") + "</span></h1>\n";
+  if (!scenario.description.empty()) out += "<p>" + escape(scenario.description) + "</p>\n";
+  out += "<p>seed <b>" + std::to_string(report.run->seed) + "</b>, " + format_seconds(report.run->duration) +
+         " simulated. Reproduce: <code>" + escape(report.reproduce) + "</code></p>\n";
+  out += "<h2>Latency (ms) and faults</h2>\n<p>Lines: measured latency per vehicle (red dashes: latency_limit); "
+         "dotted: ping per vehicle (the Player's ping_latency_ms, sampled every 100 ms); "
+         "bands: fault intervals (pink: vehicle side, teal: operator side); dashed verticals: timeline events.</p>\n";
+  out += svg(report);
+  out += "<h2>Verdicts</h2>\n<table><tr><th></th><th>expectation</th><th>expected</th><th>actual</th><th>line</th></tr>\n";
+  for (const Verdict& verdict : report.verdicts) {
+    out += std::string("<tr class=\"") + (verdict.passed ? "pass\"><td>✓" : "fail\"><td>✗") + "</td><td>" + escape(verdict.title) +
+           "</td><td>" + escape(verdict.expected) + "</td><td>" + escape(verdict.actual) + "</td><td>" +
+           std::to_string(verdict.mark.line) + "</td></tr>\n";
+  }
+  out += "</table>\n<h2>Timeline</h2>\n<ul>\n";
+  for (const FiredEvent& event : report.run->fired) {
+    out += "<li>" + format_seconds(event.at) + " " + escape(event.label) + (event.name.empty() ? "" : " (" + escape(event.name) + ")") + "</li>\n";
+  }
+  out += "</ul>\n<script type=\"application/json\" id=\"summary\">\n" + embedded + "</script>\n</body></html>\n";
+  return out;
+}
+
+}  // namespace ocp::scenario

@@ -1,0 +1,124 @@
+// One scenario run (runner.hpp); virtual time here, real time in runner_realtime.cpp. Not VirtualWorld: its TraceRecorder would
+// listen to every bus even without a trace, and every event would be built; here the trace
+// listens only when asked for, and the Observer only to the buses it needs.
+#include "scenario/runner.hpp"
+
+#include <chrono>
+#include <ctime>
+#include <memory>
+
+#include "ocp/virtual_executor.hpp"
+#include "run_world.hpp"
+#include "timeline.hpp"
+#include "world_setup.hpp"
+
+namespace ocp::scenario {
+
+bool needs_controller_check(const Scenario& scenario) {
+  for (const Expectation& expectation : scenario.expectations) {
+    if (const auto* invariant = std::get_if<InvariantExpectation>(&expectation.kind)) {
+      if (invariant->invariant == Invariant::default_controller_during_control_fault) return true;
+    }
+  }
+  return false;
+}
+
+bool needs_link_events(const Scenario& scenario) {
+  for (const Expectation& expectation : scenario.expectations) {
+    if (const auto* threshold = std::get_if<ThresholdExpectation>(&expectation.kind)) {
+      if (threshold->metric != "latency_ms" && threshold->metric != "echo_delay_ms" &&
+          threshold->metric != "control_gap_ms") {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+namespace {
+
+constexpr Micros ping_sample_period{100'000};
+
+void add(RouteCounters& out, const DirectionCounters& counters) {
+  out.sent = counters.sent;
+  out.delivered = counters.delivered;
+  out.dropped = counters.dropped;
+}
+
+}  // namespace
+
+RunResult run_world(Executor& executor, const Scenario& scenario, const RunOptions& options,
+                    bool deterministic_keys, const ClockDriver& drive) {
+  const auto wall_start = std::chrono::steady_clock::now();
+  const std::clock_t cpu_start = std::clock();
+  RunResult result;
+  result.seed = options.seed.value_or(scenario.seed);
+  result.duration = scenario.duration;
+
+  WorldConfig config = world_config(scenario, result.seed);
+  config.deterministic_keys = deterministic_keys;
+  // Log lines are not part of a scenario's outcome (the trace is): they go nowhere.
+  World world(executor, config, make_null_sink());
+  std::unique_ptr<TraceRecorder> trace;
+  if (options.trace) {
+    TraceOptions trace_options;
+    trace_options.frame_payloads = options.trace_payloads;
+    trace = std::make_unique<TraceRecorder>(world.events(), trace_options);
+  }
+  // With a trace every event is built anyway: the Observer may as well count link messages.
+  const bool link_events = options.trace || needs_link_events(scenario);
+  ObserverOptions observer_options{needs_controller_check(scenario), link_events, {}};
+  for (const Expectation& expectation : scenario.expectations) {
+    if (const auto* delivery = std::get_if<DeliveryExpectation>(&expectation.kind)) {
+      observer_options.delivery_windows.push_back({delivery->vehicle, delivery->after, delivery->after + delivery->within});
+    }
+  }
+  Observer observer(world, observer_options);
+  const SimTime origin = executor.now();
+  observer.set_origin(origin);
+  if (auto status = world.start(); !status) {
+    throw HarnessError("the world did not start: " + status.error().message());
+  }
+  observer.attach_parts();
+  apply_gamepad(world.player().gamepad(), scenario.gamepad, executor.now());
+  const auto keep_alive = schedule_timeline(world, scenario.timeline, scenario.duration, result.fired, origin);
+  // Ping is not on the event stream; sample what the Player shows, for the report's plot.
+  Observations& observations = observer.observations();
+  PeriodicTimer ping_sampler(executor, ping_sample_period, [&](SimTime now) {
+    for (const auto& [vehicle, feedback] : world.player().last_shared().vehicle_feedback) {
+      observations.vehicles[vehicle].ping_ms.push_back({now - origin, static_cast<double>(feedback.ping_latency_ms)});
+    }
+  });
+  ping_sampler.start(executor.now() + ping_sample_period);
+  drive(world, origin + scenario.duration);
+  ping_sampler.stop();
+  if (!link_events) {
+    // Message counts for the summary, from the links themselves (no expectation needs them).
+    for (const std::string& vehicle : world.vehicles()) {
+      VehicleObservations& out = observer.observations().vehicles[vehicle];
+      add(out.to_streamer, world.link(vehicle).to_streamer().counters());
+      add(out.to_player, world.link(vehicle).to_player().counters());
+    }
+  }
+  result.observations = observer.observations();
+  if (trace) {
+    result.trace_jsonl = trace->jsonl();
+    result.trace_digest = trace->digest();
+    result.trace_lines = trace->lines();
+  }
+  world.stop();
+  result.cpu_seconds = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
+  result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  return result;
+}
+
+RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
+  VirtualExecutor executor;
+  RunResult result = run_world(executor, scenario, options, true, [&](World&, SimTime end) {
+    executor.run_until(end);
+  });
+  result.executor_events = executor.events_run();
+  return result;
+}
+
+}  // namespace ocp::scenario

@@ -1,0 +1,39 @@
+// A scenario in real time (runner.hpp, --realtime): the World on sim_app's RealTimeRunner,
+// TCP servers for external vehicle clients. Timeline and verdicts are the virtual run's; only
+// the clock and the MAC keys differ, so verdict windows must allow for real scheduling jitter.
+#include <memory>
+#include <vector>
+
+#include "ocp/tcp_server.hpp"
+#include "run_world.hpp"
+#include "scenario/runner.hpp"
+#include "sim_app/real_time_runner.hpp"
+
+namespace ocp::scenario {
+
+RunResult run_scenario_realtime(const Scenario& scenario, const RunOptions& options,
+                                const RealTimeOptions& real_time) {
+  sim::RealTimeRunner runner;   // first: destroyed last, after the servers
+  std::vector<std::unique_ptr<TcpServer>> servers;
+  return run_world(runner.executor(), scenario, options, false, [&](World& world, SimTime end) {
+    std::uint16_t port = real_time.tcp_port;
+    for (const VehicleSpec& spec : scenario.world.vehicles) {
+      if (spec.in_process_client) continue;
+      auto server = std::make_unique<TcpServer>(runner.io(), [&world, name = spec.name](std::shared_ptr<ByteStream> stream) {
+        world.accept_vehicle_connection(name, std::move(stream));
+      });
+      if (auto status = server->listen(TcpServerOptions{port, false}); !status) {
+        throw HarnessError("vehicle " + spec.name + ": " + status.error().message());
+      }
+      if (real_time.on_listening) real_time.on_listening(spec.name, server->local_address());
+      servers.push_back(std::move(server));
+      if (port != 0) ++port;
+    }
+    runner.set_on_shutdown([&servers](const std::string&) {
+      for (auto& server : servers) server->stop();   // no new vehicle once the run is over
+    });
+    (void)runner.run(end - runner.executor().now());
+  });
+}
+
+}  // namespace ocp::scenario

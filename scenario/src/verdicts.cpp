@@ -1,0 +1,246 @@
+// Verdicts (verdicts.hpp): each expectation kind judged from the Observer's observations.
+#include "scenario/verdicts.hpp"
+
+#include <algorithm>
+
+#include <rapidjson/document.h>
+
+#include "scenario/metrics.hpp"
+
+namespace ocp::scenario {
+namespace {
+
+const std::vector<Interval>* intervals(const Observations& observations, const std::string& vehicle, FaultId fault) {
+  const auto found = observations.faults.find({vehicle, fault});
+  return found == observations.faults.end() ? nullptr : &found->second;
+}
+
+bool active_at(const Observations& observations, const std::string& vehicle, FaultId fault, SimTime at) {
+  const auto* list = intervals(observations, vehicle, fault);
+  if (list == nullptr) return false;
+  return std::any_of(list->begin(), list->end(), [&](const Interval& interval) {
+    return interval.start <= at && (!interval.end || at < *interval.end);
+  });
+}
+
+// Durations as people write them: "388.5ms", "3.74s".
+bool same_json(const std::string& a, const std::string& b) {
+  rapidjson::Document x, y;
+  x.Parse(a.c_str());
+  y.Parse(b.c_str());
+  return !x.HasParseError() && !y.HasParseError() && x == y;
+}
+
+std::string_view controller_name(Delivery::Controller controller) {
+  switch (controller) {
+    case Delivery::Controller::null: return "null";
+    case Delivery::Controller::default_: return "default";
+    case Delivery::Controller::driving: return "driving";
+  }
+  return "?";
+}
+
+std::string ms_text(Micros duration) {
+  if (duration >= Micros{1'000'000}) return format_seconds(duration);
+  return format_number(static_cast<double>(duration.count()) / 1000.0) + "ms";
+}
+
+class Judge {
+ public:
+  Judge(const Scenario& scenario, const RunResult& run) : scenario_(scenario), observations_(run.observations) {}
+
+  void operator()(const FaultEdgeExpectation& e, Verdict& v) const {
+    const char* edge = e.raised ? "raised" : "cleared";
+    v.kind = "fault_edge";
+    std::string window;
+    if (e.min > Micros{0}) {
+      window.append("[").append(ms_text(e.min)).append(", ").append(ms_text(e.max)).append("]");
+    } else {
+      window.append("≤ ").append(ms_text(e.max));
+    }
+    v.expected.append(edge).append(" within ").append(window).append(" after ").append(e.after_label);
+    std::optional<SimTime> found;
+    if (const auto* list = intervals(observations_, e.vehicle, e.fault)) {
+      for (const Interval& interval : *list) {
+        const std::optional<SimTime> at = e.raised ? std::optional(interval.start) : interval.end;
+        if (at && *at >= e.after) {
+          found = at;
+          break;
+        }
+      }
+    }
+    if (!found) {
+      v.actual = std::string("never ") + edge + " after " + e.after_label;
+      if (!e.raised && active_at(observations_, e.vehicle, e.fault, scenario_.duration)) v.actual += " (still active at the end)";
+      return;
+    }
+    const Micros delay = *found - e.after;
+    v.passed = delay >= e.min && delay <= e.max;
+    v.actual = std::string(edge) + " " + ms_text(delay) + " after " + e.after_label + " (at " + format_seconds(*found) + ")";
+  }
+
+  void operator()(const FaultNeverExpectation& e, Verdict& v) const {
+    v.kind = "fault_never";
+    v.expected = e.from > SimTime{0} ? "never active from " + format_seconds(e.from) : "never raised";
+    std::size_t raises = 0;
+    std::optional<std::pair<SimTime, std::string>> first;
+    for (const auto& [key, list] : observations_.faults) {
+      if (key.second != e.fault || (e.vehicle && key.first != *e.vehicle)) continue;
+      for (const Interval& interval : list) {
+        // Raised before `from` but still active after it counts too: it was active then.
+        if (interval.end && *interval.end <= e.from) continue;
+        ++raises;
+        if (!first || interval.start < first->first) first = {interval.start, key.first};
+      }
+    }
+    v.passed = raises == 0;
+    v.actual = raises == 0 ? "never raised"
+                           : "raised " + std::to_string(raises) + " time(s), first on " + first->second + " at " + format_seconds(first->first);
+  }
+
+  void operator()(const FaultStateExpectation& e, Verdict& v) const {
+    v.kind = "fault_state";
+    std::vector<std::string> on = e.active_on, off = e.inactive_on;
+    if (e.every_vehicle_but_active) {
+      std::optional<std::string> active;
+      for (const auto& [time, vehicle] : observations_.active_vehicle) {
+        if (time <= e.at) active = vehicle;
+      }
+      for (const VehicleSpec& spec : scenario_.world.vehicles) {
+        if (spec.monitor) continue;
+        (active && spec.name == *active ? off : on).push_back(spec.name);
+      }
+    }
+    std::string expected, actual;
+    v.passed = true;
+    auto check = [&](const std::vector<std::string>& names, bool want) {
+      for (const std::string& name : names) {
+        const bool is = active_at(observations_, name, e.fault, e.at);
+        expected += name + (want ? "=active " : "=inactive ");
+        actual += name + (is ? "=active " : "=inactive ");
+        v.passed = v.passed && is == want;
+      }
+    };
+    check(on, true);
+    check(off, false);
+    if (!expected.empty()) expected.pop_back();
+    if (!actual.empty()) actual.pop_back();
+    v.expected = expected;
+    v.actual = actual;
+  }
+
+  void operator()(const ThresholdExpectation& e, Verdict& v) const {
+    v.kind = "threshold";
+    v.expected = e.text;
+    std::optional<double> value;
+    if (is_counter_metric(e.metric)) {
+      value = counter_value(observations_, e.metric, e.vehicle, e.aggregate);
+    } else {
+      std::vector<double> values = series_values(observations_, e.metric, e.vehicle);
+      value = aggregate(values, e.aggregate, e.percentile);
+    }
+    if (!value) {
+      v.actual = e.aggregate + " = no samples";
+      return;
+    }
+    const double x = *value;
+    if (e.op == "<") v.passed = x < e.value;
+    else if (e.op == "<=") v.passed = x <= e.value;
+    else if (e.op == ">") v.passed = x > e.value;
+    else if (e.op == ">=") v.passed = x >= e.value;
+    else if (e.op == "==") v.passed = x == e.value;
+    else v.passed = x != e.value;
+    v.actual = e.aggregate + " = " + format_number(x);
+  }
+
+  void operator()(const DeliveryExpectation& e, Verdict& v) const {
+    v.kind = "delivery";
+    using State = DeliveryExpectation::ControllerState;
+    auto wanted = [&](const Delivery& d) {
+      const bool controller_ok = e.controller == State::any ||
+                                 (e.controller == State::null && d.controller == Delivery::Controller::null) ||
+                                 (e.controller == State::default_ && d.controller == Delivery::Controller::default_) ||
+                                 (e.controller == State::driving && d.controller == Delivery::Controller::driving);
+      return controller_ok && (!e.user_data_json || (d.user_data_json && same_json(*d.user_data_json, *e.user_data_json)));
+    };
+    v.expected = "a control frame with";
+    if (e.controller != State::any) {
+      v.expected += std::string(" controller ") +
+                    (e.controller == State::null ? "null" : e.controller == State::default_ ? "default" : "driving");
+    }
+    if (e.user_data_json) v.expected += " user_data " + *e.user_data_json;
+    v.expected += " within " + ms_text(e.within) + " after " + e.after_label;
+    const Delivery* last = nullptr;
+    for (const Delivery& d : observations_.deliveries) {
+      if (d.vehicle != e.vehicle || d.time < e.after || d.time > e.after + e.within) continue;
+      if (wanted(d)) {
+        v.passed = true;
+        v.actual = "received " + ms_text(d.time - e.after) + " after " + e.after_label + " (at " + format_seconds(d.time) + ")";
+        return;
+      }
+      last = &d;
+    }
+    if (last == nullptr) {
+      v.actual = "no control frame reached " + e.vehicle + " in the window";
+    } else {
+      v.actual = "last frame in the window: controller " + std::string(controller_name(last->controller)) +
+                 ", user_data " + last->user_data_json.value_or("none");
+    }
+  }
+
+  void operator()(const InvariantExpectation& e, Verdict& v) const {
+    v.kind = "invariant";
+    if (e.invariant == Invariant::default_controller_during_control_fault) {
+      std::uint64_t checked = 0;
+      for (const auto& [name, data] : observations_.vehicles) checked += data.control_frames_checked;
+      const auto& violations = observations_.controller_violations;
+      v.expected = "only default or null controllers under control-path faults";
+      if (checked == 0) {
+        v.actual = "no control frame was sent under a control-path fault: nothing checked";
+      } else if (violations.empty()) {
+        v.passed = true;
+        v.actual = std::to_string(checked) + " control frames checked, all default or null";
+      } else {
+        v.actual = std::to_string(violations.size()) + " of " + std::to_string(checked) + " frames violated; first at " +
+                   format_seconds(violations.front().time) + " on " + violations.front().vehicle + ": " + violations.front().detail;
+      }
+      return;
+    }
+    const auto& violations = observations_.stale_pair_violations;
+    v.expected = "no pair from before a reconnect echoed on the new connection";
+    if (observations_.reconnects == 0) {
+      v.actual = "no reconnect happened: nothing checked";
+    } else if (violations.empty()) {
+      v.passed = true;
+      v.actual = std::to_string(observations_.reconnects) + " reconnect(s), no stale pair";
+    } else {
+      v.actual = std::to_string(violations.size()) + " stale pair(s); first at " + format_seconds(violations.front().time) +
+                 " on " + violations.front().vehicle + ": " + violations.front().detail;
+    }
+  }
+
+ private:
+  const Scenario& scenario_;
+  const Observations& observations_;
+};
+
+}  // namespace
+
+std::vector<Verdict> evaluate(const Scenario& scenario, const RunResult& run) {
+  Judge judge(scenario, run);
+  std::vector<Verdict> verdicts;
+  for (const Expectation& expectation : scenario.expectations) {
+    Verdict verdict;
+    verdict.title = expectation.title;
+    verdict.mark = expectation.mark;
+    std::visit([&](const auto& kind) { judge(kind, verdict); }, expectation.kind);
+    verdicts.push_back(std::move(verdict));
+  }
+  return verdicts;
+}
+
+bool all_passed(const std::vector<Verdict>& verdicts) {
+  return std::all_of(verdicts.begin(), verdicts.end(), [](const Verdict& v) { return v.passed; });
+}
+
+}  // namespace ocp::scenario

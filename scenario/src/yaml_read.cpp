@@ -1,0 +1,170 @@
+// Checked scalar reads for the scenario parser (see yaml_read.hpp).
+#include "yaml_read.hpp"
+
+#include <rapidjson/stringbuffer.h>
+#include <rapidjson/writer.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <stdexcept>
+
+namespace ocp::scenario {
+
+ScenarioError::ScenarioError(std::string file, int line, int column, std::string reason)
+    : std::runtime_error(file + ":" + std::to_string(line) + ":" + std::to_string(column) +
+                         ": " + reason),
+      file_(std::move(file)), line_(line), column_(column), reason_(std::move(reason)) {}
+
+Mark YamlReader::mark(const YAML::Node& node) const {
+  const YAML::Mark m = node.Mark();
+  if (m.is_null()) return Mark{1, 1};
+  return Mark{m.line + 1, m.column + 1};
+}
+
+void YamlReader::fail(const YAML::Node& node, const std::string& reason) const {
+  const Mark m = mark(node);
+  throw ScenarioError(file_, m.line, m.column, reason);
+}
+
+void YamlReader::check_keys(const YAML::Node& node, std::string_view what,
+                            std::initializer_list<std::string_view> allowed) const {
+  if (!node.IsMap()) fail(node, std::string(what) + ": expected a mapping");
+  for (const auto& item : node) {
+    const std::string key = item.first.as<std::string>();
+    bool known = false;
+    for (const std::string_view name : allowed) known = known || name == key;
+    if (!known) {
+      std::string list;
+      for (const std::string_view name : allowed) {
+        if (!list.empty()) list += ", ";
+        list += name;
+      }
+      fail(item.first, "unknown key '" + key + "' in " + std::string(what) + " (known: " + list + ")");
+    }
+  }
+}
+
+YAML::Node YamlReader::require(const YAML::Node& map, const char* key, std::string_view what) const {
+  YAML::Node value = map[key];
+  if (!value) fail(map, std::string(what) + ": missing required key '" + key + "'");
+  return value;
+}
+
+std::string YamlReader::text(const YAML::Node& node) const {
+  if (!node.IsScalar()) fail(node, "expected a string");
+  return node.Scalar();
+}
+
+bool YamlReader::boolean(const YAML::Node& node) const {
+  const std::string value = node.IsScalar() ? node.Scalar() : "";
+  if (value == "true") return true;
+  if (value == "false") return false;
+  fail(node, "expected true or false, got '" + value + "'");
+}
+
+double YamlReader::number(const YAML::Node& node, double min, double max) const {
+  const std::string value = node.IsScalar() ? node.Scalar() : "";
+  char* end = nullptr;
+  errno = 0;
+  const double parsed = std::strtod(value.c_str(), &end);
+  if (value.empty() || *end != '\0' || errno != 0 || !std::isfinite(parsed)) {
+    fail(node, "expected a number, got '" + value + "'");
+  }
+  if (parsed < min || parsed > max) {
+    fail(node, "value " + value + " out of range [" + std::to_string(min) + ", " +
+                   std::to_string(max) + "]");
+  }
+  return parsed;
+}
+
+std::uint64_t YamlReader::integer(const YAML::Node& node) const {
+  const std::string value = node.IsScalar() ? node.Scalar() : "";
+  char* end = nullptr;
+  errno = 0;
+  const unsigned long long parsed = std::strtoull(value.c_str(), &end, 10);
+  if (value.empty() || value[0] == '-' || *end != '\0' || errno != 0) {
+    fail(node, "expected a non-negative integer, got '" + value + "'");
+  }
+  return parsed;
+}
+
+Micros parse_duration_text(const std::string& text) {
+  std::size_t split = 0;
+  while (split < text.size() && (std::isdigit(static_cast<unsigned char>(text[split])) ||
+                                 text[split] == '.')) {
+    ++split;
+  }
+  const std::string digits = text.substr(0, split);
+  const std::string unit = text.substr(split);
+  if (digits.empty()) throw std::invalid_argument("expected a duration like 350ms or 12.5s, got '" + text + "'");
+  char* end = nullptr;
+  const double value = std::strtod(digits.c_str(), &end);
+  if (*end != '\0') throw std::invalid_argument("bad number in duration '" + text + "'");
+  double scale = 0;
+  if (unit == "us") scale = 1;
+  else if (unit == "ms") scale = 1e3;
+  else if (unit == "s") scale = 1e6;
+  else if (unit == "min") scale = 60e6;
+  else if (unit.empty() && value == 0) scale = 0;
+  else throw std::invalid_argument("duration '" + text + "' needs a unit: us, ms, s or min");
+  return Micros{static_cast<std::int64_t>(std::llround(value * scale))};
+}
+
+Micros YamlReader::duration(const YAML::Node& node) const {
+  if (!node.IsScalar()) fail(node, "expected a duration like 350ms or 12.5s");
+  try {
+    return parse_duration_text(node.Scalar());
+  } catch (const std::invalid_argument& error) {
+    fail(node, error.what());
+  }
+}
+
+namespace {
+using JsonWriter = rapidjson::Writer<rapidjson::StringBuffer>;
+
+void write_json(const YAML::Node& node, JsonWriter& json) {
+  switch (node.Type()) {
+    case YAML::NodeType::Map:
+      json.StartObject();
+      for (const auto& item : node) {
+        const std::string key = item.first.as<std::string>();
+        json.Key(key.c_str(), static_cast<rapidjson::SizeType>(key.size()));
+        write_json(item.second, json);
+      }
+      json.EndObject();
+      return;
+    case YAML::NodeType::Sequence:
+      json.StartArray();
+      for (const auto& item : node) write_json(item, json);
+      json.EndArray();
+      return;
+    case YAML::NodeType::Scalar: {
+      const std::string& value = node.Scalar();
+      // A quoted scalar ("42") stays a string; plain ones are typed as YAML 1.2 core would.
+      if (node.Tag() != "!") {
+        if (value == "true" || value == "false") { json.Bool(value == "true"); return; }
+        if (value == "null" || value == "~") { json.Null(); return; }
+        char* end = nullptr;
+        const long long whole = std::strtoll(value.c_str(), &end, 10);
+        if (!value.empty() && *end == '\0') { json.Int64(whole); return; }
+        const double real = std::strtod(value.c_str(), &end);
+        if (!value.empty() && *end == '\0' && std::isfinite(real)) { json.Double(real); return; }
+      }
+      json.String(value.c_str(), static_cast<rapidjson::SizeType>(value.size()));
+      return;
+    }
+    default:
+      json.Null();
+  }
+}
+}  // namespace
+
+std::string YamlReader::json(const YAML::Node& node) const {
+  rapidjson::StringBuffer buffer;
+  JsonWriter json(buffer);
+  write_json(node, json);
+  return std::string(buffer.GetString(), buffer.GetSize());
+}
+
+}  // namespace ocp::scenario
