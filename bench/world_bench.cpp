@@ -12,6 +12,7 @@
 #include <cstring>
 #include <string>
 
+#include "loop/process_usage.hpp"
 #include "ocp/virtual_executor.hpp"
 #include "world/world.hpp"
 
@@ -19,21 +20,7 @@ namespace {
 
 using namespace ocp;
 
-// Current resident set size in KiB (Linux /proc/self/status VmRSS); 0 when unavailable.
-long resident_kib() {
-  std::FILE* status = std::fopen("/proc/self/status", "r");
-  if (status == nullptr) return 0;
-  char line[256];
-  long kib = 0;
-  while (std::fgets(line, sizeof line, status) != nullptr) {
-    if (std::strncmp(line, "VmRSS:", 6) == 0) {
-      kib = std::strtol(line + 6, nullptr, 10);
-      break;
-    }
-  }
-  std::fclose(status);
-  return kib;
-}
+using ocp::bench::resident_kib;
 
 WorldConfig bench_config() {
   WorldConfig config;
@@ -55,7 +42,7 @@ WorldConfig bench_config() {
 void run_world(benchmark::State& state, Micros simulated) {
   for (auto _ : state) {
     state.PauseTiming();
-    const long rss_before = resident_kib();
+    const double rss_before = resident_kib();
     VirtualExecutor executor;
     World world(executor, bench_config(), make_null_sink());
     if (!world.start()) {
@@ -72,12 +59,12 @@ void run_world(benchmark::State& state, Micros simulated) {
     const Micros first_part = std::min<Micros>(simulated, Micros{60'000'000});
     executor.run_for(first_part);
     state.PauseTiming();
-    const long rss_after_first_minute = resident_kib();
+    const double rss_after_first_minute = resident_kib();
     state.ResumeTiming();
     executor.run_for(simulated - first_part);
 
     state.PauseTiming();
-    const long rss_after = resident_kib();
+    const double rss_after = resident_kib();
     StreamerCore& streamer = world.streamer("truck-1");
     state.counters["events"] = static_cast<double>(executor.events_run());
     state.counters["events_per_second"] =
@@ -85,9 +72,9 @@ void run_world(benchmark::State& state, Micros simulated) {
     state.counters["control_frames"] = static_cast<double>(streamer.stats().control_frames_sent);
     state.counters["vehicle_responses"] = static_cast<double>(streamer.stats().vehicle_responses_received);
     state.counters["video_frames"] = static_cast<double>(streamer.stats().video_frames_sent);
-    state.counters["rss_start_kib"] = static_cast<double>(rss_before);
-    state.counters["rss_1min_kib"] = static_cast<double>(rss_after_first_minute);
-    state.counters["rss_end_kib"] = static_cast<double>(rss_after);
+    state.counters["rss_start_kib"] = rss_before;
+    state.counters["rss_1min_kib"] = rss_after_first_minute;
+    state.counters["rss_end_kib"] = rss_after;
     state.counters["faults_at_end"] = static_cast<double>(streamer.faults().to_vector().size());
     world.stop();
     state.ResumeTiming();

@@ -3,13 +3,13 @@
 #include <fmt/format.h>
 
 #include "conformance/reports.hpp"
-#include "text_escape.hpp"
+#include "sim_app/report_text.hpp"
 
 namespace ocp::conformance {
 namespace {
 
-using detail::clip;
-using detail::markup_escape;
+using report::clip;
+using report::markup_escape;
 
 constexpr const char* style = R"(
 body{font-family:system-ui,sans-serif;margin:2em;color:#222}

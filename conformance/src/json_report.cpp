@@ -1,13 +1,13 @@
 #include <fmt/format.h>
 
 #include "conformance/reports.hpp"
-#include "text_escape.hpp"
+#include "sim_app/report_text.hpp"
 
 namespace ocp::conformance {
 namespace {
 
-using detail::clip;
-using detail::json_escape;
+using report::clip;
+using report::json_escape;
 
 std::string entry_json(const WireLogEntry& e, std::int64_t origin_us) {
   std::string out = fmt::format(R"({{"t_ms":{:.3f},"kind":"{}")", static_cast<double>(e.time_us - origin_us) / 1000.0,

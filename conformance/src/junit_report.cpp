@@ -1,7 +1,7 @@
 #include <fmt/format.h>
 
 #include "conformance/reports.hpp"
-#include "text_escape.hpp"
+#include "sim_app/report_text.hpp"
 
 namespace ocp::conformance {
 
@@ -13,20 +13,20 @@ std::string junit_xml(const ReportContext& c) {
                                 c.suite, s.results.size(), failures, s.harness_error.empty() ? 0 : 1, s.duration_ms / 1000.0);
   for (const CaseResult& r : s.results) {
     xml += fmt::format("  <testcase classname=\"{}.{}\" name=\"{}\" time=\"{:.3f}\">\n", c.suite, tier_name(r.info.tier),
-                       detail::markup_escape(r.info.id), r.duration_ms / 1000.0);
+                       report::markup_escape(r.info.id), r.duration_ms / 1000.0);
     std::string detail = "Requirement: " + r.info.requirement + "\n";
     for (const auto& e : r.info.expected) detail += "Expected: " + e + "\n";
     detail += "Actual: " + r.actual;
     if (r.verdict == Verdict::failed) {
-      xml += fmt::format("    <failure message=\"{}\">{}</failure>\n", detail::markup_escape(r.actual), detail::markup_escape(detail));
+      xml += fmt::format("    <failure message=\"{}\">{}</failure>\n", report::markup_escape(r.actual), report::markup_escape(detail));
     } else {
-      xml += fmt::format("    <system-out>{}: {}</system-out>\n", verdict_name(r.verdict), detail::markup_escape(detail));
+      xml += fmt::format("    <system-out>{}: {}</system-out>\n", verdict_name(r.verdict), report::markup_escape(detail));
     }
     xml += "  </testcase>\n";
   }
   if (!s.harness_error.empty()) {
     xml += fmt::format("  <testcase classname=\"{}\" name=\"harness\"><error message=\"{}\"/></testcase>\n", c.suite,
-                       detail::markup_escape(s.harness_error));
+                       report::markup_escape(s.harness_error));
   }
   xml += "</testsuite></testsuites>\n";
   return xml;

@@ -1,22 +1,11 @@
 // JUnit XML (reports.hpp): one testsuite per run, one testcase per expectation.
 #include "scenario/reports.hpp"
+#include "sim_app/report_text.hpp"
 
 namespace ocp::scenario {
 namespace {
 
-std::string xml(std::string_view text) {
-  std::string out;
-  for (const char c : text) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
+std::string xml(std::string_view text) { return report::markup_escape(text); }
 
 }  // namespace
 

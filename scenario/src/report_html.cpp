@@ -8,23 +8,12 @@
 
 #include "scenario/metrics.hpp"
 #include "scenario/reports.hpp"
+#include "sim_app/report_text.hpp"
 
 namespace ocp::scenario {
 namespace {
 
-std::string escape(std::string_view text) {
-  std::string out;
-  for (const char c : text) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
+std::string escape(std::string_view text) { return report::markup_escape(text); }
 
 std::string num(double value) {
   char buffer[32];

@@ -1,10 +1,11 @@
 #pragma once
-// Escaping for the report formats (private to the library).
+// Text for the reports the tools write (JSON, HTML, JUnit XML): escaping, and wire bytes made
+// safe to show. Shared by ocp_conformance, ocp_scenario and ocp_bench.
 #include <cstdio>
 #include <string>
 #include <string_view>
 
-namespace ocp::conformance::detail {
+namespace ocp::report {
 
 inline std::string json_escape(std::string_view text) {
   std::string out;
@@ -82,4 +83,4 @@ inline std::string clip(std::string_view text, std::size_t max = 2048) {
   return out;
 }
 
-}  // namespace ocp::conformance::detail
+}  // namespace ocp::report
