@@ -40,7 +40,7 @@ void Parser::timeline(const YAML::Node& node) {
   for (const auto& item : node) {
     read_.check_keys(item, "timeline event",
                      {"at", "name", "impair", "ramp", "outage", "camera_stall", "camera_unstall",
-                      "frame_loop_stall", "control_thread_stall", "disconnect", "gamepad",
+                      "frame_loop_stall", "control_thread_stall", "disconnect", "misbehave", "gamepad",
                       "select_vehicle", "client_data"});
     TimelineEvent event;
     event.mark = read_.mark(item);
@@ -123,6 +123,12 @@ void Parser::action(const YAML::Node& item, TimelineEvent& event) {
     if (!find_vehicle(disconnect.vehicle)->in_process_client) read_.fail(n, "disconnect needs an in-process client");
     event.label = "disconnect " + disconnect.vehicle;
     event.action = disconnect;
+  } else if (const YAML::Node n = item["misbehave"]) {
+    SetMisbehaviour set{vehicle_of(n, "misbehave"), {}};
+    if (!find_vehicle(set.vehicle)->in_process_client) read_.fail(n, "misbehave needs an in-process client");
+    misbehave(n, set.misbehave, /*targeted=*/true);
+    event.label = "misbehave " + set.vehicle + (set.misbehave.any() ? "" : " (all off)");
+    event.action = set;
   } else if (const YAML::Node n = item["gamepad"]) {
     GamepadAction pad;
     if (n.IsScalar() && n.Scalar() == "unplug") {

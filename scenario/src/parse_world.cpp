@@ -80,9 +80,14 @@ VehicleSpec Parser::vehicle(const YAML::Node& node) {
   return spec;
 }
 
-void Parser::misbehave(const YAML::Node& node, Misbehaviour& m) {
-  read_.check_keys(node, "misbehave", {"stop_echo", "corrupt_mac", "delay_responses", "oversized_frames",
-                                       "ack_through_double", "malformed_json", "silent"});
+void Parser::misbehave(const YAML::Node& node, Misbehaviour& m, bool targeted) {
+  if (targeted) {
+    read_.check_keys(node, "misbehave", {"vehicle", "stop_echo", "corrupt_mac", "delay_responses", "oversized_frames",
+                                         "ack_through_double", "malformed_json", "silent"});
+  } else {
+    read_.check_keys(node, "misbehave", {"stop_echo", "corrupt_mac", "delay_responses", "oversized_frames",
+                                         "ack_through_double", "malformed_json", "silent"});
+  }
   if (node["stop_echo"]) m.stop_echo = read_.boolean(node["stop_echo"]);
   if (node["corrupt_mac"]) m.corrupt_mac = read_.boolean(node["corrupt_mac"]);
   if (node["delay_responses"]) m.delay_responses = read_.duration(node["delay_responses"]);

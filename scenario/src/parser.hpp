@@ -24,7 +24,8 @@ class Parser {
   void world(const YAML::Node& node);
   void player(const YAML::Node& node);
   VehicleSpec vehicle(const YAML::Node& node);
-  void misbehave(const YAML::Node& node, Misbehaviour& m);
+  // `targeted`: the timeline's misbehave action, which also names the vehicle.
+  void misbehave(const YAML::Node& node, Misbehaviour& m, bool targeted = false);
   // `targeted`: the timeline's impair action, which also names vehicle and direction.
   ImpairmentPatch impairments(const YAML::Node& node, bool targeted = false);
   Controller controller(const YAML::Node& node);

@@ -76,6 +76,9 @@ class Actions {
     executor_.call_after(stall.duration, [&streamer] { streamer.set_control_thread_stalled(false); });
   }
   void operator()(const DisconnectVehicle& disconnect) { world_.drop_vehicle_connection(disconnect.vehicle); }
+  void operator()(const SetMisbehaviour& set) {
+    if (VehicleClient* client = world_.vehicle_client(set.vehicle)) client->set_misbehaviour(set.misbehave);
+  }
   void operator()(const GamepadAction& pad) {
     Gamepad& gamepad = world_.player().gamepad();
     switch (pad.kind) {

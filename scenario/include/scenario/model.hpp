@@ -75,6 +75,11 @@ struct ControlThreadStall {
 struct DisconnectVehicle {
   std::string vehicle;
 };
+// Replaces an in-process vehicle client's misbehaviours from now on (all off = well-behaved).
+struct SetMisbehaviour {
+  std::string vehicle;
+  Misbehaviour misbehave;
+};
 struct GamepadAction {
   enum class Kind { unplug, replug, script } kind = Kind::unplug;
   GamepadScriptSetting script;
@@ -98,8 +103,8 @@ struct ClientDataAction {
 };
 
 using Action = std::variant<SetImpairments, LinkOutage, CameraStall, FrameLoopStall,
-                            ControlThreadStall, DisconnectVehicle, GamepadAction, SelectVehicle,
-                            ClientDataAction>;
+                            ControlThreadStall, DisconnectVehicle, SetMisbehaviour, GamepadAction,
+                            SelectVehicle, ClientDataAction>;
 
 struct TimelineEvent {
   SimTime at{0};

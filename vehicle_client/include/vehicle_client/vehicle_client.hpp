@@ -94,6 +94,9 @@ class VehicleClient {
   void attach(std::shared_ptr<ByteStream> stream);
   // Closes the current connection locally; on_disconnected is not called.
   void detach();
+  // Switches the deliberate protocol violations (misbehaviour.hpp) at run time: they apply
+  // from the next response on (a scenario turns one on and off on its timeline).
+  void set_misbehaviour(const Misbehaviour& misbehave) { config_.misbehave = misbehave; }
   bool connected() const;
   // Called when the peer closes or the client closes because of bad data / silence.
   void set_on_disconnected(std::function<void(const std::string& reason)> callback);
