@@ -184,12 +184,13 @@ void FramedConnection::handle_bytes(std::string_view bytes) {
 }
 
 void FramedConnection::handle_payload(std::string_view payload) {
-  if (options_.events != nullptr && options_.events->active()) {
+  const bool listening = options_.events != nullptr && options_.events->active();
+  inbound_pair_.reset();
+  const Status handled = handlers_.on_payload ? handlers_.on_payload(payload) : Status{Ok{}};
+  if (listening) {
     publish_frame(FrameDirection::in, options_.inbound_kind,
-                  static_cast<std::uint32_t>(payload.size()), payload, false);
+                  static_cast<std::uint32_t>(payload.size()), payload, false, inbound_pair_);
   }
-  if (!handlers_.on_payload) return;
-  const Status handled = handlers_.on_payload(payload);
   if (!handled) close(handled.error());
 }
 

@@ -48,6 +48,7 @@ void StreamerCore::State::accept_vehicle(std::shared_ptr<ByteStream> stream) {
   handlers.on_payload = [this](std::string_view payload) -> Status {
     auto response = decode_vehicle_response(payload);
     if (!response) return response.error();
+    if (vehicle) vehicle->note_inbound_pair(response->ack);   // for the WireFrame event
     on_vehicle_response(std::move(*response));
     return Ok{};
   };

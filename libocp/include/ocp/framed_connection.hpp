@@ -7,12 +7,22 @@
 //   * an inbound frame over the limit is drained, counted and logged; the connection is kept;
 //   * the stream ending inside a frame closes it with the decoder's truncated_frame reason;
 //   * no byte for `read_timeout` (between frames as well as inside one) closes it;
-//   * `send` frames an already-encoded payload and refuses (frame_too_large) to send one over
-//     the limit — an oversized frame never leaves.
-// Every close path — peer, timeout, bad input, local close() — reports `on_closed` exactly
-// once and is logged with its reason. When the first bytes of the connection are not OCP
-// framing at all (text, HTTP; framing_diagnosis.hpp) a warning says so at once and every
-// later close reason repeats it; the bytes are still drained as SPEC §2 asks.
+//   * `send` frames an already-encoded payload and refuses (LocalError::frame_too_large) to
+//     send one over the limit — an oversized frame never leaves;
+//   * a peer that stops reading is disconnected (PeerError::not_reading, "peer not reading")
+//     once the bytes queued for it would exceed write_queue_limit_bytes: it can never grow
+//     our memory.
+// Every close path — peer, timeout, bad input, write queue, local close() — reports
+// `on_closed` exactly once with a typed CloseReason (a PeerError or LocalError value and its
+// detail) and is logged with it. When the first bytes of the connection are not OCP framing at
+// all (text, HTTP; framing_diagnosis.hpp) a warning says so at once and every later close
+// reason repeats it in its detail; the bytes are still drained as SPEC §2 asks.
+//
+// Events: with Options::events set, every frame in and out is published as a WireFrame (with
+// the ack pair a vehicle-wire message carries: given by the caller — send(payload, pair),
+// note_inbound_pair() — or else decoded, only while somebody listens), and the connection's
+// open and close as ConnectionEvents. An inbound frame is published right after its handler
+// ran, before a close that its content causes.
 //
 // Lifetime: open() returns the only shared_ptr the owner needs. Stream and timer callbacks
 // hold weak pointers and lock them for the duration of a callback, so the owner may drop the
@@ -96,6 +106,10 @@ class FramedConnection : public std::enable_shared_from_this<FramedConnection> {
   // hand-cut frame on the wire; protocol code always uses send(). Publishes no WireFrame (the
   // caller knows what the bytes mean and publishes one if it wants).
   [[nodiscard]] Status write_raw(std::string_view bytes);
+  // Called from inside on_payload by a handler that decoded the ack pair the payload carries:
+  // the inbound WireFrame event (published right after on_payload returns) reuses it instead
+  // of decoding the payload a second time.
+  void note_inbound_pair(const AckPair& pair) { inbound_pair_ = pair; }
   // Closes with `reason` (logged as a warning), closes the stream, reports on_closed.
   void close(CloseReason reason);
 
@@ -128,6 +142,7 @@ class FramedConnection : public std::enable_shared_from_this<FramedConnection> {
   std::string frame_buffer_;  // reused by send(): no allocation per frame in steady state
   bool open_ = true;
   SimTime last_byte_at_{};
+  std::optional<AckPair> inbound_pair_;   // set by the handler of the payload being handled
   Executor::TimerId read_timer_ = 0;
 };
 
