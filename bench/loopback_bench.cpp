@@ -26,6 +26,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "loop/floor_echo.hpp"
 #include "ocp/asio_executor.hpp"
 #include "streamer_app/streamer_simulation.hpp"
 #include "vehicle_client/tcp_runner.hpp"
@@ -261,40 +262,11 @@ BENCHMARK(BM_BareSleepUntilFloor100Hz)->Iterations(1)->Unit(benchmark::kSecond)-
 // echoed at once. No Streamer, no client, no reactor: only the kernel's loopback and two
 // thread wake-ups, which on a VM can dominate (see docs/benchmarks.md).
 void BM_BareSocketEchoFloor(benchmark::State& state) {
-  namespace asio = boost::asio;
-  using asio::ip::tcp;
-  use_precise_timers();
   for (auto _ : state) {
-    asio::io_context io;
-    tcp::acceptor acceptor(io, tcp::endpoint(asio::ip::address_v4::loopback(), 0));
-    tcp::socket echo_side(io);
-    echo_side.connect(acceptor.local_endpoint());
-    tcp::socket sender(io);
-    acceptor.accept(sender);
-    sender.set_option(tcp::no_delay(true));
-    echo_side.set_option(tcp::no_delay(true));
-    std::thread echo([&echo_side] {
-      use_precise_timers();
-      std::array<char, 4096> buffer{};
-      boost::system::error_code error;
-      for (;;) {
-        const std::size_t size = echo_side.read_some(asio::buffer(buffer), error);
-        if (error) return;
-        asio::write(echo_side, asio::buffer(buffer.data(), size), error);
-        if (error) return;
-      }
-    });
-    const std::string frame(380, 'x');  // about a control frame
-    std::string reply(frame.size(), '\0');
-    const std::vector<double> round_trips_us = every_10ms([&](SteadyTime) {
-      const SteadyTime sent_at = std::chrono::steady_clock::now();
-      asio::write(sender, asio::buffer(frame));
-      asio::read(sender, asio::buffer(reply));
-      return micros_since(sent_at);
-    });
-    sender.shutdown(tcp::socket::shutdown_both);
-    echo.join();
-    report_percentiles(state, "echo_", round_trips_us);
+    bench::FloorEcho floor;   // the same floor `ocp_bench loop --compare` measures
+    std::this_thread::sleep_for(measure_window);
+    floor.stop();
+    report_percentiles(state, "echo_", floor.round_trips_us());
   }
 }
 BENCHMARK(BM_BareSocketEchoFloor)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
