@@ -37,7 +37,14 @@ def frame(obj):
     return struct.pack("<I", len(payload)) + payload
 
 
+# The last pair this process echoed, kept across connections for sticky-pair. Kept here, not
+# returned by session(): a connection that ends in a reset raises instead of returning.
+last_echoed = None
+
+
 def response(pair):
+    global last_echoed
+    last_echoed = pair
     pos = {"lat": "57.7", "lon": 11.9} if MODE == "bad-pos" else {"lat": 57.7, "lon": 11.9}
     user_data = 1.4 if MODE == "scalar-user-data" else {"mode": MODE}
     return frame({"ack_time": pair[0], "ack_time_mac": pair[1],
@@ -115,16 +122,16 @@ def operator_session(sock):
             sock.sendall(frame({"client_user_data": entries}))
 
 
-def session(sock, last_pair):
-    """One connection. Returns the last pair seen (sticky-pair keeps it across sessions)."""
+def session(sock):
+    """One connection."""
     if MODE in HOSTILE:
         hostile(sock)
     if MODE in OPERATOR:
         operator_session(sock)
-        return None
+        return
     sock.settimeout(0.01)
     buf = b""
-    pair = last_pair if MODE == "sticky-pair" else None
+    pair = last_echoed if MODE == "sticky-pair" else None
     if MODE == "early-echo":
         sock.sendall(response((0, 0)))
     if MODE == "sticky-pair" and pair:
@@ -139,7 +146,7 @@ def session(sock, last_pair):
         try:
             data = sock.recv(65536)
             if not data:
-                return pair
+                return
         except socket.timeout:
             data = b""
         got_new = False
@@ -161,7 +168,7 @@ def session(sock, last_pair):
             (length,) = struct.unpack("<I", buf[:4])
             if length > LIMIT:
                 if MODE == "reject-oversized":
-                    return pair
+                    return
                 buf, skip = buf[4:], length
                 continue
             if len(buf) < 4 + length:
@@ -169,9 +176,9 @@ def session(sock, last_pair):
             msg = json.loads(buf[4:4 + length])
             buf = buf[4 + length:]
             if not acceptable(msg):
-                return pair
+                return
             if MODE == "fault-enum" and msg["telemetry"]["fault"] and msg["telemetry"]["fault_reason"] not in FAULT_NAMES:
-                return pair   # Bug: fault_reason parsed as one known display string.
+                return   # Bug: fault_reason parsed as one known display string.
             pair = (msg["ack_time"], msg["ack_time_mac"])
             got_new = True
         now = time.monotonic()
@@ -193,12 +200,11 @@ def session(sock, last_pair):
 def main():
     if MODE not in BROKEN | HOSTILE | OPERATOR:
         sys.exit(f"unknown mode {MODE}")
-    pair = None
     while True:
         try:
             sock = socket.create_connection(("127.0.0.1", PORT))
             sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-            pair = session(sock, pair)
+            session(sock)
             sock.close()
         except (OSError, ValueError, KeyError):
             pass
