@@ -12,6 +12,8 @@ struct BadFile {
   const char* reason;   // a substring of the reason
 };
 
+void PrintTo(const BadFile& bad, std::ostream* out) { *out << bad.what; }
+
 const std::string head = "seed: 1\nduration: 10s\nworld:\n  vehicles:\n    - name: truck-1\n";   // lines 1-5
 
 class ParseErrors : public ::testing::TestWithParam<BadFile> {};
