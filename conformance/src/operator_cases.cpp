@@ -129,8 +129,8 @@ void add_operator_echo_cases(std::vector<VehicleCase>& cases) {
                     return_delay},
                    op});
   cases.push_back({{{"operator/4.3/2", "returns the pair of every control vehicle", "SPEC §4.3, §4.1, seed 003",
-                     "\"With no source, the Player itself echoes the SEI pair (self-echo)\" — \"The first source to send client data "
-                     "becomes the locked source.\" — \"Once locked, OCP only accepts data from that source.\" (so the locked client "
+                     "\"With no source, the Player itself echoes the SEI pair (self-echo)\" — \"The first source that sends client data "
+                     "to OCP becomes the locked source. Once locked, OCP only accepts data from that source.\" (so the locked client "
                      "must return every control vehicle's pair)",
                      Tier::must, milliseconds(10'000),
                      {"OK: with two control vehicles and a monitor linked, ≥ 10 returned pairs in 1.5 s for each control vehicle, "

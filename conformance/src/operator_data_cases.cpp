@@ -22,10 +22,10 @@ Outcome user_data_reaches_vehicle(CaseContext& ctx) {
   Outcome outcome;
   if (!connected(ctx, outcome)) return outcome;
   const VehicleWireWatch watch(ctx.host());
-  ctx.run_for(milliseconds(1200));
+  ctx.run_for(milliseconds(1000));
   const OperatorObservations o = OperatorObservations::from(ctx.entries());
   if (o.user_data.empty()) {
-    return {Verdict::informational, "the client sent no user_data in 1.2 s: nothing to check"};
+    return {Verdict::informational, "the client sent no user_data in 1 s: nothing to check"};
   }
   std::map<std::string, std::set<std::string>> sent;   // per vehicle: every value sent
   for (const auto& u : o.user_data) {
@@ -59,7 +59,7 @@ Outcome disable_gamepad(CaseContext& ctx) {
   Outcome outcome;
   if (!connected(ctx, outcome)) return outcome;
   const VehicleWireWatch watch(ctx.host());
-  ctx.run_for(milliseconds(1200));
+  ctx.run_for(milliseconds(1000));
   const OperatorObservations o = OperatorObservations::from(ctx.entries());
   const std::string vehicle = host_vehicle_name;
   std::optional<std::int64_t> disabled_at, enabled_at;   // first true; first explicit false after it
@@ -93,7 +93,7 @@ Outcome disable_gamepad(CaseContext& ctx) {
 Outcome selects_active_vehicle(CaseContext& ctx) {
   Outcome outcome;
   if (!connected(ctx, outcome)) return outcome;
-  ctx.run_for(milliseconds(1200));
+  ctx.run_for(milliseconds(1000));
   const OperatorObservations o = OperatorObservations::from(ctx.entries());
   const std::size_t control = o.linked.size() - o.monitors.size();
   const std::string linked = fmt::format("{} vehicles linked ({} control, monitor: {})", o.linked.size(), control, fmt::join(o.monitors, ", "));
