@@ -7,6 +7,8 @@ hostile ones, for the conformance suite's own tests: every case must be able to 
 Without a broken mode's trigger the client behaves: it reads frames properly (any split,
 any coalescing), skips frames over 16 KiB, echoes the latest pair at once, sends a keep-alive
 response every 10 ms without control, and reconnects 100 ms after the connection ends.
+The op-* modes are operator clients on the Player's :4001 API (op-echo behaves: it answers every
+VehicleOcpShared, sends a keep-alive {} after 0.5 s with nothing to answer, and reconnects).
 """
 import json
 import os

@@ -1,8 +1,9 @@
 #pragma once
-// The Streamer side the suite plays: a real StreamerCore in a World (one vehicle, a simulated
-// operator with self-echo, no in-process vehicle client; for `operator` runs the Player side:
-// one or several vehicles, each a Streamer with the in-process reference client) on an AsioExecutor, behind a real TCP
-// listening socket on 127.0.0.1. One host per worker thread; it owns its io_context.
+// The side the suite plays, in a World on an AsioExecutor behind a real TCP listening socket
+// on 127.0.0.1: for `vehicle` a real StreamerCore (one vehicle, a simulated operator with
+// self-echo, no in-process vehicle client); for `operator` the Player, linked to one or several
+// vehicles, each a Streamer with the in-process reference client. One host per worker thread;
+// it owns its io_context.
 //
 // The listening socket outlives the Streamers: each case gets a fresh World (new MAC key,
 // latency loop from zero, its own ack_time_offset) while a client that stays up across cases
