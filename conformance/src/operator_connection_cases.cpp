@@ -1,7 +1,6 @@
 // `ocp_conformance operator`, the connection: keep-alives while the Player is silent, reconnect
 // after the Player closes the connection or restarts (and no stale pair after it), and one
 // connection at a time — the single client-data source (SPEC §2, §4.2, §4.3).
-
 #include "case_helpers.hpp"
 #include "conformance/vehicle_cases.hpp"
 #include "operator_observations.hpp"
