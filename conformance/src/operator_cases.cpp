@@ -1,65 +1,37 @@
-// `ocp_conformance operator` (SPEC §4.1, §4.2, §2): the suite plays the Player on its :4001
-// operator API, with a real Streamer and the reference vehicle client in-process behind it,
-// and grades the operator client: valid frames, the latest pair per vehicle returned
-// unchanged, byte-exact above 2^53.
+// `ocp_conformance operator` (SPEC §2, §4, §7): the suite plays the Player on its :4001
+// operator API, with real Streamers and the reference vehicle client in-process behind it,
+// and grades the operator client. This file: the suite's order and the echo cases (valid
+// frames, the latest pair per vehicle returned unchanged, byte-exact above 2^53, every control
+// vehicle's pair once the client holds the source, the return delay distribution).
+#include <algorithm>
 #include <limits>
-#include <map>
 
 #include "case_helpers.hpp"
 #include "conformance/vehicle_cases.hpp"
-#include "ocp/json_codec.hpp"
+#include "operator_observations.hpp"
 
 namespace ocp::conformance {
 namespace {
 
 using namespace detail;
 
-// Pairs the Player published for our vehicle, and the pairs the client returned.
-struct OperatorObservations {
-  std::vector<SentPair> published;
-  std::vector<SentPair> returned;
-  std::size_t inbound = 0, drained = 0;
-};
-
-OperatorObservations observe(const std::vector<WireLogEntry>& entries) {
-  OperatorObservations o;
-  for (const WireLogEntry& e : entries) {
-    if (e.kind == WireEntryKind::out) {
-      if (auto shared = decode_vehicle_ocp_shared(e.text)) {
-        const auto it = shared->vehicle_feedback.find(host_vehicle_name);
-        if (it != shared->vehicle_feedback.end()) o.published.push_back({e.time_us, it->second.ack});
-      }
-    } else if (e.kind == WireEntryKind::in) {
-      ++o.inbound;
-      o.drained += e.drained;
-      if (auto data = decode_client_ocp_shared(e.text)) {
-        const auto it = data->client_user_data.find(host_vehicle_name);
-        if (it != data->client_user_data.end() && it->second.ack_time_returned && it->second.ack_time_mac_returned) {
-          o.returned.push_back({e.time_us, AckPair{*it->second.ack_time_returned, *it->second.ack_time_mac_returned}});
-        }
-      }
-    }
-  }
-  return o;
-}
-
-std::int64_t find_published(const OperatorObservations& o, const AckPair& pair) {
-  for (std::size_t i = o.published.size(); i-- > 0;) {
-    if (o.published[i].ack == pair) return static_cast<std::int64_t>(i);
-  }
-  return -1;
-}
-
 Outcome valid_frames(CaseContext& ctx) {
   Outcome outcome;
   if (!connected(ctx, outcome)) return outcome;
   ctx.run_for(milliseconds(1500));
-  const OperatorObservations o = observe(ctx.entries());
-  const Observations obs = Observations::from(ctx.entries());
-  const std::string counts = fmt::format("{} frames from the client, {} oversized (drained)", o.inbound, o.drained);
-  if (obs.closed_by_peer_error()) return failed(counts + "; the Player closed the connection: " + last_close(obs));
+  const OperatorObservations o = OperatorObservations::from(ctx.entries());
+  const std::string counts = fmt::format("{} frames from the client, {} oversized (drained)", o.client_frames_us.size(), o.drained);
+  if (o.closed_by_peer_error()) return failed(counts + "; the Player closed the connection: " + o.close_codes.back());
   if (o.drained > 0) return failed(counts);
-  if (o.inbound == 0) return failed(counts + "; nothing sent in 1.5 s");
+  if (o.client_frames_us.empty()) return failed(counts + "; nothing sent in 1.5 s");
+  return ok(counts);
+}
+
+Outcome grade_pairs(const PairReturns& r, const std::string& vehicle, std::size_t at_least) {
+  const std::string counts = r.describe(vehicle);
+  if (!r.altered.empty()) return failed(counts + "; never published for it: " + list_pairs(r.altered));
+  if (r.count < at_least) return failed(fmt::format("{}; fewer than {} returned pairs", counts, at_least));
+  if (static_cast<double>(r.stale) > 0.05 * static_cast<double>(r.count)) return failed(counts);
   return ok(counts);
 }
 
@@ -67,40 +39,64 @@ Outcome returns_latest_pair(CaseContext& ctx) {
   Outcome outcome;
   if (!connected(ctx, outcome)) return outcome;
   ctx.run_for(milliseconds(1500));
-  const OperatorObservations o = observe(ctx.entries());
-  std::size_t stale = 0, altered = 0;
-  std::vector<AckPair> altered_pairs;
-  for (const SentPair& r : o.returned) {
-    const std::int64_t index = find_published(o, r.ack);
-    if (index < 0) {
-      ++altered;
-      altered_pairs.push_back(r.ack);
-      continue;
-    }
-    // Behind = how long before this return a newer pair had already been published.
-    for (std::size_t i = static_cast<std::size_t>(index) + 1; i < o.published.size() && o.published[i].time_us <= r.time_us; ++i) {
-      if (!(o.published[i].ack == r.ack)) {
-        if (r.time_us - o.published[i].time_us > 500'000) ++stale;
-        break;
+  const OperatorObservations o = OperatorObservations::from(ctx.entries());
+  return grade_pairs(pair_returns(o, host_vehicle_name), host_vehicle_name, 10);
+}
+
+// Once the client's data locked the tcp source the Player echoes nothing itself (SPEC §4.3):
+// a vehicle whose pair the client leaves out has a broken latency loop.
+Outcome returns_every_vehicle_pair(CaseContext& ctx) {
+  Outcome outcome;
+  if (!connected(ctx, outcome)) return outcome;
+  ctx.run_for(milliseconds(1500));
+  const OperatorObservations o = OperatorObservations::from(ctx.entries());
+  std::string actual;
+  for (const HostedVehicle& vehicle : ctx.host().vehicles()) {
+    if (vehicle.monitor) continue;
+    const Outcome one = grade_pairs(pair_returns(o, vehicle.name), vehicle.name, 10);
+    if (one.verdict == Verdict::failed) return one;
+    actual += (actual.empty() ? "" : "; ") + one.actual;
+  }
+  return ok(actual);
+}
+
+// INFO: how long after the Player first published a pair the client first returned it.
+Outcome return_delay(CaseContext& ctx) {
+  if (!ctx.wait_connected()) return {Verdict::informational, "the client did not connect within 10 s: nothing measured"};
+  ctx.run_for(milliseconds(1500));
+  const OperatorObservations o = OperatorObservations::from(ctx.entries());
+  const auto published = o.published.find(host_vehicle_name);
+  const auto returned = o.returned.find(host_vehicle_name);
+  std::vector<double> delays_ms;
+  std::size_t pairs = 0;
+  if (published != o.published.end() && returned != o.returned.end()) {
+    std::vector<AckPair> seen;
+    for (const SentPair& p : published->second) {
+      if (std::find(seen.begin(), seen.end(), p.ack) != seen.end()) continue;
+      seen.push_back(p.ack);
+      ++pairs;
+      for (const SentPair& back : returned->second) {
+        if (back.time_us >= p.time_us && back.ack == p.ack) {
+          delays_ms.push_back(static_cast<double>(back.time_us - p.time_us) / 1000.0);
+          break;
+        }
       }
     }
   }
-  const std::string counts = fmt::format("{} VehicleOcpShared frames, {} returned pairs, {} altered, {} stale (> 500 ms behind)",
-                                         o.published.size(), o.returned.size(), altered, stale);
-  if (altered > 0) return failed(counts + "; never published: " + list_pairs(altered_pairs));
-  if (o.returned.size() < 10) return failed(counts + "; fewer than 10 returned pairs in 1.5 s");
-  if (static_cast<double>(stale) > 0.05 * static_cast<double>(o.returned.size())) return failed(counts);
-  return ok(counts);
+  if (delays_ms.empty()) {
+    return {Verdict::informational, fmt::format("{} pairs published, none returned: no delay to measure", pairs)};
+  }
+  return {Verdict::informational,
+          fmt::format("{} of {} published pairs returned; delay from publication to return: median {:.1f} ms, p90 {:.1f} ms, "
+                      "p99 {:.1f} ms, max {:.1f} ms",
+                      delays_ms.size(), pairs, percentile(delays_ms, 50), percentile(delays_ms, 90), percentile(delays_ms, 99),
+                      percentile(delays_ms, 100))};
 }
 
-}  // namespace
-
-std::vector<VehicleCase> operator_cases() {
-  StreamerSetup op;
-  op.operator_side = true;
+void add_operator_echo_cases(std::vector<VehicleCase>& cases) {
+  const StreamerSetup op = operator_setup();
   StreamerSetup big = op;
   big.ack_time_offset = std::numeric_limits<std::uint64_t>::max() - 3'000'000;
-  std::vector<VehicleCase> cases;
   cases.push_back({{{"operator/2/1", "client frames are valid and within 16 KiB", "SPEC §2, §4.2",
                      "\"Frame = uint32 little-endian payload length, then that many bytes of UTF-8 JSON. Maximum payload: 16 384 bytes\" (same framing as §2 on :4001)",
                      Tier::must, milliseconds(10'000),
@@ -123,6 +119,37 @@ std::vector<VehicleCase> operator_cases() {
                      "broken_client.py op-double"},
                     returns_latest_pair},
                    big});
+  cases.push_back({{{"operator/4.2/6", "pair return delay distribution", "SPEC §5",
+                     "\"Echo (self, web view, plugin or TCP client) puts it into the next control message as returned pair.\" "
+                     "(the client's share of the measured latency)",
+                     Tier::info, milliseconds(10'000),
+                     {"INFORMATIONAL: median, p90, p99 and max of the delay from the Player's first publication of a pair to "
+                      "the client's first return of it, over 1.5 s"},
+                     "never fails (INFO)"},
+                    return_delay},
+                   op});
+  cases.push_back({{{"operator/4.3/2", "returns the pair of every control vehicle", "SPEC §4.3, §4.1, seed 003",
+                     "\"With no source, the Player itself echoes the SEI pair (self-echo)\" — \"The first source that sends client data "
+                     "to OCP becomes the locked source. Once locked, OCP only accepts data from that source.\" (so the locked client "
+                     "must return every control vehicle's pair)",
+                     Tier::must, milliseconds(10'000),
+                     {"OK: with two control vehicles and a monitor linked, ≥ 10 returned pairs in 1.5 s for each control vehicle, "
+                      "every one published for that vehicle, ≤ 5 % more than 500 ms behind"},
+                     "broken_client.py op-active-only"},
+                    returns_every_vehicle_pair},
+                   fleet_setup()});
+}
+
+}  // namespace
+
+std::vector<VehicleCase> operator_cases() {
+  std::vector<VehicleCase> cases;
+  add_operator_echo_cases(cases);
+  add_operator_connection_cases(cases);
+  add_operator_data_cases(cases);
+  // Stable order by id (section, then number) whatever the files add.
+  std::stable_sort(cases.begin(), cases.end(),
+                   [](const VehicleCase& a, const VehicleCase& b) { return a.body.info.id < b.body.info.id; });
   return cases;
 }
 

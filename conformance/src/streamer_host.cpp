@@ -36,18 +36,25 @@ Status StreamerHost::start_streamer(const StreamerSetup& setup) {
   config.seed = 1;
   config.player.name = "operator";
   config.player.frame_rate_hz = 100.0;
-  VehicleSpec vehicle;
-  vehicle.name = host_vehicle_name;
-  vehicle.streamer.ack_time_offset = setup.ack_time_offset;
-  vehicle.streamer.vehicle_write_queue_limit_bytes = setup.write_queue_limit_bytes;
-  // Vehicle API: the client under test is the vehicle. Operator API: the reference client is.
-  vehicle.in_process_client = setup.operator_side;
-  config.vehicles.push_back(std::move(vehicle));
+  std::vector<HostedVehicle> hosted = setup.fleet;
+  if (hosted.empty() || !setup.operator_side) hosted = {HostedVehicle{host_vehicle_name, false}};
+  config.player.fleet = hosted.size() > 1;
+  for (const HostedVehicle& h : hosted) {
+    VehicleSpec vehicle;
+    vehicle.name = h.name;
+    vehicle.monitor = h.monitor;
+    vehicle.streamer.ack_time_offset = setup.ack_time_offset;
+    vehicle.streamer.vehicle_write_queue_limit_bytes = setup.write_queue_limit_bytes;
+    // Vehicle API: the client under test is the vehicle. Operator API: the reference client is.
+    vehicle.in_process_client = setup.operator_side;
+    config.vehicles.push_back(std::move(vehicle));
+  }
   auto world = std::make_unique<World>(executor_, std::move(config), sink_);
   if (auto status = world->start(); !status) return status;
   // Before the io_context runs again, so no client can connect to an unpaused Streamer.
-  world->streamer(host_vehicle_name).set_control_output_paused(setup.control_paused);
+  for (const HostedVehicle& h : hosted) world->streamer(h.name).set_control_output_paused(setup.control_paused);
   world_ = std::move(world);
+  vehicles_ = std::move(hosted);
   operator_side_ = setup.operator_side;
   return Ok{};
 }
@@ -74,6 +81,8 @@ Status StreamerHost::restart(const StreamerSetup& setup) {
 }
 
 StreamerCore& StreamerHost::streamer() { return world_->streamer(host_vehicle_name); }
+StreamerCore& StreamerHost::streamer(std::string_view vehicle) { return world_->streamer(vehicle); }
+std::vector<HostedVehicle> StreamerHost::vehicles() const { return world_ ? vehicles_ : std::vector<HostedVehicle>{}; }
 PlayerCore& StreamerHost::player() { return world_->player(); }
 
 bool StreamerHost::client_connected() {

@@ -19,6 +19,22 @@ std::string_view wire_entry_kind_name(WireEntryKind kind) {
   return "?";
 }
 
+namespace {
+
+std::string player_change_text(const ActiveVehicleChange& change) {
+  return change.vehicle ? fmt::format("Player: active vehicle '{}'", *change.vehicle)
+                        : std::string("Player: no active vehicle");
+}
+std::string player_change_text(const SourceLocked& locked) {
+  return fmt::format("Player: client data source locked: {}", client_source_name(locked.source));
+}
+std::string player_change_text(const SourceConflict& conflict) {
+  return fmt::format("Player: client data source conflict (locked {}, offending {}): all client data stopped",
+                     client_source_name(conflict.locked), client_source_name(conflict.offending));
+}
+
+}  // namespace
+
 bool WireLog::full() {
   if (entries_.size() < wire_log_max_entries) return false;
   if (dropped_++ == 0) {
@@ -61,6 +77,10 @@ void WireLog::attach(EventBus& bus, Wire wire) {
               entry.text += fmt::format(" ({}: {})", entry.close_code, body.reason->detail);
             }
             entries_.push_back(std::move(entry));
+          } else if constexpr (std::is_same_v<T, ActiveVehicleChange> || std::is_same_v<T, SourceLocked> ||
+                               std::is_same_v<T, SourceConflict>) {
+            // What the operator client's data did to the Player: evidence for the reports.
+            if (wire == Wire::operator_) note(event.time.count(), player_change_text(body));
           }
         },
         event.body);

@@ -126,6 +126,7 @@ void PlayerCore::Impl::accept_client(std::shared_ptr<ByteStream> stream) {
 }
 
 void PlayerCore::Impl::send_to_client(const VehicleOcpShared& shared) {
+  if (client_output_paused) return;
   encode_vehicle_ocp_shared(shared, client_json_buffer);
   const Status sent = client->send(client_json_buffer);
   if (sent) {

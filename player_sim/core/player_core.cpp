@@ -159,6 +159,15 @@ std::optional<AckPair> PlayerCore::latest_sei(const std::string& vehicle) const 
   return found == impl_->vehicles.end() ? std::nullopt : found->second.latest_sei;
 }
 
+void PlayerCore::set_client_output_paused(bool paused) { impl_->client_output_paused = paused; }
+bool PlayerCore::client_output_paused() const { return impl_->client_output_paused; }
+
+void PlayerCore::close_client_connection() {
+  if (!impl_->client) return;
+  auto client = impl_->client;   // on_client_closed resets impl_->client during close()
+  client->close(CloseReason{LocalError::shut_down, "closed by the Player (conformance test)"});
+}
+
 bool PlayerCore::client_connected() const { return impl_->client && impl_->client->is_open(); }
 const std::optional<CloseReason>& PlayerCore::last_client_close_reason() const {
   return impl_->last_client_close_reason;

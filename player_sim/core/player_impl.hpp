@@ -77,6 +77,7 @@ struct PlayerCore::Impl {
   std::string client_json_buffer;                // reused every frame
   bool client_too_large_warned = false;          // in an episode of oversized frames: warned once
   std::uint64_t client_too_large_frames = 0;     // frames not sent in the current episode
+  bool client_output_paused = false;             // conformance testing: no VehicleOcpShared to the tcp client
 };
 
 }  // namespace ocp

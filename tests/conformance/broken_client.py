@@ -7,6 +7,8 @@ hostile ones, for the conformance suite's own tests: every case must be able to 
 Without a broken mode's trigger the client behaves: it reads frames properly (any split,
 any coalescing), skips frames over 16 KiB, echoes the latest pair at once, sends a keep-alive
 response every 10 ms without control, and reconnects 100 ms after the connection ends.
+The op-* modes are operator clients on the Player's :4001 API (op-echo behaves: it answers every
+VehicleOcpShared, sends a keep-alive {} after 0.5 s with nothing to answer, and reconnects).
 """
 import json
 import os
@@ -23,8 +25,11 @@ LIMIT = 16384
 BROKEN = {"echo-only", "timer-echo", "naive-recv", "reject-oversized", "require-controller",
           "fault-enum", "flat-user-data", "strict-schema", "bad-pos", "no-reconnect",
           "sticky-pair", "early-echo", "scalar-user-data"}
-# Operator-side (:4001) clients: op-echo behaves; the others break one rule.
-OPERATOR = {"op-echo", "op-corrupt", "op-stale", "op-double", "op-oversized"}
+# Operator-side (:4001) clients: op-echo behaves (op-disable too, with the gamepad disabled);
+# the others break one rule.
+OPERATOR = {"op-echo", "op-corrupt", "op-stale", "op-double", "op-oversized", "op-no-keepalive", "op-no-reconnect",
+            "op-sticky", "op-second-connection", "op-active-only", "op-wrong-name", "op-disable", "op-disable-once",
+            "op-no-active", "op-monitor-active"}
 HOSTILE = {"garbage", "flood", "huge-prefix", "half-open", "never-read"}
 FAULT_NAMES = {"", "Vehicle No Response", "No Control Message", "Camera Lost", "Streamer Slow", "High Latency",
                "Operator Station Has Error", "Latency Loop Not Closed", "Control Thread Channel Slow"}
@@ -90,36 +95,91 @@ def hostile(sock):
             time.sleep(0.01)
 
 
+# The pairs last returned per vehicle, kept across connections for op-sticky.
+last_returned = {}
+KEEP_ALIVE_S = 0.5
+
+
+def operator_reply(msg, state):
+    """The ClientOcpShared answering one VehicleOcpShared (op-echo: every control vehicle's
+    latest pair, user data for it, the first control vehicle as active_vehicle)."""
+    feedback = msg.get("vehicle_feedback", {})
+    control = sorted(name for name, f in feedback.items() if not f.get("is_monitor"))
+    candidates = sorted(feedback) if MODE == "op-monitor-active" else control
+    if state.get("active") not in candidates:
+        state["active"] = candidates[0] if candidates else None
+    state["seq"] = state.get("seq", 0) + 1
+    entries = {}
+    for name in control:
+        if MODE == "op-active-only" and name != state["active"]:
+            continue
+        pair = (feedback[name]["ack_time"], feedback[name]["ack_time_mac"])
+        state.setdefault("first", {}).setdefault(name, pair)
+        if MODE == "op-stale":
+            pair = state["first"][name]
+        if MODE == "op-corrupt":
+            pair = (pair[0], pair[1] ^ 0xA5A5A5A5)
+        if MODE == "op-double":
+            pair = (int(float(pair[0])), pair[1])
+        last_returned[name] = pair
+        entry = {"ack_time_returned": pair[0], "ack_time_mac_returned": pair[1]}
+        user_data = {"seq": state["seq"], "vehicle": name, "big": 2**64 - 1, "nested": {"list": [1, "two", None, {"deep": True}]}}
+        if MODE == "op-wrong-name":
+            entries[name.upper()] = {"user_data": user_data}   # Bug: its own spelling of the name.
+        else:
+            entry["user_data"] = user_data
+        disabled = state.setdefault("disabled", set())
+        if MODE == "op-disable" or (MODE == "op-disable-once" and name not in disabled):
+            entry["ocp_disable_gamepad"] = True    # op-disable-once: Bug: only in its first entry.
+            disabled.add(name)
+        if MODE == "op-oversized":
+            entry["user_data"] = {"blob": "x" * 17000}
+        entries[name] = entry
+    reply = {"client_user_data": entries}
+    if state["active"] and MODE != "op-no-active":
+        reply["active_vehicle"] = state["active"]
+    return reply
+
+
 def operator_session(sock):
-    """Returns every vehicle's latest pair in ClientOcpShared, one frame per VehicleOcpShared."""
+    """One :4001 connection: a reply to every VehicleOcpShared, a keep-alive {} after 0.5 s
+    without sending anything."""
+    extra = None
+    if MODE == "op-second-connection":
+        # Bug: a "dashboard" connection next to the control one.
+        extra = socket.create_connection(("127.0.0.1", PORT))
+        extra.sendall(frame({}))
+    if MODE == "op-sticky" and last_returned:
+        # Bug: remembers the pairs of the previous connection and returns them at once.
+        sock.sendall(frame({"client_user_data": {name: {"ack_time_returned": p[0], "ack_time_mac_returned": p[1]}
+                                                 for name, p in last_returned.items()}}))
+    sock.settimeout(0.05)
     buf = b""
-    first = {}
-    while True:
-        data = sock.recv(65536)
-        if not data:
-            return
-        buf += data
-        while len(buf) >= 4:
-            (length,) = struct.unpack("<I", buf[:4])
-            if len(buf) < 4 + length:
-                break
-            msg = json.loads(buf[4:4 + length])
-            buf = buf[4 + length:]
-            entries = {}
-            for name, feedback in msg.get("vehicle_feedback", {}).items():
-                pair = (feedback["ack_time"], feedback["ack_time_mac"])
-                first.setdefault(name, pair)
-                if MODE == "op-stale":
-                    pair = first[name]
-                if MODE == "op-corrupt":
-                    pair = (pair[0], pair[1] ^ 0xA5A5A5A5)
-                if MODE == "op-double":
-                    pair = (int(float(pair[0])), pair[1])
-                entry = {"ack_time_returned": pair[0], "ack_time_mac_returned": pair[1]}
-                if MODE == "op-oversized":
-                    entry["user_data"] = {"blob": "x" * 17000}
-                entries[name] = entry
-            sock.sendall(frame({"client_user_data": entries}))
+    state = {}
+    last_sent = time.monotonic()
+    try:
+        while True:
+            try:
+                data = sock.recv(65536)
+                if not data:
+                    return
+            except socket.timeout:
+                data = b""
+            buf += data
+            while len(buf) >= 4:
+                (length,) = struct.unpack("<I", buf[:4])
+                if len(buf) < 4 + length:
+                    break
+                msg = json.loads(buf[4:4 + length])
+                buf = buf[4 + length:]
+                sock.sendall(frame(operator_reply(msg, state)))
+                last_sent = time.monotonic()
+            if MODE != "op-no-keepalive" and time.monotonic() - last_sent >= KEEP_ALIVE_S:
+                sock.sendall(frame({}))
+                last_sent = time.monotonic()
+    finally:
+        if extra:
+            extra.close()
 
 
 def session(sock):
@@ -144,7 +204,10 @@ def session(sock):
             # Wake exactly at the timer (not when data happens to arrive).
             sock.settimeout(max(0.0005, next_timer - time.monotonic()))
         try:
-            data = sock.recv(65536)
+            # naive-recv reads into a small fixed buffer, as such clients do: a 20000-byte frame
+            # never fits, so it chokes on the oversized frame whatever the timing (with a large
+            # buffer it could swallow it whole behind a normal frame on a loaded machine).
+            data = sock.recv(4096 if MODE == "naive-recv" else 65536)
             if not data:
                 return
         except socket.timeout:
@@ -208,7 +271,7 @@ def main():
             sock.close()
         except (OSError, ValueError, KeyError):
             pass
-        if MODE == "no-reconnect":
+        if MODE in ("no-reconnect", "op-no-reconnect"):
             sys.exit(1)
         time.sleep(0.1)
 

@@ -1,7 +1,9 @@
 #pragma once
-// The Streamer side the suite plays: a real StreamerCore in a World (one vehicle, a simulated
-// operator with self-echo, no in-process vehicle client) on an AsioExecutor, behind a real TCP
-// listening socket on 127.0.0.1. One host per worker thread; it owns its io_context.
+// The side the suite plays, in a World on an AsioExecutor behind a real TCP listening socket
+// on 127.0.0.1: for `vehicle` a real StreamerCore (one vehicle, a simulated operator with
+// self-echo, no in-process vehicle client); for `operator` the Player, linked to one or several
+// vehicles, each a Streamer with the in-process reference client. One host per worker thread;
+// it owns its io_context.
 //
 // The listening socket outlives the Streamers: each case gets a fresh World (new MAC key,
 // latency loop from zero, its own ack_time_offset) while a client that stays up across cases
@@ -14,6 +16,9 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
 
 #include "ocp/asio_executor.hpp"
 #include "ocp/error.hpp"
@@ -24,6 +29,12 @@
 
 namespace ocp::conformance {
 
+// One vehicle the Player is linked to in `ocp_conformance operator` runs.
+struct HostedVehicle {
+  std::string name;
+  bool monitor = false;   // watch-only link (SPEC §7): feedback and video, no control
+};
+
 struct StreamerSetup {
   std::uint64_t ack_time_offset = std::uint64_t{1} << 53;  // SPEC §5: conformance uses ≥ 2^53
   bool control_paused = false;   // paused before any client can connect
@@ -31,6 +42,9 @@ struct StreamerSetup {
   // `ocp_conformance operator`: the port is the Player's :4001 operator API (SPEC §4.2) and the
   // vehicle side is the reference VehicleClient, in-process, so the latency loop turns.
   bool operator_side = false;
+  // operator_side only: the vehicles linked to the Player, each with its own Streamer and
+  // in-process reference client (a fleet when more than one). Empty: one, host_vehicle_name.
+  std::vector<HostedVehicle> fleet;
 };
 
 class StreamerHost {
@@ -51,7 +65,9 @@ class StreamerHost {
   [[nodiscard]] Status restart(const StreamerSetup& setup);
 
   bool has_streamer() const { return world_ != nullptr; }
-  StreamerCore& streamer();
+  StreamerCore& streamer();                              // host_vehicle_name's
+  StreamerCore& streamer(std::string_view vehicle);      // a vehicle of the fleet
+  std::vector<HostedVehicle> vehicles() const;           // of the running World
   PlayerCore& player();
   bool operator_side() const { return operator_side_; }
   // The client under test is connected (vehicle API or operator API, by the setup).
@@ -73,6 +89,7 @@ class StreamerHost {
   TcpServer server_;
   std::uint16_t port_ = 0;
   std::unique_ptr<World> world_;
+  std::vector<HostedVehicle> vehicles_;
   bool operator_side_ = false;
 };
 

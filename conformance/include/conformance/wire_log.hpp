@@ -32,8 +32,9 @@ inline constexpr std::size_t wire_log_max_entries = 100'000;
 
 class WireLog {
  public:
-  // Records everything `bus` publishes about the vehicle wire from now on (replaces any
-  // previous subscription: a restarted Streamer has a new bus).
+  // Records everything `bus` publishes about `wire` from now on (replaces any previous
+  // subscription: a restarted Streamer has a new bus). On the operator wire the Player's
+  // active-vehicle and source-lock changes are noted too.
   void attach(EventBus& bus, Wire wire = Wire::vehicle);
   void detach() { subscription_.reset(); }
   void note(std::int64_t time_us, std::string text);

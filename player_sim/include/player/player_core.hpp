@@ -131,6 +131,16 @@ class PlayerCore {
   Gamepad& gamepad();
   const Gamepad& gamepad() const;
 
+  // Conformance testing (the `ocp_conformance operator` suite plays this Player against an
+  // operator client under test and needs to shape its :4001 wire):
+  // * Paused client output: frames still run (controls, faults, the web view's listeners) but
+  //   no VehicleOcpShared is written to the tcp client, so its keep-alives can be watched.
+  void set_client_output_paused(bool paused);
+  bool client_output_paused() const;
+  // * Closes the tcp client connection from the server side (LocalError::shut_down), as a
+  //   Player going away would; the client is expected to reconnect. No-op without one.
+  void close_client_connection();
+
   // Getters (for fronts, scenarios and tests).
   const PlayerConfig& config() const;
   std::vector<std::string> vehicles() const;       // in name order
