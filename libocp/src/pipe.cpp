@@ -9,7 +9,8 @@ namespace {
 
 constexpr const char* closed_by_peer_reason = "closed by peer";
 
-// One end of an in-memory pipe. Ends refer to each other weakly. Bytes written towards an end
+// One end of an in-memory pipe. Ends refer to each other weakly (a weak_ptr, and a plain
+// pointer that the destroyed end clears). Bytes written towards an end
 // wait in that end's transit buffer (reused: no allocation per write) and each write is one
 // executor task that hands the next `length` bytes over. Writes to one end all have the same
 // delay, so their tasks run in write order and the buffer is a FIFO. An end cancels the tasks
@@ -24,10 +25,14 @@ class PipeEnd final : public ByteStream, public std::enable_shared_from_this<Pip
 
   ~PipeEnd() override {
     for (std::size_t i = pending_head_; i < pending_.size(); ++i) executor_.cancel(pending_[i].timer);
+    if (peer_end_ != nullptr) peer_end_->peer_end_ = nullptr;
     notify_peer_of_close();
   }
 
-  void connect(const std::shared_ptr<PipeEnd>& peer) { peer_ = peer; }
+  void connect(const std::shared_ptr<PipeEnd>& peer) {
+    peer_ = peer;
+    peer_end_ = peer.get();
+  }
 
   void set_handlers(ByteStreamHandlers handlers) override {
     // Shared so a handler may replace the handlers while it runs without destroying itself.
@@ -51,14 +56,14 @@ class PipeEnd final : public ByteStream, public std::enable_shared_from_this<Pip
     if (!open_ || bytes.empty()) {
       return;
     }
-    if (const auto peer = peer_.lock()) {
-      peer->enqueue(bytes, one_way_delay_);
+    if (peer_end_ != nullptr) {
+      peer_end_->enqueue(bytes, one_way_delay_);
     }
   }
 
   std::size_t queued_bytes() const override {
-    const auto peer = peer_.lock();
-    return peer ? peer->transit_.size() - peer->transit_head_ + peer->buffered_.size() : 0;
+    const PipeEnd* peer = peer_end_;
+    return peer != nullptr ? peer->transit_.size() - peer->transit_head_ + peer->buffered_.size() : 0;
   }
 
   void close() override {
@@ -181,6 +186,9 @@ class PipeEnd final : public ByteStream, public std::enable_shared_from_this<Pip
   std::size_t max_chunk_bytes_;
   std::string peer_name_;
   std::weak_ptr<PipeEnd> peer_;
+  // The same end for the per-write path (no atomic reference count per write); each end's
+  // destructor clears the other's pointer.
+  PipeEnd* peer_end_ = nullptr;
   std::shared_ptr<const ByteStreamHandlers> handlers_ = std::make_shared<const ByteStreamHandlers>();
   std::string buffered_;   // arrived before the handlers were set (the reader has not started)
   struct Pending {
