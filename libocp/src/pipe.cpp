@@ -102,10 +102,7 @@ class PipeEnd final : public ByteStream, public std::enable_shared_from_this<Pip
 
   void deliver_next() {
     const std::size_t length = pending_[pending_head_].length;
-    if (++pending_head_ == pending_.size()) {
-      pending_.clear();
-      pending_head_ = 0;
-    }
+    ++pending_head_;
     // The bytes move out of the transit buffer before any handler runs: a handler may write
     // to this end again. When they are all of it (the usual case) that is a swap, not a copy.
     if (transit_head_ == 0 && length == transit_.size()) {
@@ -114,12 +111,28 @@ class PipeEnd final : public ByteStream, public std::enable_shared_from_this<Pip
     } else {
       arrived_.assign(transit_, transit_head_, length);
       transit_head_ += length;
-      if (transit_head_ == transit_.size()) {
-        transit_.clear();
-        transit_head_ = 0;
-      }
     }
+    drop_delivered();
     receive(arrived_);
+  }
+
+  // With a delay, writes keep arriving while earlier ones wait, so the FIFOs may never run
+  // empty: drop their delivered front once it is at least half of them.
+  void drop_delivered() {
+    if (pending_head_ == pending_.size()) {
+      pending_.clear();
+      pending_head_ = 0;
+    } else if (pending_head_ >= 64 && 2 * pending_head_ >= pending_.size()) {
+      pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(pending_head_));
+      pending_head_ = 0;
+    }
+    if (transit_head_ == transit_.size()) {
+      transit_.clear();
+      transit_head_ = 0;
+    } else if (transit_head_ >= 4096 && 2 * transit_head_ >= transit_.size()) {
+      transit_.erase(0, transit_head_);
+      transit_head_ = 0;
+    }
   }
 
   void receive(std::string_view data) {
