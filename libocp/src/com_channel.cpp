@@ -22,7 +22,11 @@ constexpr double bits_per_byte = 8.0;
 
 LinkDirection::LinkDirection(Executor& executor, std::uint64_t seed) : executor_(executor), random_(seed) {}
 
-LinkDirection::~LinkDirection() { *alive_ = false; }
+LinkDirection::~LinkDirection() {
+  for (const InFlight& flight : in_flight_) {
+    if (flight.timer != 0) executor_.cancel(flight.timer);
+  }
+}
 
 void LinkDirection::set_receiver(Receiver receiver) { receiver_ = std::move(receiver); }
 
@@ -190,19 +194,36 @@ void LinkDirection::send(LinkMessage message) {
 void LinkDirection::schedule_delivery(SimTime deliver_at, LinkMessage message, std::size_t size_bytes,
                                       std::uint64_t message_id) {
   ++counters_.in_flight;
-  executor_.call_at(deliver_at, [this, alive = alive_, message = std::move(message), size_bytes,
-                                 message_id]() mutable {
-    if (!*alive) {
-      return;
-    }
-    --counters_.in_flight;
-    ++counters_.delivered;
-    counters_.bytes_delivered += size_bytes;
-    if (events_.active()) publish(LinkOutcome::delivered, message, size_bytes, message_id);
-    if (receiver_) {
-      receiver_(std::move(message));
-    }
-  });
+  std::uint32_t slot;
+  if (!free_in_flight_.empty()) {
+    slot = free_in_flight_.back();
+    free_in_flight_.pop_back();
+  } else {
+    slot = static_cast<std::uint32_t>(in_flight_.size());
+    in_flight_.emplace_back();
+  }
+  InFlight& flight = in_flight_[slot];
+  flight.message = std::move(message);
+  flight.size_bytes = size_bytes;
+  flight.message_id = message_id;
+  flight.timer = executor_.call_at(deliver_at, [this, slot] { deliver(slot); });
+}
+
+void LinkDirection::deliver(std::uint32_t slot) {
+  // Out of the pool before anyone runs: the receiver may send, which may grow the pool.
+  InFlight& flight = in_flight_[slot];
+  LinkMessage message = std::move(flight.message);
+  const std::size_t size_bytes = flight.size_bytes;
+  const std::uint64_t message_id = flight.message_id;
+  flight.timer = 0;
+  free_in_flight_.push_back(slot);
+  --counters_.in_flight;
+  ++counters_.delivered;
+  counters_.bytes_delivered += size_bytes;
+  if (events_.active()) publish(LinkOutcome::delivered, message, size_bytes, message_id);
+  if (receiver_) {
+    receiver_(std::move(message));
+  }
 }
 
 ComChannel::ComChannel(Executor& executor, std::uint64_t seed, std::string name)

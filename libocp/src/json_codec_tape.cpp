@@ -473,7 +473,7 @@ bool tokenize_fast_path(std::string_view json, Tape& tape) {
   tape.source = json;
   tape.tokens.clear();
   if (json.size() >= std::numeric_limits<std::uint32_t>::max()) return false;
-  tape.text.assign(json);  // the in-situ work copy; never resized while parsing
+  tape.text.clear();  // the fast path reads texts from the source itself (Tape::text_of)
   if (FastTokenizer(json, tape).run()) return true;
   tape.tokens.clear();
   return false;

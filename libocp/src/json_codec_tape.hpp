@@ -43,12 +43,14 @@ struct Token {
 struct Tape {
   std::string_view source;
   std::vector<Token> tokens;
-  // A work copy of the source, parsed in place: decoded strings, keys and number texts live
-  // inside it (a decoded string is never longer than its source).
+  // RapidJSON's work copy of the source, parsed in place: decoded strings, keys and number
+  // texts live inside it (a decoded string is never longer than its source). Left empty by the
+  // fast path, whose texts are the source's own bytes at the same offsets: no copy.
   std::string text;
 
   std::string_view text_of(const Token& token) const {
-    return std::string_view(text).substr(token.text_begin, token.text_length);
+    const std::string_view texts = text.empty() ? source : std::string_view(text);
+    return texts.substr(token.text_begin, token.text_length);
   }
   // Index of the value after the one starting at `index` (skips whole containers).
   std::size_t next(std::size_t index) const {

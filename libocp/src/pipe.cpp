@@ -2,15 +2,19 @@
 
 #include <algorithm>
 #include <utility>
+#include <vector>
 
 namespace ocp {
 namespace {
 
 constexpr const char* closed_by_peer_reason = "closed by peer";
 
-// One end of an in-memory pipe. Ends refer to each other weakly, and every scheduled
-// delivery captures a weak_ptr, so destroying an end with deliveries pending is safe: they
-// are dropped.
+// One end of an in-memory pipe. Ends refer to each other weakly (a weak_ptr, and a plain
+// pointer that the destroyed end clears). Bytes written towards an end
+// wait in that end's transit buffer (reused: no allocation per write) and each write is one
+// executor task that hands the next `length` bytes over. Writes to one end all have the same
+// delay, so their tasks run in write order and the buffer is a FIFO. An end cancels the tasks
+// still heading for it when it is destroyed, so they never touch a dead end.
 class PipeEnd final : public ByteStream, public std::enable_shared_from_this<PipeEnd> {
  public:
   PipeEnd(Executor& executor, Micros one_way_delay, std::size_t max_chunk_bytes, std::string peer_name)
@@ -19,9 +23,16 @@ class PipeEnd final : public ByteStream, public std::enable_shared_from_this<Pip
         max_chunk_bytes_(max_chunk_bytes),
         peer_name_(std::move(peer_name)) {}
 
-  ~PipeEnd() override { notify_peer_of_close(); }
+  ~PipeEnd() override {
+    for (std::size_t i = pending_head_; i < pending_.size(); ++i) executor_.cancel(pending_[i].timer);
+    if (peer_end_ != nullptr) peer_end_->peer_end_ = nullptr;
+    notify_peer_of_close();
+  }
 
-  void connect(const std::shared_ptr<PipeEnd>& peer) { peer_ = peer; }
+  void connect(const std::shared_ptr<PipeEnd>& peer) {
+    peer_ = peer;
+    peer_end_ = peer.get();
+  }
 
   void set_handlers(ByteStreamHandlers handlers) override {
     // Shared so a handler may replace the handlers while it runs without destroying itself.
@@ -45,19 +56,14 @@ class PipeEnd final : public ByteStream, public std::enable_shared_from_this<Pip
     if (!open_ || bytes.empty()) {
       return;
     }
-    *in_transit_bytes_ += bytes.size();
-    executor_.call_after(one_way_delay_, [peer = peer_, in_transit = in_transit_bytes_,
-                                          data = std::string(bytes)] {
-      *in_transit -= data.size();
-      if (auto end = peer.lock()) {
-        end->receive(data);
-      }
-    });
+    if (peer_end_ != nullptr) {
+      peer_end_->enqueue(bytes, one_way_delay_);
+    }
   }
 
   std::size_t queued_bytes() const override {
-    const auto peer = peer_.lock();
-    return *in_transit_bytes_ + (peer ? peer->buffered_.size() : 0);
+    const PipeEnd* peer = peer_end_;
+    return peer != nullptr ? peer->transit_.size() - peer->transit_head_ + peer->buffered_.size() : 0;
   }
 
   void close() override {
@@ -86,7 +92,50 @@ class PipeEnd final : public ByteStream, public std::enable_shared_from_this<Pip
     });
   }
 
-  void receive(const std::string& data) {
+  // Bytes written by the peer: kept here until their delivery task runs.
+  void enqueue(std::string_view bytes, Micros delay) {
+    transit_.append(bytes);
+    // Captures one pointer, so std::function stores it inline: no allocation per write.
+    const auto timer = executor_.call_after(delay, [this] { deliver_next(); });
+    pending_.push_back(Pending{timer, bytes.size()});
+  }
+
+  void deliver_next() {
+    const std::size_t length = pending_[pending_head_].length;
+    ++pending_head_;
+    // The bytes move out of the transit buffer before any handler runs: a handler may write
+    // to this end again. When they are all of it (the usual case) that is a swap, not a copy.
+    if (transit_head_ == 0 && length == transit_.size()) {
+      arrived_.swap(transit_);
+      transit_.clear();
+    } else {
+      arrived_.assign(transit_, transit_head_, length);
+      transit_head_ += length;
+    }
+    drop_delivered();
+    receive(arrived_);
+  }
+
+  // With a delay, writes keep arriving while earlier ones wait, so the FIFOs may never run
+  // empty: drop their delivered front once it is at least half of them.
+  void drop_delivered() {
+    if (pending_head_ == pending_.size()) {
+      pending_.clear();
+      pending_head_ = 0;
+    } else if (pending_head_ >= 64 && 2 * pending_head_ >= pending_.size()) {
+      pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(pending_head_));
+      pending_head_ = 0;
+    }
+    if (transit_head_ == transit_.size()) {
+      transit_.clear();
+      transit_head_ = 0;
+    } else if (transit_head_ >= 4096 && 2 * transit_head_ >= transit_.size()) {
+      transit_.erase(0, transit_head_);
+      transit_head_ = 0;
+    }
+  }
+
+  void receive(std::string_view data) {
     if (!open_) {
       return;  // closed locally: nothing more is delivered
     }
@@ -150,9 +199,20 @@ class PipeEnd final : public ByteStream, public std::enable_shared_from_this<Pip
   std::size_t max_chunk_bytes_;
   std::string peer_name_;
   std::weak_ptr<PipeEnd> peer_;
+  // The same end for the per-write path (no atomic reference count per write); each end's
+  // destructor clears the other's pointer.
+  PipeEnd* peer_end_ = nullptr;
   std::shared_ptr<const ByteStreamHandlers> handlers_ = std::make_shared<const ByteStreamHandlers>();
   std::string buffered_;   // arrived before the handlers were set (the reader has not started)
-  std::shared_ptr<std::size_t> in_transit_bytes_ = std::make_shared<std::size_t>(0);
+  struct Pending {
+    Executor::TimerId timer;
+    std::size_t length;
+  };
+  std::string transit_;           // written by the peer, not yet delivered (from transit_head_)
+  std::size_t transit_head_ = 0;
+  std::vector<Pending> pending_;  // one per write in transit, in order (from pending_head_)
+  std::size_t pending_head_ = 0;
+  std::string arrived_;           // the bytes being handed to the handler (reused)
   bool reading_ = false;
   bool open_ = true;
   bool peer_closed_ = false;

@@ -28,11 +28,59 @@ Executor::TimerId VirtualExecutor::call_at(SimTime deadline, Task task) {
   entry_slot.task = std::move(task);
   // A deadline in the past runs at once: time never moves backwards.
   const SimTime effective = std::max(deadline, now_);
-  heap_.push_back(Entry{effective, next_sequence_++, slot, entry_slot.generation});
-  std::push_heap(heap_.begin(), heap_.end(), later);
+  buckets_[bucket_for(effective)].items.push_back(Item{slot, entry_slot.generation});
+  ++queued_items_;
   ++live_count_;
   // Generations start at 1, so no id is ever 0 (0 means "no timer" to callers).
   return make_id(slot, entry_slot.generation);
+}
+
+std::uint32_t VirtualExecutor::bucket_for(SimTime deadline) {
+  if (last_bucket_ != no_bucket && buckets_[last_bucket_].deadline == deadline) {
+    return last_bucket_;
+  }
+  const auto [found, inserted] = bucket_by_deadline_.try_emplace(deadline.count(), no_bucket);
+  if (inserted) {
+    std::uint32_t bucket;
+    if (!free_buckets_.empty()) {
+      bucket = free_buckets_.back();
+      free_buckets_.pop_back();
+    } else {
+      bucket = static_cast<std::uint32_t>(buckets_.size());
+      buckets_.emplace_back();
+    }
+    buckets_[bucket].deadline = deadline;
+    found->second = bucket;
+    push_bucket(bucket);
+  }
+  last_bucket_ = found->second;
+  return last_bucket_;
+}
+
+void VirtualExecutor::push_bucket(std::uint32_t bucket) const {
+  bucket_heap_.push_back(bucket);
+  std::push_heap(bucket_heap_.begin(), bucket_heap_.end(), [this](std::uint32_t left, std::uint32_t right) {
+    return buckets_[left].deadline > buckets_[right].deadline;
+  });
+}
+
+void VirtualExecutor::pop_bucket() const {
+  std::pop_heap(bucket_heap_.begin(), bucket_heap_.end(), [this](std::uint32_t left, std::uint32_t right) {
+    return buckets_[left].deadline > buckets_[right].deadline;
+  });
+  bucket_heap_.pop_back();
+}
+
+void VirtualExecutor::release_front_bucket() const {
+  const std::uint32_t bucket = bucket_heap_.front();
+  pop_bucket();
+  Bucket& released = buckets_[bucket];
+  bucket_by_deadline_.erase(released.deadline.count());
+  queued_items_ -= released.items.size() - released.head;
+  released.items.clear();  // keeps its capacity for the next deadline
+  released.head = 0;
+  free_buckets_.push_back(bucket);
+  if (last_bucket_ == bucket) last_bucket_ = no_bucket;
 }
 
 void VirtualExecutor::cancel(TimerId id) {
@@ -55,36 +103,57 @@ void VirtualExecutor::release_slot(std::uint32_t slot) {
 }
 
 void VirtualExecutor::drop_cancelled_front() const {
-  while (!heap_.empty() && !is_live(heap_.front())) {
-    std::pop_heap(heap_.begin(), heap_.end(), later);
-    heap_.pop_back();
+  while (!bucket_heap_.empty()) {
+    Bucket& front = buckets_[bucket_heap_.front()];
+    while (front.head < front.items.size() && !is_live(front.items[front.head])) {
+      ++front.head;
+      --queued_items_;
+    }
+    if (front.head < front.items.size()) return;
+    release_front_bucket();
   }
 }
 
 void VirtualExecutor::compact_if_mostly_cancelled() {
-  // Cancelled entries wait in the heap until they surface. A caller that keeps re-arming a
-  // far-off watchdog would let them pile up, so rebuild once they are the clear majority.
-  constexpr std::size_t minimum_heap_for_compaction = 1024;
-  if (heap_.size() < minimum_heap_for_compaction || heap_.size() < 4 * live_count_) {
+  // Cancelled items wait in their bucket until they surface. A caller that keeps re-arming a
+  // far-off watchdog would let them pile up, so sweep once they are the clear majority.
+  constexpr std::size_t minimum_items_for_compaction = 1024;
+  if (queued_items_ < minimum_items_for_compaction || queued_items_ < 4 * live_count_) {
     return;
   }
-  std::erase_if(heap_, [this](const Entry& entry) { return !is_live(entry); });
-  std::make_heap(heap_.begin(), heap_.end(), later);
+  queued_items_ = 0;
+  for (const std::uint32_t bucket : bucket_heap_) {
+    Bucket& swept = buckets_[bucket];
+    const auto first = swept.items.begin() + static_cast<std::ptrdiff_t>(swept.head);
+    swept.items.erase(std::remove_if(first, swept.items.end(), [this](const Item& item) { return !is_live(item); }),
+                      swept.items.end());
+    swept.items.erase(swept.items.begin(), first);
+    swept.head = 0;
+    queued_items_ += swept.items.size();
+  }
+  // Buckets left empty are released as they reach the front (drop_cancelled_front).
 }
 
 bool VirtualExecutor::step() {
   drop_cancelled_front();
-  if (heap_.empty()) {
+  if (bucket_heap_.empty()) {
     return false;
   }
-  const Entry entry = heap_.front();
-  std::pop_heap(heap_.begin(), heap_.end(), later);
-  heap_.pop_back();
-  now_ = entry.deadline;
+  Bucket& front = buckets_[bucket_heap_.front()];
+  const Item item = front.items[front.head++];
+  --queued_items_;
+  now_ = front.deadline;
+  if (front.head == front.items.size()) {
+    release_front_bucket();
+  } else if (front.head >= 4096 && 2 * front.head >= front.items.size()) {
+    // A deadline that keeps receiving zero-delay events while it runs: drop the run part.
+    front.items.erase(front.items.begin(), front.items.begin() + static_cast<std::ptrdiff_t>(front.head));
+    front.head = 0;
+  }
   // Move the task out and free its slot before running it: the task may schedule or cancel.
-  Task task = std::move(slots_[entry.slot].task);
-  slots_[entry.slot].task = nullptr;
-  release_slot(entry.slot);
+  Task task = std::move(slots_[item.slot].task);
+  slots_[item.slot].task = nullptr;
+  release_slot(item.slot);
   --live_count_;
   ++events_run_;
   task();
@@ -94,7 +163,7 @@ bool VirtualExecutor::step() {
 void VirtualExecutor::run_until(SimTime end) {
   while (true) {
     drop_cancelled_front();
-    if (heap_.empty() || heap_.front().deadline > end) {
+    if (bucket_heap_.empty() || buckets_[bucket_heap_.front()].deadline > end) {
       break;
     }
     step();
@@ -114,7 +183,7 @@ std::size_t VirtualExecutor::pending() const { return live_count_; }
 
 SimTime VirtualExecutor::next_deadline() const {
   drop_cancelled_front();
-  return heap_.empty() ? SimTime::max() : heap_.front().deadline;
+  return bucket_heap_.empty() ? SimTime::max() : buckets_[bucket_heap_.front()].deadline;
 }
 
 }  // namespace ocp

@@ -4,6 +4,7 @@
 // the display string, and publishes a FaultEvent. Subscribers see every edge; the log
 // summarises a flapping fault instead of repeating it (flap_summariser.hpp).
 #include <array>
+#include <bitset>
 #include <functional>
 #include <optional>
 
@@ -29,6 +30,9 @@ class FaultTracker {
   FaultSet faults_;
   // Per fault, from its first edge on; an array because set() runs for every fault every tick.
   std::array<std::optional<FlapSummariser>, fault_count> flaps_;
+  // Which summarisers are flapping, mirrored after every call into them: the steady case (no
+  // edge, not flapping — nearly every call) then reads one word instead of a cold summariser.
+  std::bitset<fault_count> flapping_;
 };
 
 }  // namespace ocp::streamer

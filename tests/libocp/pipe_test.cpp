@@ -50,6 +50,34 @@ TEST(Pipe, BytesArriveAtThePeerAfterTheOneWayDelayInOrder) {
   EXPECT_EQ(at_a.chunks[0], std::make_pair(std::string("back"), SimTime{6000}));
 }
 
+// A delayed pipe that never runs empty (a write every millisecond, 40 ms in flight): every
+// write still arrives whole, in order, 40 ms after it was made, and what is queued towards the
+// peer is exactly what is in flight.
+TEST(Pipe, DelayedPipeThatNeverRunsEmptyDeliversEveryWriteInOrder) {
+  VirtualExecutor executor;
+  auto [a, b] = make_pipe(executor, PipeOptions{.one_way_delay = 40ms});
+  Recorder at_b;
+  b->set_handlers(at_b.handlers(executor));
+  std::vector<std::string> written;
+  for (int i = 0; i < 3000; ++i) {
+    executor.run_until(SimTime{i * 1000});
+    written.push_back(std::to_string(i) + std::string(static_cast<std::size_t>(i % 300), 'x'));
+    a->write(written.back());
+    if (i >= 40) {
+      std::size_t in_flight = 0;
+      for (int j = i - 39; j <= i; ++j) in_flight += written[static_cast<std::size_t>(j)].size();
+      ASSERT_EQ(a->queued_bytes(), in_flight) << "at write " << i;
+    }
+  }
+  executor.run_until(SimTime{3'100'000});
+  ASSERT_EQ(at_b.chunks.size(), written.size());
+  for (std::size_t i = 0; i < written.size(); ++i) {
+    ASSERT_EQ(at_b.chunks[i].first, written[i]) << "write " << i;
+    ASSERT_EQ(at_b.chunks[i].second, SimTime{static_cast<std::int64_t>(i) * 1000 + 40'000}) << "write " << i;
+  }
+  EXPECT_EQ(a->queued_bytes(), 0u);
+}
+
 TEST(Pipe, ZeroDelayStillDeliversThroughTheExecutor) {
   VirtualExecutor executor;
   auto [a, b] = make_pipe(executor);

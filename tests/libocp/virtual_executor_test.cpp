@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <functional>
+
 #include <string>
 #include <vector>
 
@@ -200,6 +203,69 @@ TEST(VirtualExecutor, LongRunKeepsPendingWorkBounded) {
   executor.run_for(std::chrono::hours{1});
   EXPECT_EQ(executor.pending(), 2u);
   EXPECT_EQ(executor.events_run(), 360001u);  // t = 0, 10 ms, …, 3600 s
+}
+
+// The executor against a model of its contract: every event runs at its deadline (or at once
+// when that has passed), earlier deadlines first, equal ones in scheduling order, cancelled
+// ones never. Thousands of events on a few shared deadlines (how a fleet looks), scheduled
+// from inside tasks, at `now`, in the past, and cancelled often enough to force compaction.
+TEST(VirtualExecutor, RunsEventsInDeadlineThenSchedulingOrderLikeAReferenceModel) {
+  VirtualExecutor executor;
+  std::uint64_t state = 12345;
+  const auto next_random = [&state](std::uint64_t bound) {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return (state >> 33) % bound;
+  };
+  struct Scheduled {
+    SimTime deadline;
+    std::uint64_t order;  // scheduling order
+    bool cancelled = false;
+  };
+  std::vector<Scheduled> model;  // indexed by event number
+  std::vector<Executor::TimerId> ids;
+  std::vector<std::pair<std::uint64_t, SimTime>> ran;  // event number, time it ran
+  std::function<void(int)> schedule = [&](int depth) {
+    const std::uint64_t number = model.size();
+    // Mostly shared deadlines on a 10 ms grid, some at `now`, some in the past.
+    const std::uint64_t kind = next_random(10);
+    SimTime deadline = kind < 6   ? SimTime{static_cast<std::int64_t>(next_random(20)) * 10'000}
+                       : kind < 9 ? executor.now()
+                                  : executor.now() - 5ms;
+    model.push_back(Scheduled{std::max(deadline, executor.now()), number});
+    ids.push_back(executor.call_at(deadline, [&, number, depth] {
+      ran.emplace_back(number, executor.now());
+      if (depth < 3) {
+        for (std::uint64_t i = next_random(3); i > 0; --i) schedule(depth + 1);
+      }
+      // Cancel a random earlier event (often one that already ran: harmless).
+      const std::uint64_t victim = next_random(model.size());
+      if (!model[victim].cancelled && std::find_if(ran.begin(), ran.end(), [&](const auto& entry) {
+                                         return entry.first == victim;
+                                       }) == ran.end()) {
+        model[victim].cancelled = true;
+      }
+      executor.cancel(ids[victim]);
+    }));
+  };
+  for (int i = 0; i < 3000; ++i) schedule(0);
+  // Enough cancelled far-off events to make them the clear majority once (compaction).
+  for (int i = 0; i < 5000; ++i) executor.cancel(executor.call_at(SimTime{1'000'000'000}, [] {}));
+  executor.run_until(SimTime{10'000'000});
+
+  std::vector<Scheduled> expected;
+  for (const Scheduled& event : model) {
+    if (!event.cancelled) expected.push_back(event);
+  }
+  std::stable_sort(expected.begin(), expected.end(), [](const Scheduled& left, const Scheduled& right) {
+    return left.deadline < right.deadline;  // stable: equal deadlines keep scheduling order
+  });
+  ASSERT_EQ(ran.size(), expected.size());
+  for (std::size_t i = 0; i < ran.size(); ++i) {
+    ASSERT_EQ(ran[i].first, expected[i].order) << "event " << i;
+    ASSERT_EQ(ran[i].second, expected[i].deadline) << "event " << i;
+  }
+  EXPECT_GT(ran.size(), 3000u);
+  EXPECT_EQ(executor.pending(), 0u);
 }
 
 }  // namespace

@@ -73,11 +73,12 @@ void VehicleClient::send_response(ResponseCause cause) {
   if (keepalive_timer_ == 0) arm_keepalive(now + config_.response_period);
 }
 
+// The keep-alive tasks capture only `this` (std::function keeps that inline: no allocation
+// per re-arm, which happens about once per response period): a pending keep-alive always
+// belongs to the current connection, and release_connection() — also run by the destructor —
+// cancels it.
 void VehicleClient::arm_keepalive(SimTime deadline) {
-  std::weak_ptr<char> alive = alive_;
-  keepalive_timer_ = executor_.call_at(deadline, [this, alive] {
-    if (!alive.expired()) on_keepalive(/*deferred=*/false);
-  });
+  keepalive_timer_ = executor_.call_at(deadline, [this] { on_keepalive(/*deferred=*/false); });
 }
 
 void VehicleClient::on_keepalive(bool deferred) {
@@ -94,10 +95,7 @@ void VehicleClient::on_keepalive(bool deferred) {
     // Yield once: a control message due at this same instant runs first, and its echo makes
     // this keep-alive unnecessary (otherwise a 10 ms control stream would get two responses
     // per period). Still the same instant, so the gap bound holds.
-    std::weak_ptr<char> alive = alive_;
-    keepalive_timer_ = executor_.post([this, alive] {
-      if (!alive.expired()) on_keepalive(/*deferred=*/true);
-    });
+    keepalive_timer_ = executor_.post([this] { on_keepalive(/*deferred=*/true); });
     return;
   }
   send_response(ResponseCause::keepalive);

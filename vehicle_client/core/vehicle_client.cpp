@@ -51,6 +51,8 @@ VehicleClient::VehicleClient(Executor& executor, VehicleClientConfig config, Log
 VehicleClient::~VehicleClient() {
   alive_.reset();
   detach();
+  // Keep-alive tasks hold a plain `this` (response_writer.cpp): none may outlive the client.
+  if (keepalive_timer_ != 0) executor_.cancel(keepalive_timer_);
 }
 
 const SafetyOutput& VehicleClient::safety() const { return safety_.output(); }

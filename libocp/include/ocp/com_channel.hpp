@@ -10,6 +10,7 @@
 #include <random>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "ocp/event_bus.hpp"
 #include "ocp/executor.hpp"
@@ -37,8 +38,9 @@ class LinkDirection {
   // Who this direction is, for the events it publishes (ComChannel sets it; a bare direction
   // publishes as an unnamed link, route to_streamer). `name` must outlive the direction.
   void set_identity(std::string_view name, LinkRoute route);
-  // Pending deliveries hold a liveness token, not the direction: destroying it with messages
-  // in flight is safe (they are dropped). Not copyable, since in-flight deliveries refer to it.
+  // Destroying a direction with messages in flight is safe: their deliveries are cancelled
+  // (the executor must outlive the direction). Not copyable, since in-flight deliveries refer
+  // to it.
   ~LinkDirection();
   LinkDirection(const LinkDirection&) = delete;
   LinkDirection& operator=(const LinkDirection&) = delete;
@@ -62,6 +64,7 @@ class LinkDirection {
   std::size_t backlog_bytes(SimTime now) const;
   void schedule_delivery(SimTime deliver_at, LinkMessage message, std::size_t size_bytes,
                          std::uint64_t message_id);
+  void deliver(std::uint32_t slot);
   void publish(LinkOutcome outcome, const LinkMessage& message, std::size_t size_bytes,
                std::uint64_t message_id, DropReason reason = DropReason::none);
   void drop(const LinkMessage& message, std::size_t size_bytes, std::uint64_t message_id,
@@ -76,7 +79,16 @@ class LinkDirection {
   SimTime link_free_at_{};  // when the bandwidth-limited serialiser is next idle
   SimTime last_delivery_at_{};  // keeps FIFO order unless reordering is requested
   SimTime outage_until_{};      // outage_for(): down while now < outage_until_
-  std::shared_ptr<bool> alive_ = std::make_shared<bool>(true);
+  // Messages in flight wait in a reused pool, so a delivery task captures only (this, slot):
+  // std::function keeps that inline, with no allocation per message.
+  struct InFlight {
+    LinkMessage message;
+    std::size_t size_bytes = 0;
+    std::uint64_t message_id = 0;
+    Executor::TimerId timer = 0;  // 0: the slot is free
+  };
+  std::vector<InFlight> in_flight_;
+  std::vector<std::uint32_t> free_in_flight_;
   EventBus events_;
   std::string_view name_;
   LinkRoute route_ = LinkRoute::to_streamer;

@@ -1,7 +1,7 @@
 #pragma once
 // ack_time_mac (SPEC §5): first 4 bytes, read as little-endian u32, of
-// HMAC-SHA256(key, ack_time as 8 little-endian bytes). OpenSSL 3 EVP_MAC with the context
-// created once and reused per call (creating one per call costs ~4x).
+// HMAC-SHA256(key, ack_time as 8 little-endian bytes). The key's pad blocks are hashed once
+// per AckMac; a call copies those states and hashes 8 + 32 bytes, allocating nothing.
 #include <array>
 #include <cstdint>
 #include <memory>
