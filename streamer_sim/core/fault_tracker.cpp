@@ -11,6 +11,7 @@ void FaultTracker::set(FaultId id, bool active) {
     return;
   }
   faults_.set(id, active);
+  reason_ = faults_.fault_reason();
   if (!flaps) flaps.emplace(std::string(fault_identifier(id)));
   const FlapSummariser::Verdict verdict = flaps->on_edge(active, logger_.now());
   if (verdict.log_edge && active) {
