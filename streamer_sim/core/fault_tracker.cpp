@@ -3,17 +3,20 @@
 namespace ocp::streamer {
 
 void FaultTracker::set(FaultId id, bool active) {
-  std::optional<FlapSummariser>& flaps = flaps_[static_cast<std::size_t>(id)];
+  const std::uint32_t bit = 1U << static_cast<unsigned>(id);
   if (faults_.contains(id) == active) {
-    if (flaps && flaps->flapping()) {
-      if (auto line = flaps->on_steady(logger_.now())) logger_.warn("{}", *line);
-    }
+    if ((flapping_ & bit) == 0) return;   // the common case: touches no summariser
+    FlapSummariser& flaps = *flaps_[static_cast<std::size_t>(id)];
+    if (auto line = flaps.on_steady(logger_.now())) logger_.warn("{}", *line);
+    if (!flaps.flapping()) flapping_ &= ~bit;
     return;
   }
+  std::optional<FlapSummariser>& flaps = flaps_[static_cast<std::size_t>(id)];
   faults_.set(id, active);
   reason_ = faults_.fault_reason();
   if (!flaps) flaps.emplace(std::string(fault_identifier(id)));
   const FlapSummariser::Verdict verdict = flaps->on_edge(active, logger_.now());
+  flapping_ = flaps->flapping() ? (flapping_ | bit) : (flapping_ & ~bit);
   if (verdict.log_edge && active) {
     logger_.warn("fault raised: {} ({})", fault_display(id), fault_identifier(id));
   } else if (verdict.log_edge) {

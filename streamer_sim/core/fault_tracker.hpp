@@ -4,6 +4,7 @@
 // the display string, and publishes a FaultEvent. Subscribers see every edge; the log
 // summarises a flapping fault instead of repeating it (flap_summariser.hpp).
 #include <array>
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
@@ -34,6 +35,10 @@ class FaultTracker {
   std::string reason_;
   // Per fault, from its first edge on; an array because set() runs for every fault every tick.
   std::array<std::optional<FlapSummariser>, fault_count> flaps_;
+  // Bit per fault whose summariser is flapping: the steady path (every fault, every tick, every
+  // vehicle) reads this word instead of the summarisers' scattered cache lines.
+  std::uint32_t flapping_ = 0;
+  static_assert(fault_count <= 32);
 };
 
 }  // namespace ocp::streamer
