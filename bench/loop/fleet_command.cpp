@@ -41,7 +41,7 @@ CLI::App* add_fleet_command(CLI::App& app, FleetOptions& options) {
                     "loopback: threads the Streamers are spread over; the Player keeps the main thread (0: all on it)")
       ->capture_default_str()->check(CLI::Range(0, 64));
   fleet->add_option("--tick-slots", options.tick_slots,
-                    "one shared control ticker per thread with this many slots over the 10 ms period (0: a timer per Streamer)")
+                    "loopback: one shared control ticker per thread with this many slots over the 10 ms period (0: a timer per Streamer)")
       ->capture_default_str()->check(CLI::Range(0, 10000));
   fleet->add_flag("--in-process", options.in_process, "run the points in this process, not forked children (for profilers)");
   fleet->add_option("--json", options.json_path, "write the points as JSON to FILE");
@@ -244,8 +244,7 @@ int run_fleet(const FleetOptions& options) {
   }
   for (const int vehicles : options.virtual_vehicles) {
     if (vehicles == 0) continue;
-    plan.push_back({FleetMode::virtual_time, vehicles, options.warm_up_s, options.simulated_s, 60.0, !options.unobserved, 0,
-                    static_cast<std::size_t>(options.tick_slots)});
+    plan.push_back({FleetMode::virtual_time, vehicles, options.warm_up_s, options.simulated_s, 60.0, !options.unobserved, 0, 0});
   }
   print_header(std::cout);
   std::vector<FleetPointResult> points;

@@ -26,7 +26,9 @@ struct FleetPointOptions {
   // stays on the main thread, the clients on their own. 0: everything on the main thread.
   int streamer_threads = 2;
   // WorldConfig::control_tick_slots: one shared control ticker per executor with this many
-  // slots over the 10 ms period (0: a timer per Streamer).
+  // slots over the 10 ms period (0: a timer per Streamer). Loopback only: in virtual time the
+  // reference clients' keep-alive timers (response_period = 10 ms) fire just before control
+  // frames that arrive off their phase, doubling the responses, so virtual points keep 0.
   std::size_t control_tick_slots = 10;
 };
 

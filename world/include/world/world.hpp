@@ -101,8 +101,9 @@ class World {
   // across by the receiving thread's Poster (`post_to_world` runs a task on this World's
   // thread), so no part is touched by two threads. The caller starts the threads after
   // start() and stops (joins) them before stop(); observe each Streamer on its own bus
-  // (streamer(name).events(), on its thread): this World's bus is single-threaded. Not with
-  // in-process clients (start() refuses them).
+  // (streamer(name).events(), on its thread): this World's bus is single-threaded. The
+  // LogSink is called from every thread: give a thread-safe one. Not with in-process clients
+  // (start() refuses them).
   void set_streamer_threads(std::vector<StreamerThread> threads, StreamerThread::Poster post_to_world);
 
   // Every event of every part of this world (Player, Streamers, links): each part's bus has
