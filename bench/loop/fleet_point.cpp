@@ -213,6 +213,12 @@ FleetPointResult run_loopback(const FleetPointOptions& options, FleetPointResult
   if (threaded) recorders = recorders_per_thread(world, names, streamer_threads.size());
   streamer_threads.start();
   ClientFleet clients(ports);
+  auto shut_down = [&] {
+    clients.stop();
+    streamer_threads.stop();   // before the World stops: its Streamers are theirs until then
+    for (auto& front : fronts) front->stop();
+    world.stop();
+  };
   auto connections = [&recorders] {
     std::uint64_t total = 0;
     for (const auto& recorder : recorders) total += recorder->connections();
@@ -223,6 +229,7 @@ FleetPointResult run_loopback(const FleetPointOptions& options, FleetPointResult
     io.run_for(std::chrono::milliseconds(100));
   }
   if (connections() < static_cast<std::uint64_t>(options.vehicles)) {
+    shut_down();
     fail(result, fmt::format("only {} of {} clients connected", connections(), options.vehicles));
     return result;
   }
@@ -236,10 +243,7 @@ FleetPointResult run_loopback(const FleetPointOptions& options, FleetPointResult
   result.cpu_s = process_cpu_seconds() - cpu_start;
   result.rss_end_kib = resident_kib();
   result.window_s = result.wall_s;
-  clients.stop();
-  streamer_threads.stop();   // before the World stops: its Streamers are theirs until then
-  for (auto& front : fronts) front->stop();
-  world.stop();
+  shut_down();
   for (std::size_t index = 1; index < recorders.size(); ++index) recorders.front()->merge(*recorders[index]);
   take_figures(result, *recorders.front());
   result.ok = true;

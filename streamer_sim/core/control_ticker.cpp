@@ -29,7 +29,8 @@ ControlTicker::Member ControlTicker::add(TickHandler on_tick) {
   const bool idle = live_ == 0;
   if (idle) added_ = 0;
   const Member member{added_++ % slots_.size(), next_id_++};
-  slots_[member.slot].push_back(Entry{member.id, std::move(on_tick)});
+  // Not into a slot while a tick runs: the slot's vector may be the one being iterated.
+  (firing_ ? joining_ : slots_[member.slot]).push_back(Entry{member.id, member.slot, std::move(on_tick)});
   ++live_;
   if (idle && !firing_) {   // (refilled inside a tick, the running fire() re-arms)
     next_slot_ = member.slot;   // slot 0: added_ was reset
@@ -41,12 +42,14 @@ ControlTicker::Member ControlTicker::add(TickHandler on_tick) {
 
 void ControlTicker::remove(Member member) {
   if (member.id == 0 || member.slot >= slots_.size()) return;
-  for (Entry& entry : slots_[member.slot]) {
-    if (entry.id != member.id || !entry.on_tick) continue;
-    entry.on_tick = nullptr;
-    --live_;
-    needs_compaction_ = true;
-    break;
+  for (auto* entries : {&slots_[member.slot], &joining_}) {
+    for (Entry& entry : *entries) {
+      if (entry.id != member.id || !entry.on_tick) continue;
+      entry.on_tick = nullptr;
+      --live_;
+      needs_compaction_ = true;
+      break;
+    }
   }
   if (!firing_) compact();
   if (live_ == 0 && !firing_ && timer_ != 0) {
@@ -56,6 +59,10 @@ void ControlTicker::remove(Member member) {
 }
 
 void ControlTicker::compact() {
+  for (Entry& entry : joining_) {
+    if (entry.on_tick) slots_[entry.slot].push_back(std::move(entry));
+  }
+  joining_.clear();
   if (!needs_compaction_) return;
   for (auto& slot : slots_) std::erase_if(slot, [](const Entry& entry) { return !entry.on_tick; });
   needs_compaction_ = false;
@@ -69,12 +76,10 @@ void ControlTicker::fire() {
   timer_ = 0;
   const SimTime deadline = next_deadline_;
   firing_ = true;
-  // Index loop: a handler may add members (appended, ticked from their next deadline on) or
-  // remove them (emptied in place).
-  auto& slot = slots_[next_slot_];
-  const std::size_t count = slot.size();
-  for (std::size_t index = 0; index < count; ++index) {
-    if (slot[index].on_tick) slot[index].on_tick(deadline);
+  // A handler may add members (they join after this tick, from their slot's next deadline on)
+  // or remove them (emptied in place, erased after this tick): the slot's vector stays put.
+  for (Entry& entry : slots_[next_slot_]) {
+    if (entry.on_tick) entry.on_tick(deadline);
   }
   firing_ = false;
   compact();

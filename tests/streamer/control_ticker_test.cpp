@@ -81,6 +81,26 @@ TEST(ControlTicker, RemovedMembersStopTickingAndAnEmptyTickerStopsItsTimer) {
   EXPECT_EQ(once.deadlines.size(), 1u);
 }
 
+TEST(ControlTicker, MembersAddedInsideATickJoinFromTheNextDeadline) {
+  VirtualExecutor executor;
+  ControlTicker ticker(executor, period);
+  std::vector<Ticks> joined(32);   // enough to move the slot's storage if they went straight in
+  Ticks founder;
+  bool added = false;
+  ticker.add([&](SimTime deadline) {
+    founder.deadlines.push_back(deadline);
+    if (added) return;
+    added = true;
+    for (auto& member : joined) ticker.add(member.handler(executor));
+  });
+  executor.run_until(SimTime{Micros{25'000}});
+  EXPECT_EQ(founder.deadlines.size(), 3u);
+  for (const auto& member : joined) {
+    EXPECT_EQ(member.deadlines, (std::vector<SimTime>{SimTime{Micros{10'000}}, SimTime{Micros{20'000}}}));
+  }
+  EXPECT_EQ(ticker.members(), 33u);
+}
+
 TEST(ControlTicker, AStreamerOnATickerSendsWhatItSendsOnItsOwnTimer) {
   auto run = [](bool shared) {
     StreamerHarness harness;

@@ -50,17 +50,19 @@ class ControlTicker {
  private:
   struct Entry {
     std::uint64_t id;
+    std::size_t slot;
     TickHandler on_tick;   // empty once removed; compacted when no tick is running
   };
   void fire();
   void arm();
   void advance();   // to the next slot that has members
-  void compact();
+  void compact();   // places the members that joined during a tick, drops removed ones
 
   Executor& executor_;
   Micros period_;
   Micros step_;
   std::vector<std::vector<Entry>> slots_;
+  std::vector<Entry> joining_;       // added during a tick, placed in their slots after it
   std::size_t next_slot_ = 0;        // the slot the armed timer is for
   SimTime next_deadline_{};
   Executor::TimerId timer_ = 0;
