@@ -37,6 +37,12 @@ CLI::App* add_fleet_command(CLI::App& app, FleetOptions& options) {
       ->capture_default_str()->check(CLI::Range(1.0, 86400.0));
   fleet->add_flag("--unobserved", options.unobserved,
                   "virtual points: do not subscribe to events (observing decodes every frame's pair)");
+  fleet->add_option("--streamer-threads", options.streamer_threads,
+                    "loopback: threads the Streamers are spread over; the Player keeps the main thread (0: all on it)")
+      ->capture_default_str()->check(CLI::Range(0, 64));
+  fleet->add_option("--tick-slots", options.tick_slots,
+                    "loopback: one shared control ticker per thread with this many slots over the 10 ms period (0: a timer per Streamer)")
+      ->capture_default_str()->check(CLI::Range(0, 10000));
   fleet->add_flag("--in-process", options.in_process, "run the points in this process, not forked children (for profilers)");
   fleet->add_option("--json", options.json_path, "write the points as JSON to FILE");
   fleet->add_option("--svg", options.svg_path, "write the scale curve as SVG to FILE");
@@ -130,10 +136,19 @@ std::string fault_summary(const FleetPointResult& point) {
 }
 
 void print_header(std::ostream& out) {
-  out << fmt::format("{:<9} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>9} {:>9}  {}\n", "mode", "N", "tick p50",
-                     "tick p99", "tick max", "echo p50", "echo p99", "CPU s/s", "sim/wall", "KiB/veh", "marginal", "faults raised");
-  out << fmt::format("{:<9} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>9} {:>9}\n", "", "", "µs", "µs", "µs",
-                     "µs", "µs", "(CPU/sim)", "", "", "KiB/veh");
+  out << fmt::format("{:<9} {:>6} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>9} {:>9}  {}\n", "mode", "N", "ticks",
+                     "tick p50", "tick p99", "tick max", "echo p50", "echo p99", "CPU s/s", "sim/wall", "KiB/veh", "marginal",
+                     "faults raised");
+  out << fmt::format("{:<9} {:>6} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>9} {:>9}\n", "", "", "run %", "µs", "µs",
+                     "µs", "µs", "µs", "(CPU/sim)", "", "", "KiB/veh");
+}
+
+// Control ticks that ran ÷ those due (N × 100 Hz over the window). A saturated executor
+// skips ticks more than a period late (PeriodicTimer, ControlTicker): the lateness
+// percentiles cover only the ticks that ran, so this is the column that shows saturation.
+double ticks_run_share(const FleetPointResult& point) {
+  const double due = point.window_s * point.vehicles * 100.0;
+  return due > 0 ? static_cast<double>(point.ticks) / due : 0.0;
 }
 
 void print_point(std::ostream& out, const FleetPointResult& point) {
@@ -142,8 +157,8 @@ void print_point(std::ostream& out, const FleetPointResult& point) {
     return;
   }
   const std::string mode = fleet_mode_name(point.mode) + (point.observed ? "" : "*");
-  out << fmt::format("{:<9} {:>6} {:>9.0f} {:>9.0f} {:>9.0f} {:>9.0f} {:>9.0f} {:>10.3f} {:>9.2f} {:>9.1f} {:>9.1f}  {}\n",
-                     mode, point.vehicles, point.tick_p50_us, point.tick_p99_us,
+  out << fmt::format("{:<9} {:>6} {:>6.1f} {:>9.0f} {:>9.0f} {:>9.0f} {:>9.0f} {:>9.0f} {:>10.3f} {:>9.2f} {:>9.1f} {:>9.1f}  {}\n",
+                     mode, point.vehicles, 100.0 * ticks_run_share(point), point.tick_p50_us, point.tick_p99_us,
                      point.tick_max_us, point.echo_p50_us, point.echo_p99_us, point.cpu_per_simulated_s,
                      point.simulated_per_wall_s, point.kib_per_vehicle, point.marginal_kib_per_vehicle,
                      fault_summary(point));
@@ -158,14 +173,14 @@ std::string point_json(const FleetPointResult& point) {
   }
   faults += "}";
   return fmt::format(
-      R"({{"mode":"{}","vehicles":{},"observed":{},"ok":{},"error":{},"window_s":{},"wall_s":{},"cpu_s":{},"cpu_per_simulated_s":{},)"
-      R"("simulated_per_wall_s":{},"rss_base_kib":{},"rss_end_kib":{},"kib_per_vehicle":{},"marginal_kib_per_vehicle":{},"tick_lateness_us":{{"p50":{},"p99":{},"max":{},"count":{}}},)"
+      R"({{"mode":"{}","vehicles":{},"streamer_threads":{},"tick_slots":{},"observed":{},"ok":{},"error":{},"window_s":{},"wall_s":{},"cpu_s":{},"cpu_per_simulated_s":{},)"
+      R"("simulated_per_wall_s":{},"rss_base_kib":{},"rss_end_kib":{},"kib_per_vehicle":{},"marginal_kib_per_vehicle":{},"tick_lateness_us":{{"p50":{},"p99":{},"max":{},"count":{}}},"ticks_run_share":{},)"
       R"("echo_delay_us":{{"p50":{},"p99":{},"count":{}}},"responses":{},"connections":{},"faults_raised":{}}})",
-      fleet_mode_name(point.mode), point.vehicles, point.observed, point.ok, json_string(point.error), json_number(point.window_s),
+      fleet_mode_name(point.mode), point.vehicles, point.streamer_threads, point.control_tick_slots, point.observed, point.ok, json_string(point.error), json_number(point.window_s),
       json_number(point.wall_s), json_number(point.cpu_s), json_number(point.cpu_per_simulated_s),
       json_number(point.simulated_per_wall_s), json_number(point.rss_base_kib), json_number(point.rss_end_kib),
       json_number(point.kib_per_vehicle), json_number(point.marginal_kib_per_vehicle), json_number(point.tick_p50_us), json_number(point.tick_p99_us),
-      json_number(point.tick_max_us), point.ticks, json_number(point.echo_p50_us), json_number(point.echo_p99_us),
+      json_number(point.tick_max_us), point.ticks, json_number(ticks_run_share(point)), json_number(point.echo_p50_us), json_number(point.echo_p99_us),
       point.echoes, point.responses, point.connections, faults);
 }
 
@@ -224,11 +239,12 @@ int run_fleet(const FleetOptions& options) {
   std::vector<FleetPointOptions> plan;
   for (const int vehicles : options.loopback_vehicles) {
     if (vehicles == 0) continue;
-    plan.push_back({FleetMode::loopback, vehicles, options.warm_up_s, options.window_s, 60.0, true});
+    plan.push_back({FleetMode::loopback, vehicles, options.warm_up_s, options.window_s, 60.0, true, options.streamer_threads,
+                    static_cast<std::size_t>(options.tick_slots)});
   }
   for (const int vehicles : options.virtual_vehicles) {
     if (vehicles == 0) continue;
-    plan.push_back({FleetMode::virtual_time, vehicles, options.warm_up_s, options.simulated_s, 60.0, !options.unobserved});
+    plan.push_back({FleetMode::virtual_time, vehicles, options.warm_up_s, options.simulated_s, 60.0, !options.unobserved, 0, 0});
   }
   print_header(std::cout);
   std::vector<FleetPointResult> points;

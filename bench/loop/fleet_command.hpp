@@ -17,6 +17,8 @@ struct FleetOptions {
   double warm_up_s = 1.0;          // run before measuring (both modes)
   double point_timeout_s = 180.0;  // a point still running after this is killed and reported
   bool unobserved = false;         // virtual points without subscribing (the world's own speed)
+  int streamer_threads = 2;        // loopback: threads hosting the Streamers (0: the main thread)
+  int tick_slots = 10;             // loopback: WorldConfig::control_tick_slots (0: a timer per Streamer)
   bool in_process = false;         // run points in this process (for profilers); memory then accumulates
   std::string json_path, svg_path;
 };

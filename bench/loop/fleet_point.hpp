@@ -1,7 +1,7 @@
 #pragma once
 // One point of the fleet scale curve: N vehicles hosted by one process, either over real
-// loopback TCP (N Streamers with N reference clients on a second thread, real time) or in
-// virtual time (a World with N in-process clients over pipes). Each point runs in a forked
+// loopback TCP (N Streamers on --streamer-threads threads, N reference clients on another,
+// real time) or in virtual time (a World with N in-process clients over pipes). Each point runs in a forked
 // child (fleet_command.cpp), so CPU and resident memory are that point's alone; the result is
 // a plain struct sent back through a pipe.
 #include <cstdint>
@@ -22,6 +22,14 @@ struct FleetPointOptions {
   // Subscribe to the events. Publishing a WireFrame extracts its pair (a JSON decode of every
   // frame), so observing costs the world real work; false measures the world alone.
   bool observe = true;
+  // Loopback: threads the Streamers are spread over (World::set_streamer_threads); the Player
+  // stays on the main thread, the clients on their own. 0: everything on the main thread.
+  int streamer_threads = 2;
+  // WorldConfig::control_tick_slots: one shared control ticker per executor with this many
+  // slots over the 10 ms period (0: a timer per Streamer). Loopback only: in virtual time the
+  // reference clients' keep-alive timers (response_period = 10 ms) fire just before control
+  // frames that arrive off their phase, doubling the responses, so virtual points keep 0.
+  std::size_t control_tick_slots = 10;
 };
 
 // Trivially copyable: written as bytes through a pipe.
@@ -29,6 +37,8 @@ struct FleetPointResult {
   FleetMode mode = FleetMode::loopback;
   int vehicles = 0;
   bool observed = true;
+  int streamer_threads = 0;
+  int control_tick_slots = 0;
   bool ok = false;
   char error[160] = {};
   double window_s = 0;            // what was measured: wall (loopback) or simulated (virtual) s

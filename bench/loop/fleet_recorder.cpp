@@ -4,39 +4,61 @@
 
 namespace ocp::bench {
 
-FleetRecorder::FleetRecorder(EventBus& events, const std::vector<std::string>& vehicles)
-    : pending_(vehicles.size()), subscription_(events.subscribe([this](const Event& event) { on_event(event); })) {
+FleetRecorder::FleetRecorder(EventBus& events, const std::vector<std::string>& vehicles) : pending_(vehicles.size()) {
   for (std::size_t index = 0; index < vehicles.size(); ++index) index_.emplace(vehicles[index], index);
+  subscriptions_.push_back(events.subscribe([this](const Event& event) { on_event(event, unknown_vehicle); }));
 }
 
-void FleetRecorder::on_event(const Event& event) {
+FleetRecorder::FleetRecorder(const std::vector<EventBus*>& buses) : pending_(buses.size()) {
+  for (std::size_t index = 0; index < buses.size(); ++index) {
+    subscriptions_.push_back(buses[index]->subscribe([this, index](const Event& event) { on_event(event, index); }));
+  }
+}
+
+void FleetRecorder::merge(const FleetRecorder& other) {
+  tick_lateness_us_.insert(tick_lateness_us_.end(), other.tick_lateness_us_.begin(), other.tick_lateness_us_.end());
+  echo_delays_us_.insert(echo_delays_us_.end(), other.echo_delays_us_.begin(), other.echo_delays_us_.end());
+  for (std::size_t id = 0; id < fault_count; ++id) faults_raised_[id] += other.faults_raised_[id];
+  connections_ += other.connections_;
+  responses_ += other.responses_;
+}
+
+void FleetRecorder::on_event(const Event& event, std::size_t vehicle) {
   if (event.component.kind != ComponentKind::streamer) return;
+  const bool recording = recording_.load(std::memory_order_relaxed);
   if (const auto* frame = std::get_if<WireFrame>(&event.body)) {
     if (frame->wire != Wire::vehicle || !frame->ack) return;
-    const auto found = index_.find(event.component.name);
-    if (found != index_.end()) on_frame(found->second, *frame, event.time);
+    if (vehicle == unknown_vehicle) {
+      const auto found = index_.find(event.component.name);
+      if (found == index_.end()) return;
+      vehicle = found->second;
+    }
+    on_frame(vehicle, *frame, event.time);
   } else if (const auto* sample = std::get_if<LatencySample>(&event.body)) {
-    if (recording_) tick_lateness_us_.push_back(static_cast<double>(sample->tick_lateness.count()));
+    if (recording) tick_lateness_us_.push_back(static_cast<double>(sample->tick_lateness.count()));
   } else if (const auto* fault = std::get_if<FaultEvent>(&event.body)) {
     const auto id = static_cast<std::size_t>(fault->id);
-    if (recording_ && fault->active && id < fault_count) ++faults_raised_[id];
+    if (recording && fault->active && id < fault_count) ++faults_raised_[id];
   } else if (const auto* connection = std::get_if<ConnectionEvent>(&event.body)) {
-    if (connection->wire == Wire::vehicle && connection->change == ConnectionChange::opened) ++connections_;
+    if (connection->wire == Wire::vehicle && connection->change == ConnectionChange::opened) {
+      connections_.fetch_add(1, std::memory_order_relaxed);
+    }
   }
 }
 
 void FleetRecorder::on_frame(std::size_t vehicle, const WireFrame& frame, SimTime at) {
   auto& pending = pending_[vehicle];
+  const bool recording = recording_.load(std::memory_order_relaxed);
   if (frame.direction == FrameDirection::out) {
     pending.emplace_back(frame.ack->ack_time, at);
     if (pending.size() > 256) pending.pop_front();   // a vehicle that stopped answering
     return;
   }
-  if (recording_) ++responses_;
+  if (recording) ++responses_;
   const std::uint64_t ack_time = frame.ack->ack_time;
   while (!pending.empty() && pending.front().first < ack_time) pending.pop_front();
   if (pending.empty() || pending.front().first != ack_time) return;
-  if (recording_) echo_delays_us_.push_back(static_cast<double>((at - pending.front().second).count()));
+  if (recording) echo_delays_us_.push_back(static_cast<double>((at - pending.front().second).count()));
   pending.pop_front();
 }
 

@@ -1,9 +1,15 @@
 #pragma once
-// FleetRecorder: the fleet figures from a World's event bus (the parent of every Streamer's):
-// tick lateness of every control tick, echo delay per vehicle (control frame out → first
-// response with its pair), and faults raised, counted per fault. Records only between
-// start_recording() and stop_recording(), so connection set-up and warm-up are left out.
+// FleetRecorder: the fleet figures from the event stream: tick lateness of every control
+// tick, echo delay per vehicle (control frame out → first response with its pair), and faults
+// raised, counted per fault. Records only between start_recording() and stop_recording(), so
+// connection set-up and warm-up are left out.
+//
+// Either one bus that sees every Streamer (a World's, single-threaded), or the Streamers' own
+// buses when they run on several threads: then one recorder per thread, subscribed to that
+// thread's Streamers, and merged once the threads have stopped. connections() and the
+// recording switch may be used from another thread.
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <deque>
 #include <map>
@@ -18,10 +24,15 @@ namespace ocp::bench {
 
 class FleetRecorder {
  public:
+  // One bus carrying every vehicle's events (named as in `vehicles`).
   FleetRecorder(EventBus& events, const std::vector<std::string>& vehicles);
+  // One bus per vehicle: buses[i] carries vehicle i's Streamer events only.
+  explicit FleetRecorder(const std::vector<EventBus*>& buses);
 
   void start_recording() { recording_ = true; }
   void stop_recording() { recording_ = false; }
+  // Adds another recorder's figures (both idle).
+  void merge(const FleetRecorder& other);
 
   std::uint64_t connections() const { return connections_; }
   const std::vector<double>& tick_lateness_us() const { return tick_lateness_us_; }
@@ -30,18 +41,19 @@ class FleetRecorder {
   std::uint64_t responses() const { return responses_; }
 
  private:
-  void on_event(const Event& event);
+  void on_event(const Event& event, std::size_t vehicle);
   void on_frame(std::size_t vehicle, const WireFrame& frame, SimTime at);
 
-  std::map<std::string, std::size_t, std::less<>> index_;
+  static constexpr std::size_t unknown_vehicle = ~std::size_t{0};
+  std::map<std::string, std::size_t, std::less<>> index_;   // one-bus form: name → vehicle
   std::vector<std::deque<std::pair<std::uint64_t, SimTime>>> pending_;   // per vehicle, send order
   std::vector<double> tick_lateness_us_;
   std::vector<double> echo_delays_us_;
   std::array<std::uint64_t, fault_count> faults_raised_{};
-  std::uint64_t connections_ = 0;
+  std::atomic<std::uint64_t> connections_ = 0;
   std::uint64_t responses_ = 0;
-  bool recording_ = false;
-  EventBus::Subscription subscription_;   // last: unsubscribes first
+  std::atomic<bool> recording_ = false;
+  std::vector<EventBus::Subscription> subscriptions_;   // last: unsubscribe first
 };
 
 }  // namespace ocp::bench

@@ -227,7 +227,10 @@ void LinkDirection::deliver(std::uint32_t slot) {
 }
 
 ComChannel::ComChannel(Executor& executor, std::uint64_t seed, std::string name)
-    : name_(std::move(name)), to_streamer_(executor, mix_seed(seed)), to_player_(executor, mix_seed(~seed)) {
+    : ComChannel(executor, executor, seed, std::move(name)) {}
+
+ComChannel::ComChannel(Executor& player_side, Executor& streamer_side, std::uint64_t seed, std::string name)
+    : name_(std::move(name)), to_streamer_(player_side, mix_seed(seed)), to_player_(streamer_side, mix_seed(~seed)) {
   to_streamer_.set_identity(name_, LinkRoute::to_streamer);
   to_player_.set_identity(name_, LinkRoute::to_player);
   to_streamer_.events().set_parent(&events_);

@@ -44,7 +44,7 @@ void StreamerCore::State::build_control_message(SimTime now) {
   }
   outgoing.telemetry.latency_ms = latency_loop.latency_ms(now).value_or(0);
   outgoing.telemetry.fault = !active.empty();
-  outgoing.telemetry.fault_reason = active.fault_reason();
+  outgoing.telemetry.fault_reason = faults.reason();   // copied into the reused buffer
   outgoing.telemetry.missing_cameras = missing_cameras;
   outgoing.ack = latency_loop.issue(now);
   outgoing.client_user_data = operator_user_data;

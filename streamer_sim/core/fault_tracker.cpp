@@ -14,6 +14,7 @@ void FaultTracker::set(FaultId id, bool active) {
   }
   std::optional<FlapSummariser>& flaps = flaps_[index];
   faults_.set(id, active);
+  reason_ = faults_.fault_reason();
   if (!flaps) flaps.emplace(std::string(fault_identifier(id)));
   const FlapSummariser::Verdict verdict = flaps->on_edge(active, logger_.now());
   flapping_[index] = flaps->flapping();

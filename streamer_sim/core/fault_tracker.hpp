@@ -7,6 +7,7 @@
 #include <bitset>
 #include <functional>
 #include <optional>
+#include <string>
 
 #include "ocp/faults.hpp"
 #include "ocp/flap_summariser.hpp"
@@ -23,11 +24,15 @@ class FaultTracker {
   // Records the current truth of one condition; logs and reports only on a change.
   void set(FaultId id, bool active);
   const FaultSet& faults() const { return faults_; }
+  // faults().fault_reason(), kept up to date on every edge: the control tick sends it 100
+  // times a second and it changes rarely, so it is not rebuilt (and allocated) per tick.
+  const std::string& reason() const { return reason_; }
 
  private:
   Logger logger_;
   OnChange on_change_;
   FaultSet faults_;
+  std::string reason_;
   // Per fault, from its first edge on; an array because set() runs for every fault every tick.
   std::array<std::optional<FlapSummariser>, fault_count> flaps_;
   // Which summarisers are flapping, mirrored after every call into them: the steady case (no

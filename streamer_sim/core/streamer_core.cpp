@@ -30,10 +30,12 @@ void StreamerCore::State::start() {
     logger.error("frame_rate_hz {} is not a positive rate; no feedback will be sent",
                  config.frame_rate_hz);
   }
-  if (config.control_period > Micros{0}) {
-    control_timer.start(start_time);
-  } else {
+  if (config.control_period <= Micros{0}) {
     logger.error("control_period must be positive; no control messages will be sent");
+  } else if (control_ticker != nullptr && control_ticker->period() == config.control_period) {
+    ticker_member = control_ticker->add([this](SimTime deadline) { on_control_tick(deadline); });
+  } else {
+    control_timer.start(start_time);
   }
 }
 
@@ -41,6 +43,8 @@ void StreamerCore::State::stop() {
   if (!started) return;
   started = false;
   control_timer.stop();
+  if (control_ticker != nullptr) control_ticker->remove(ticker_member);
+  ticker_member = {};
   frame_loop.stop();
   cameras.stop();
   if (vehicle) vehicle->close(CloseReason{LocalError::shut_down, "streamer stopped"});
@@ -73,6 +77,7 @@ StreamerCore::~StreamerCore() {
 void StreamerCore::start() { state_->start(); }
 void StreamerCore::stop() { state_->stop(); }
 void StreamerCore::set_link(LinkDirection* to_player) { state_->link = to_player; }
+void StreamerCore::use_control_ticker(ControlTicker* ticker) { state_->control_ticker = ticker; }
 
 void StreamerCore::handle_link_message(LinkMessage&& message) {
   state_->handle_link_message(std::move(message));

@@ -16,6 +16,7 @@
 #include "frame_loop.hpp"
 #include "latency_loop.hpp"
 #include "ocp/framed_connection.hpp"
+#include "streamer/control_ticker.hpp"
 #include "streamer/streamer_core.hpp"
 
 namespace ocp {
@@ -70,6 +71,8 @@ struct StreamerCore::State {
   streamer::CameraSet cameras;
   streamer::FrameLoop frame_loop;
   PeriodicTimer control_timer;
+  ControlTicker* control_ticker = nullptr;       // shared with other Streamers, instead of control_timer
+  ControlTicker::Member ticker_member;
 
   bool started = false;
   SimTime start_time{};

@@ -7,6 +7,8 @@
 #include <variant>
 
 #include "ocp/pipe.hpp"
+#include "streamer/control_ticker.hpp"
+#include "link_handover.hpp"
 #include "world/seeds.hpp"
 #include "world/stream_tap.hpp"
 
@@ -14,12 +16,20 @@ namespace ocp {
 
 struct World::Vehicle {
   VehicleSpec spec;
+  const StreamerThread* thread = nullptr;   // nullptr: the World's executor
   std::unique_ptr<ComChannel> link;
   std::unique_ptr<StreamerCore> streamer;
   std::unique_ptr<VehicleClient> client;
   std::unique_ptr<StreamTap> tap;
   std::uint64_t connections = 0;
   Executor::TimerId reconnect_timer = 0;
+};
+
+// One per (executor, control period) when control_tick_slots > 0.
+struct World::Ticker {
+  Ticker(Executor& on, Micros period, std::size_t slots) : executor(&on), ticker(on, period, slots) {}
+  Executor* executor;
+  ControlTicker ticker;
 };
 
 World::World(Executor& executor, WorldConfig config, LogSink sink)
@@ -65,23 +75,42 @@ Status World::start() {
     }
   }
 
+  if (!streamer_threads_.empty()) {
+    for (const StreamerThread& thread : streamer_threads_) {
+      if (thread.executor == nullptr || !thread.post) return configuration_error("a Streamer thread without an executor or a poster");
+    }
+    if (!post_to_world_) return configuration_error("Streamer threads without a poster to the World's thread");
+    for (const VehicleSpec& spec : config_.vehicles) {
+      if (spec.in_process_client) {
+        return configuration_error("vehicle '" + spec.name + "': no in-process client with Streamer threads");
+      }
+    }
+  }
+
   // Build every part before starting any, so a configuration error leaves nothing running.
   for (const VehicleSpec& spec : config_.vehicles) {
     auto vehicle = std::make_unique<Vehicle>();
     vehicle->spec = spec;
+    if (!streamer_threads_.empty()) {
+      vehicle->thread = &streamer_threads_[vehicles_.size() % streamer_threads_.size()];
+    }
+    Executor& streamer_executor = vehicle->thread ? *vehicle->thread->executor : executor_;
     StreamerConfig streamer_config = spec.streamer;
     streamer_config.name = spec.name;
     if (config_.deterministic_keys && !streamer_config.mac_key) {
       streamer_config.mac_key = derive_mac_key(config_.seed, spec.name);
     }
     vehicle->link = std::make_unique<ComChannel>(
-        executor_, derive_seed(config_.seed, "link:" + spec.name), spec.name);
+        executor_, streamer_executor, derive_seed(config_.seed, "link:" + spec.name), spec.name);
     vehicle->link->events().set_parent(&events_);
     vehicle->link->to_streamer().set_impairments(spec.to_streamer);
     vehicle->link->to_player().set_impairments(spec.to_player);
     vehicle->streamer = std::make_unique<StreamerCore>(
-        executor_, streamer_config, Logger(executor_, "streamer:" + spec.name, sink_));
+        streamer_executor, streamer_config, Logger(streamer_executor, "streamer:" + spec.name, sink_));
     vehicle->streamer->set_link(&vehicle->link->to_player());
+    if (config_.control_tick_slots > 0 && streamer_config.control_period > Micros{0}) {
+      vehicle->streamer->use_control_ticker(&ticker_for(streamer_executor, streamer_config.control_period));
+    }
     vehicle->streamer->events().set_parent(&events_);
 
     Status linked = player_->add_vehicle(spec.name, &vehicle->link->to_streamer(), spec.monitor);
@@ -102,14 +131,37 @@ Status World::start() {
   }
 
   // Wire the link receivers. Messages still in flight after stop() are dropped here.
+  if (!streamer_threads_.empty()) {
+    auto deliver = [this](HandedMessage&& handed) {
+      if (!running_) return;
+      if (handed.streamer != nullptr) {
+        handed.streamer->handle_link_message(std::move(handed.message));
+      } else {
+        player_->handle_link_message(*handed.vehicle, std::move(handed.message));
+      }
+    };
+    for (const StreamerThread& thread : streamer_threads_) handovers_.push_back(std::make_unique<LinkHandover>(thread.post, deliver));
+    to_world_ = std::make_unique<LinkHandover>(post_to_world_, deliver);
+  }
   for (auto& vehicle : vehicles_) {
     StreamerCore* streamer = vehicle->streamer.get();
+    const std::string* name = &vehicle->spec.name;
+    if (const StreamerThread* thread = vehicle->thread) {
+      // Delivered on the sender's thread, handed over to the receiver's.
+      LinkHandover* to_streamer = handovers_[static_cast<std::size_t>(thread - streamer_threads_.data())].get();
+      vehicle->link->to_streamer().set_receiver([to_streamer, streamer](LinkMessage&& message) {
+        to_streamer->push(HandedMessage{streamer, nullptr, std::move(message)});
+      });
+      vehicle->link->to_player().set_receiver([this, name](LinkMessage&& message) {
+        to_world_->push(HandedMessage{nullptr, name, std::move(message)});
+      });
+      continue;
+    }
     vehicle->link->to_streamer().set_receiver([this, streamer](LinkMessage&& message) {
       if (running_) streamer->handle_link_message(std::move(message));
     });
-    const std::string name = vehicle->spec.name;
     vehicle->link->to_player().set_receiver([this, name](LinkMessage&& message) {
-      if (running_) player_->handle_link_message(name, std::move(message));
+      if (running_) player_->handle_link_message(*name, std::move(message));
     });
     if (vehicle->client) {
       Vehicle* raw = vehicle.get();
@@ -144,6 +196,19 @@ void World::stop() {
   player_->stop();
   for (auto& vehicle : vehicles_) vehicle->streamer->stop();
   logger_.info("stopped");
+}
+
+ControlTicker& World::ticker_for(Executor& executor, Micros period) {
+  for (auto& shared : tickers_) {
+    if (shared->executor == &executor && shared->ticker.period() == period) return shared->ticker;
+  }
+  tickers_.push_back(std::make_unique<Ticker>(executor, period, config_.control_tick_slots));
+  return tickers_.back()->ticker;
+}
+
+void World::set_streamer_threads(std::vector<StreamerThread> threads, StreamerThread::Poster post_to_world) {
+  streamer_threads_ = std::move(threads);
+  post_to_world_ = std::move(post_to_world);
 }
 
 bool World::running() const { return running_; }

@@ -100,6 +100,10 @@ class ComChannel {
  public:
   // `name` identifies the link in events (the World uses the vehicle's name).
   ComChannel(Executor& executor, std::uint64_t seed, std::string name = "link");
+  // Each direction on its sender's executor (real time with the Player and the Streamer on
+  // different threads): it draws its impairments and runs its deliveries there, and the
+  // receiver hands each message over to the other thread. Same draws as the one-executor form.
+  ComChannel(Executor& player_side, Executor& streamer_side, std::uint64_t seed, std::string name);
   ComChannel(const ComChannel&) = delete;
   ComChannel& operator=(const ComChannel&) = delete;
   LinkDirection& to_streamer() { return to_streamer_; }

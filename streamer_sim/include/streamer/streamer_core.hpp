@@ -18,7 +18,8 @@
 //
 // Timing rules (exact in virtual time; t0 = the executor's time at start()):
 // * ack_time = (now − t0) in µs + ack_time_offset (u64, wraps; never a double).
-// * Control tick at t0 + k·control_period (absolute deadlines, PeriodicTimer). A tick sends a
+// * Control tick at t0 + k·control_period (absolute deadlines, PeriodicTimer), or at the
+//   deadlines of a shared ControlTicker's slot (use_control_ticker). A tick sends a
 //   control frame only while a vehicle is connected; faults are evaluated at every tick.
 // * NoControlMessage: raised at the first tick where now − last operator message arrival >
 //   no_control_timeout (measured from t0 when none ever arrived); cleared as soon as the next
@@ -86,6 +87,8 @@
 
 namespace ocp {
 
+class ControlTicker;
+
 struct CameraConfig {
   std::string name;
   double fps = 30.0;
@@ -143,6 +146,10 @@ class StreamerCore {
   void stop();    // stops timers and closes the vehicle connection
 
   void set_link(LinkDirection* to_player);            // where feedback, video, pongs go
+  // Before start(): tick on a ControlTicker shared with other Streamers of this executor
+  // instead of a timer of its own (fleet scale; see control_ticker.hpp). Used only when its
+  // period is control_period; the ticker must outlive this core. nullptr: own timer.
+  void use_control_ticker(ControlTicker* ticker);
   void handle_link_message(LinkMessage&& message);    // from the Player (OperatorControl, Ping)
   void accept_vehicle_connection(std::shared_ptr<ByteStream> stream);  // TCP front or pipe
 

@@ -19,6 +19,7 @@
 // from WorldConfig::seed and a stable component name (see seeds.hpp), so adding a vehicle never
 // changes the random draws of another. With deterministic_keys the Streamers' MAC keys are
 // derived from the seed as well (virtual-time runs); otherwise each Streamer draws a CSPRNG key.
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -41,6 +42,8 @@
 namespace ocp {
 
 class StreamTap;
+class ControlTicker;
+class LinkHandover;
 
 struct VehicleSpec {
   std::string name;
@@ -66,6 +69,19 @@ struct WorldConfig {
   // Decode what each in-process vehicle client receives (StreamTap), for tests that check
   // what reached the vehicle. Costs one extra decode per control frame; off by default.
   bool tap_vehicle_streams = false;
+  // 0: each Streamer ticks on a timer of its own. n ≥ 1: the Streamers of one executor share
+  // one ControlTicker (streamer/control_ticker.hpp) whose n slots spread their ticks over the
+  // control period (vehicle j in slot j mod n, offset by j mod n · period / n): at fleet scale
+  // one task per slot instead of one per vehicle, and no instant where every vehicle is due.
+  // With one vehicle any value gives the same run as 0.
+  std::size_t control_tick_slots = 0;
+};
+
+// A thread the Streamers may live on (real time at fleet scale, see World::set_streamer_threads).
+struct StreamerThread {
+  using Poster = std::function<void(std::function<void()>)>;
+  Executor* executor = nullptr;   // runs on that thread only
+  Poster post;                    // thread-safe: runs a task on that thread, soon
 };
 
 class World {
@@ -79,6 +95,17 @@ class World {
   // or duplicate vehicle names, two vehicles without PlayerConfig::fleet, no vehicle, bad
   // client config) → error, and nothing is left running. Calling start() twice is an error.
   [[nodiscard]] Status start();
+  // Real time on several threads, before start(): vehicle i's Streamer, its vehicle
+  // connection and its link's to_player direction live on threads[i % size]; the Player and
+  // the to_streamer directions stay on this World's executor. Each link message is handed
+  // across by the receiving thread's Poster (`post_to_world` runs a task on this World's
+  // thread), so no part is touched by two threads. The caller starts the threads after
+  // start() and stops (joins) them before stop(); observe each Streamer on its own bus
+  // (streamer(name).events(), on its thread): this World's bus is single-threaded. The
+  // LogSink is called from every thread: give a thread-safe one. Not with in-process clients
+  // (start() refuses them).
+  void set_streamer_threads(std::vector<StreamerThread> threads, StreamerThread::Poster post_to_world);
+
   // Every event of every part of this world (Player, Streamers, links): each part's bus has
   // this one as its parent. Subscribe before start() to see the very first events.
   EventBus& events() { return events_; }
@@ -114,17 +141,24 @@ class World {
   Vehicle& find(std::string_view vehicle) const;
   void connect_in_process_client(Vehicle& vehicle);
   void schedule_reconnect(Vehicle& vehicle);
+  ControlTicker& ticker_for(Executor& executor, Micros period);
 
   Executor& executor_;
   WorldConfig config_;
   LogSink sink_;
   Logger logger_;
   EventBus events_;   // before the parts: they name it as their parent, so it outlives them
+  struct Ticker;
+  std::vector<std::unique_ptr<Ticker>> tickers_;   // before the parts: their Streamers use them
   std::unique_ptr<PlayerCore> player_;
   std::vector<std::unique_ptr<Vehicle>> vehicles_;
   std::map<std::string, Vehicle*, std::less<>> by_name_;   // find() at fleet scale
+  std::vector<StreamerThread> streamer_threads_;           // empty: everything on executor_
+  StreamerThread::Poster post_to_world_;
+  std::vector<std::unique_ptr<LinkHandover>> handovers_;   // one per Streamer thread
+  std::unique_ptr<LinkHandover> to_world_;
   bool started_ = false;
-  bool running_ = false;
+  std::atomic<bool> running_ = false;   // read by the link hand-overs on the Streamer threads
 };
 
 }  // namespace ocp
