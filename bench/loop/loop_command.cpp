@@ -46,10 +46,14 @@ CLI::App* add_loop_command(CLI::App& app, LoopOptions& options) {
 
 namespace {
 
+// The simulated operator's frames fall 1.25 ms after each control tick (see "phases" below).
+constexpr Micros operator_phase{1'250};
+
 StreamerSimOptions streamer_options(std::uint16_t port, const std::string& vehicle) {
   StreamerSimOptions options;
   options.vehicle = vehicle;
   options.plugin_params.tcp_port = port;
+  options.operator_phase = operator_phase;
   return options;
 }
 

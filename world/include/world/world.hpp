@@ -66,6 +66,12 @@ struct WorldConfig {
   // Decode what each in-process vehicle client receives (StreamTap), for tests that check
   // what reached the vehicle. Costs one extra decode per control frame; off by default.
   bool tap_vehicle_streams = false;
+  // The Player's first frame comes this long after the Streamers start (0: the same instant,
+  // so its frames fall on their control ticks). A real operator station's frames have no
+  // fixed phase against a vehicle's tick; real-time benchmarks set one so that the operator's
+  // frame and the Streamer's handling of it do not run right after every control frame is
+  // written, inside the vehicle's round trip (docs/benchmarks.md, "Loop").
+  Micros player_phase{0};
 };
 
 class World {
@@ -123,6 +129,7 @@ class World {
   std::unique_ptr<PlayerCore> player_;
   std::vector<std::unique_ptr<Vehicle>> vehicles_;
   std::map<std::string, Vehicle*, std::less<>> by_name_;   // find() at fleet scale
+  Executor::TimerId player_start_timer_ = 0;   // WorldConfig::player_phase
   bool started_ = false;
   bool running_ = false;
 };
