@@ -95,8 +95,8 @@ int run_loop(const LoopOptions& options) {
   // scheduled at the moment the client's round trip runs (it used to be: the reference
   // Streamer's tick wrote its control frame right after the one under test and woke the timer
   // client's thread in the middle of its round trip, doubling the measured echo delay). Within
-  // each 10 ms period: the Streamer under test ticks at 0, the floor sends at 2.5 ms, the
-  // reference Streamer ticks at 5 ms, housekeeping runs at 7.5 ms. The timer client answers at
+  // each 10 ms period: the Streamer under test ticks at 0 (its operator's frame at 1.25 ms), the
+  // floor sends at 2.5 ms, the reference Streamer ticks at 5 ms, housekeeping runs at 7.5 ms. The timer client answers at
   // a phase that sweeps the whole period (by design), so it meets each of them briefly.
   constexpr Micros floor_phase{2'500};
   constexpr Micros timer_streamer_phase{5'000};
