@@ -158,6 +158,8 @@ struct StreamerUnderTest {
   static StreamerSimOptions ephemeral_port_options() {
     StreamerSimOptions options;
     options.plugin_params.tcp_port = 0;
+    // As in `ocp_bench loop`: the simulated operator's frame not inside the echo's round trip.
+    options.operator_phase = Micros{1'250};
     return options;
   }
 };

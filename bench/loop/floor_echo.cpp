@@ -15,8 +15,8 @@ namespace ocp::bench {
 namespace asio = boost::asio;
 using asio::ip::tcp;
 
-FloorEcho::FloorEcho() {
-  thread_ = std::thread([this] {
+FloorEcho::FloorEcho(std::chrono::steady_clock::time_point first_send) {
+  thread_ = std::thread([this, first_send] {
     prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);   // as the Streamer's thread
     asio::io_context io;
     tcp::acceptor acceptor(io, tcp::endpoint(asio::ip::address_v4::loopback(), 0));
@@ -39,10 +39,9 @@ FloorEcho::FloorEcho() {
     });
     const std::string frame(380, 'x');   // about a control frame
     std::string reply(frame.size(), '\0');
-    auto deadline = std::chrono::steady_clock::now();
+    auto deadline = first_send;
     boost::system::error_code error;
-    while (!stop_) {
-      deadline += std::chrono::milliseconds(10);
+    for (; !stop_; deadline += std::chrono::milliseconds(10)) {
       std::this_thread::sleep_until(deadline);
       const auto sent_at = std::chrono::steady_clock::now();
       asio::write(sender, asio::buffer(frame), error);

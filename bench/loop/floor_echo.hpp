@@ -4,6 +4,7 @@
 // size sent every 10 ms on absolute deadlines and echoed at once. No Streamer, no client, no
 // reactor — only the kernel's loopback and two thread wake-ups.
 #include <atomic>
+#include <chrono>
 #include <thread>
 #include <vector>
 
@@ -11,7 +12,11 @@ namespace ocp::bench {
 
 class FloorEcho {
  public:
-  FloorEcho();
+  // The first frame goes at `first_send`, the next ones every 10 ms after it. `ocp_bench loop`
+  // puts that grid between the Streamer's ticks, so the floor never shares a moment with the
+  // loop it is compared with (see loop_command.cpp, "phases").
+  explicit FloorEcho(std::chrono::steady_clock::time_point first_send =
+                         std::chrono::steady_clock::now() + std::chrono::milliseconds(10));
   ~FloorEcho() { stop(); }
   FloorEcho(const FloorEcho&) = delete;
   FloorEcho& operator=(const FloorEcho&) = delete;

@@ -46,10 +46,14 @@ CLI::App* add_loop_command(CLI::App& app, LoopOptions& options) {
 
 namespace {
 
+// The simulated operator's frames fall 1.25 ms after each control tick (see "phases" below).
+constexpr Micros operator_phase{1'250};
+
 StreamerSimOptions streamer_options(std::uint16_t port, const std::string& vehicle) {
   StreamerSimOptions options;
   options.vehicle = vehicle;
   options.plugin_params.tcp_port = port;
+  options.operator_phase = operator_phase;
   return options;
 }
 
@@ -82,22 +86,27 @@ int run_loop(const LoopOptions& options) {
     std::cerr << "ocp_bench loop: cannot start the Streamer: " << status.error().detail << "\n";
     return 1;
   }
+  // The Streamer's control tick (and its simulated operator's frame) falls on start + k·10 ms.
   const SimTime start = executor.now();
   LoopRecorder recorder(simulation.streamer().events(), start);
 
   // --compare: the two references run beside the client under test, on the same machine at the
-  // same time, so ratios are fair on a busy machine.
+  // same time, so ratios are fair on a busy machine. Phases: nothing else the bench does is
+  // scheduled at the moment the client's round trip runs (it used to be: the reference
+  // Streamer's tick wrote its control frame right after the one under test and woke the timer
+  // client's thread in the middle of its round trip, doubling the measured echo delay). Within
+  // each 10 ms period: the Streamer under test ticks at 0 (its operator's frame at 1.25 ms), the
+  // floor sends at 2.5 ms, the reference Streamer ticks at 5 ms, housekeeping runs at 7.5 ms. The timer client answers at
+  // a phase that sweeps the whole period (by design), so it meets each of them briefly.
+  constexpr Micros floor_phase{2'500};
+  constexpr Micros timer_streamer_phase{5'000};
+  constexpr Micros housekeeping_phase{7'500};
   std::unique_ptr<StreamerSimulation> timer_simulation;
   std::unique_ptr<LoopRecorder> timer_recorder;
   std::unique_ptr<TimerClient> timer_client;
   std::unique_ptr<FloorEcho> floor;
   if (options.compare) {
     timer_simulation = std::make_unique<StreamerSimulation>(executor, streamer_options(0, "timer_vehicle"), quiet_sink);
-    if (auto status = timer_simulation->start(); !status) {
-      std::cerr << "ocp_bench loop: cannot start the reference Streamer: " << status.error().detail << "\n";
-      return 1;
-    }
-    timer_recorder = std::make_unique<LoopRecorder>(timer_simulation->streamer().events(), start);
   }
 
   ChildProcess child;
@@ -122,6 +131,16 @@ int run_loop(const LoopOptions& options) {
     measure_end = executor.now();
     io.stop();
   };
+  if (timer_simulation) {
+    executor.call_at(start + timer_streamer_phase, [&] {
+      if (auto status = timer_simulation->start(); !status) {
+        std::cerr << "ocp_bench loop: cannot start the reference Streamer: " << status.error().detail << "\n";
+        finish(1);
+        return;
+      }
+      timer_recorder = std::make_unique<LoopRecorder>(timer_simulation->streamer().events(), start);
+    });
+  }
   asio::signal_set signals(io, SIGINT, SIGTERM);
   signals.async_wait([&](const boost::system::error_code& error, int) {
     if (!error) finish(measure_start ? 0 : 1);
@@ -143,7 +162,9 @@ int run_loop(const LoopOptions& options) {
         measure_start = now;
         if (options.compare) {
           timer_client = std::make_unique<TimerClient>(timer_simulation->port());
-          floor = std::make_unique<FloorEcho>();
+          // The floor's grid: floor_phase after a tick of the Streamer under test, ≥ 10 ms ahead.
+          const SimTime first_send = now + Micros{10'000} - (now - start) % Micros{10'000} + floor_phase;
+          floor = std::make_unique<FloorEcho>(executor.to_steady(first_send));
         }
       } else if (now - start > connect_timeout) {
         std::cerr << "ocp_bench loop: no vehicle client connected within " << options.connect_timeout_s << " s\n";
@@ -165,7 +186,7 @@ int run_loop(const LoopOptions& options) {
                 << (tty ? "" : "\n") << std::flush;
     }
   });
-  housekeeping.start(start + Micros{100'000});
+  housekeeping.start(start + Micros{100'000} + housekeeping_phase);
   io.run();
   if (tty && !options.quiet) std::cerr << "\n";
   housekeeping.stop();

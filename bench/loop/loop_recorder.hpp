@@ -1,7 +1,8 @@
 #pragma once
 // LoopRecorder: everything `ocp_bench loop` reports about one Streamer, taken from its event
 // stream only (WireFrame, LatencySample, FaultEvent, ConnectionEvent) — no hooks in the core.
-//   echo delay:   control frame out → the first response carrying its pair;
+//   echo delay:   control frame out → the first response carrying its pair (WireFrame times:
+//                 before the Streamer's write, when its read returned — as the floor measures);
 //   responses:    arrival times (rate, largest gap);
 //   latency:      LatencySample::latency_ms and tick_lateness per control tick;
 //   faults:       every raise and clear, with its time.

@@ -104,9 +104,11 @@ Status FramedConnection::send(std::string_view payload, std::optional<AckPair> c
     return reason;
   }
   add(counters_.bytes_out, frame_buffer_.size());
+  const bool listening = options_.events != nullptr && options_.events->active();
+  const SimTime issued_at = listening ? executor_.now() : SimTime{};   // before the write syscall
   stream_->write(frame_buffer_);
-  if (options_.events != nullptr && options_.events->active()) {
-    publish_frame(FrameDirection::out, options_.outbound_kind,
+  if (listening) {
+    publish_frame(issued_at, FrameDirection::out, options_.outbound_kind,
                   static_cast<std::uint32_t>(payload.size()), payload, false, carried);
   }
   return framed;
@@ -130,7 +132,7 @@ Status FramedConnection::write_raw(std::string_view bytes) {
   return Ok{};
 }
 
-void FramedConnection::publish_frame(FrameDirection direction, WireMessageKind kind,
+void FramedConnection::publish_frame(SimTime at, FrameDirection direction, WireMessageKind kind,
                                      std::uint32_t length_prefix, std::string_view payload,
                                      bool drained, std::optional<AckPair> carried) {
   WireFrame frame;
@@ -142,7 +144,7 @@ void FramedConnection::publish_frame(FrameDirection direction, WireMessageKind k
   frame.drained = drained;
   if (!drained) frame.ack = carried ? carried : carried_pair(kind, payload);
   frame.peer = peer_;
-  options_.events->publish(Event{executor_.now(), options_.component, frame});
+  options_.events->publish(Event{at, options_.component, frame});
 }
 
 void FramedConnection::publish_connection(ConnectionChange change, const CloseReason* reason) {
@@ -171,7 +173,7 @@ void FramedConnection::handle_bytes(std::string_view bytes) {
       case FrameEvent::Kind::oversized_dropped:
         add(counters_.oversized_frames_dropped, 1);
         if (options_.events != nullptr && options_.events->active()) {
-          publish_frame(FrameDirection::in, options_.inbound_kind, event.declared_length, {}, true);
+          publish_frame(last_byte_at_, FrameDirection::in, options_.inbound_kind, event.declared_length, {}, true);
         }
         logger_.warn("{} {}: dropped oversized frame of {} bytes (limit {}); connection kept",
                      options_.label, peer_, event.declared_length, options_.payload_limit_bytes);
@@ -188,7 +190,7 @@ void FramedConnection::handle_payload(std::string_view payload) {
   inbound_pair_.reset();
   const Status handled = handlers_.on_payload ? handlers_.on_payload(payload) : Status{Ok{}};
   if (listening) {
-    publish_frame(FrameDirection::in, options_.inbound_kind,
+    publish_frame(last_byte_at_, FrameDirection::in, options_.inbound_kind,
                   static_cast<std::uint32_t>(payload.size()), payload, false, inbound_pair_);
   }
   if (!handled) close(handled.error());

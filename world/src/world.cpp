@@ -60,6 +60,9 @@ Status World::start() {
   if (config_.vehicles.empty()) {
     return configuration_error("a world needs at least one vehicle");
   }
+  if (config_.player_phase < Micros{0}) {
+    return configuration_error("player_phase must not be negative");
+  }
   std::set<std::string, std::less<>> names;
   for (const VehicleSpec& spec : config_.vehicles) {
     if (spec.name.empty()) {
@@ -175,7 +178,14 @@ Status World::start() {
 
   running_ = true;
   for (auto& vehicle : vehicles_) vehicle->streamer->start();
-  player_->start();
+  if (config_.player_phase > Micros{0}) {
+    player_start_timer_ = executor_.call_after(config_.player_phase, [this] {
+      player_start_timer_ = 0;
+      player_->start();
+    });
+  } else {
+    player_->start();
+  }
   for (auto& vehicle : vehicles_) {
     if (vehicle->client) connect_in_process_client(*vehicle);
   }
@@ -193,6 +203,8 @@ void World::stop() {
     }
     if (vehicle->client) vehicle->client->detach();
   }
+  if (player_start_timer_ != 0) executor_.cancel(player_start_timer_);
+  player_start_timer_ = 0;
   player_->stop();
   for (auto& vehicle : vehicles_) vehicle->streamer->stop();
   logger_.info("stopped");

@@ -22,7 +22,10 @@
 // the ack pair a vehicle-wire message carries: given by the caller — send(payload, pair),
 // note_inbound_pair() — or else decoded, only while somebody listens), and the connection's
 // open and close as ConnectionEvents. An inbound frame is published right after its handler
-// ran, before a close that its content causes.
+// ran, before a close that its content causes. A WireFrame's time is when its bytes met the
+// socket: an outbound frame's is taken just before the write is issued, an inbound frame's
+// when the read that carried it returned (before it was decoded and handled) — so a frame
+// out → response in interval is the round trip a bare socket echo measures (ocp_bench loop).
 //
 // Lifetime: open() returns the only shared_ptr the owner needs. Stream and timer callbacks
 // hold weak pointers and lock them for the duration of a callback, so the owner may drop the
@@ -126,7 +129,7 @@ class FramedConnection : public std::enable_shared_from_this<FramedConnection> {
   void arm_read_timer(SimTime deadline);
   void on_read_timer();
   void finish(const CloseReason& reason);
-  void publish_frame(FrameDirection direction, WireMessageKind kind, std::uint32_t length_prefix,
+  void publish_frame(SimTime at, FrameDirection direction, WireMessageKind kind, std::uint32_t length_prefix,
                      std::string_view payload, bool drained, std::optional<AckPair> carried = std::nullopt);
   void publish_connection(ConnectionChange change, const CloseReason* reason);
 
@@ -141,7 +144,7 @@ class FramedConnection : public std::enable_shared_from_this<FramedConnection> {
   FramingSniffer sniffer_;    // says so when the peer does not speak OCP framing at all
   std::string frame_buffer_;  // reused by send(): no allocation per frame in steady state
   bool open_ = true;
-  SimTime last_byte_at_{};
+  SimTime last_byte_at_{};    // when the latest read returned: the time of the frames it carried
   std::optional<AckPair> inbound_pair_;   // set by the handler of the payload being handled
   Executor::TimerId read_timer_ = 0;
 };

@@ -20,13 +20,19 @@ std::string describe_close(const error_code& error) {
   return "transport error: " + error.message();
 }
 
-// Reads run continuously once handlers are set; writes are coalesced into one buffer while
-// a write is in flight, so there is at most one async_write at a time and order is kept.
-// Every pending operation holds a shared_ptr to the stream, so it outlives them.
+// Reads run continuously once handlers are set. A write with nothing queued goes straight to
+// the socket (non-blocking `send`): a frame normally fits whole, and then no completion
+// handler runs and the thread goes back to sleep at once — with an async_write the event loop
+// would poll (`epoll_wait(0)`) for the completion first, time that sits inside the peer's
+// round trip when both share a core (docs/benchmarks.md, "Loop"). What the socket does not
+// take, and every write while one is in flight, is coalesced into one buffer for the single
+// async_write in flight, so order is kept. Every pending operation holds a shared_ptr to the
+// stream, so it outlives them.
 class TcpStream final : public ByteStream, public std::enable_shared_from_this<TcpStream> {
  public:
   explicit TcpStream(asio::ip::tcp::socket socket) : socket_(std::move(socket)) {
     error_code error;
+    socket_.non_blocking(true, error);   // write_some below must never block
     const auto remote = socket_.remote_endpoint(error);
     peer_name_ = error ? std::string("unknown") : remote.address().to_string() + ":" + std::to_string(remote.port());
   }
@@ -43,6 +49,12 @@ class TcpStream final : public ByteStream, public std::enable_shared_from_this<T
   void write(std::string_view bytes) override {
     if (!open_ || bytes.empty()) {
       return;
+    }
+    if (!writing_) {
+      bytes.remove_prefix(write_now(bytes));
+      if (bytes.empty()) {
+        return;
+      }
     }
     pending_.append(bytes);
     if (!writing_) {
@@ -93,6 +105,14 @@ class TcpStream final : public ByteStream, public std::enable_shared_from_this<T
     if (open_) {
       read_next();
     }
+  }
+
+  // Bytes the socket took at once. An error is left to the async_write of the rest, which
+  // meets it again and reports it from the event loop (never from inside the caller's write).
+  std::size_t write_now(std::string_view bytes) {
+    error_code error;
+    const std::size_t sent = socket_.write_some(asio::buffer(bytes.data(), bytes.size()), error);
+    return error ? 0 : sent;
   }
 
   void write_pending() {

@@ -15,6 +15,7 @@ WorldConfig make_world_config(const StreamerSimOptions& options) {
   config.seed = options.seed;
   config.player.name = "operator";
   config.player.frame_rate_hz = options.operator_frame_rate_hz;
+  config.player_phase = options.operator_phase;
   VehicleSpec vehicle;
   vehicle.name = options.vehicle;
   vehicle.streamer.latency_limit = options.plugin_params.latency_limit;

@@ -75,6 +75,12 @@ struct WorldConfig {
   // one task per slot instead of one per vehicle, and no instant where every vehicle is due.
   // With one vehicle any value gives the same run as 0.
   std::size_t control_tick_slots = 0;
+  // The Player's first frame comes this long after the Streamers start (0: the same instant,
+  // so its frames fall on their control ticks). A real operator station's frames have no
+  // fixed phase against a vehicle's tick; real-time benchmarks set one so that the operator's
+  // frame and the Streamer's handling of it do not run right after every control frame is
+  // written, inside the vehicle's round trip (docs/benchmarks.md, "Loop").
+  Micros player_phase{0};
 };
 
 // A thread the Streamers may live on (real time at fleet scale, see World::set_streamer_threads).
@@ -157,6 +163,7 @@ class World {
   StreamerThread::Poster post_to_world_;
   std::vector<std::unique_ptr<LinkHandover>> handovers_;   // one per Streamer thread
   std::unique_ptr<LinkHandover> to_world_;
+  Executor::TimerId player_start_timer_ = 0;   // WorldConfig::player_phase
   bool started_ = false;
   std::atomic<bool> running_ = false;   // read by the link hand-overs on the Streamer threads
 };

@@ -28,6 +28,7 @@ struct StreamerSimOptions {
   sim::GamepadScript gamepad;            // the simulated operator's gamepad (default: drive)
   double operator_frame_rate_hz = 100.0;
   std::uint64_t ack_time_offset = 0;     // added to every ack_time (SPEC §5)
+  Micros operator_phase{0};              // the operator's frames this long after the control ticks
 };
 
 class StreamerSimulation {
