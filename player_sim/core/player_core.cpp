@@ -168,6 +168,10 @@ void PlayerCore::close_client_connection() {
   client->close(CloseReason{LocalError::shut_down, "closed by the Player (conformance test)"});
 }
 
+Status PlayerCore::write_raw_to_client(std::string bytes, std::vector<std::size_t> cuts, Micros gap) {
+  return impl_->write_raw_to_client(std::move(bytes), std::move(cuts), gap);
+}
+
 bool PlayerCore::client_connected() const { return impl_->client && impl_->client->is_open(); }
 const std::optional<CloseReason>& PlayerCore::last_client_close_reason() const {
   return impl_->last_client_close_reason;

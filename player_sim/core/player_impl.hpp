@@ -36,6 +36,7 @@ struct PlayerCore::Impl {
   void accept_client(std::shared_ptr<ByteStream> stream);
   void on_client_closed(const CloseReason& reason);
   void send_to_client(const VehicleOcpShared& shared);
+  Status write_raw_to_client(std::string bytes, std::vector<std::size_t> cuts, Micros gap);
 
   // events.cpp: what the Player publishes (nothing is built while nobody listens).
   Component component() const { return Component{ComponentKind::player, config.name}; }

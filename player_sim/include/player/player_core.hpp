@@ -140,6 +140,16 @@ class PlayerCore {
   // * Closes the tcp client connection from the server side (LocalError::shut_down), as a
   //   Player going away would; the client is expected to reconnect. No-op without one.
   void close_client_connection();
+  // * Writes `bytes` to the tcp client as-is (normally whole frames: length prefix + payload,
+  //   possibly oversized, several back to back, or deliberately odd): cut at the byte offsets
+  //   in `cuts` (ascending, inside the bytes) into pieces written `gap` apart, on the executor.
+  //   Pause client output first, or the frame loop's frames land between the pieces. Publishes
+  //   one WireFrame out per frame found in the bytes (length prefix read from its first 4
+  //   bytes, payload = what follows, up to that length) when the first piece is written, so a
+  //   wire log shows every frame sent. Pieces due after the connection changed are dropped.
+  //   Error: no client connected (LocalError::not_connected), or what the first write returned.
+  [[nodiscard]] Status write_raw_to_client(std::string bytes, std::vector<std::size_t> cuts = {},
+                                           Micros gap = Micros{0});
 
   // Getters (for fronts, scenarios and tests).
   const PlayerConfig& config() const;
