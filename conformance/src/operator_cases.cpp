@@ -145,6 +145,7 @@ void add_operator_echo_cases(std::vector<VehicleCase>& cases) {
 std::vector<VehicleCase> operator_cases() {
   std::vector<VehicleCase> cases;
   add_operator_echo_cases(cases);
+  add_operator_framing_cases(cases);
   add_operator_connection_cases(cases);
   add_operator_data_cases(cases);
   // Stable order by id (section, then number) whatever the files add.

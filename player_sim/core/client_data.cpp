@@ -112,6 +112,7 @@ void PlayerCore::Impl::accept_client(std::shared_ptr<ByteStream> stream) {
   options.outbound_kind = WireMessageKind::vehicle_ocp_shared;
   FramedConnection::Counters counters;
   counters.oversized_frames_dropped = &stats.client_oversized_frames;
+  counters.bytes_out = &stats.client_bytes_out;
   FramedConnection::Handlers handlers;
   handlers.on_payload = [this](std::string_view payload) -> Status {
     Result<ClientOcpShared> message = decode_client_ocp_shared(payload);

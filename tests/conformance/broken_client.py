@@ -7,8 +7,9 @@ hostile ones, for the conformance suite's own tests: every case must be able to 
 Without a broken mode's trigger the client behaves: it reads frames properly (any split,
 any coalescing), skips frames over 16 KiB, echoes the latest pair at once, sends a keep-alive
 response every 10 ms without control, and reconnects 100 ms after the connection ends.
-The op-* modes are operator clients on the Player's :4001 API (op-echo behaves: it answers every
-VehicleOcpShared, sends a keep-alive {} after 0.5 s with nothing to answer, and reconnects).
+The op-* modes are operator clients on the Player's :4001 API (op-echo behaves: it reads frames
+properly, skips frames over 16 KiB, answers every VehicleOcpShared, sends a keep-alive {} after
+0.5 s with nothing to answer, and reconnects).
 """
 import json
 import os
@@ -29,7 +30,7 @@ BROKEN = {"echo-only", "timer-echo", "naive-recv", "reject-oversized", "require-
 # the others break one rule.
 OPERATOR = {"op-echo", "op-corrupt", "op-stale", "op-double", "op-oversized", "op-no-keepalive", "op-no-reconnect",
             "op-sticky", "op-second-connection", "op-active-only", "op-wrong-name", "op-disable", "op-disable-once",
-            "op-no-active", "op-monitor-active"}
+            "op-no-active", "op-monitor-active", "op-naive-recv", "op-reject-oversized"}
 HOSTILE = {"garbage", "flood", "huge-prefix", "half-open", "never-read"}
 FAULT_NAMES = {"", "Vehicle No Response", "No Control Message", "Camera Lost", "Streamer Slow", "High Latency",
                "Operator Station Has Error", "Latency Loop Not Closed", "Control Thread Channel Slow"}
@@ -155,19 +156,43 @@ def operator_session(sock):
                                                  for name, p in last_returned.items()}}))
     sock.settimeout(0.05)
     buf = b""
+    skip = 0
     state = {}
     last_sent = time.monotonic()
     try:
         while True:
             try:
-                data = sock.recv(65536)
+                # op-naive-recv reads into a small fixed buffer, as such clients do.
+                data = sock.recv(4096 if MODE == "op-naive-recv" else 65536)
                 if not data:
                     return
             except socket.timeout:
                 data = b""
+            if MODE == "op-naive-recv" and data:
+                # Bug: one recv() is one frame; a piece that does not parse ends the connection.
+                try:
+                    (length,) = struct.unpack("<I", data[:4])
+                    msg = json.loads(data[4:4 + length])
+                except (struct.error, ValueError):
+                    return
+                sock.sendall(frame(operator_reply(msg, state)))
+                last_sent = time.monotonic()
+                data = b""
             buf += data
-            while len(buf) >= 4:
+            while True:
+                if skip:
+                    n = min(skip, len(buf))
+                    buf, skip = buf[n:], skip - n
+                    if skip:
+                        break
+                if len(buf) < 4:
+                    break
                 (length,) = struct.unpack("<I", buf[:4])
+                if length > LIMIT:
+                    if MODE == "op-reject-oversized":
+                        return   # Bug: an oversized frame ends the connection.
+                    buf, skip = buf[4:], length
+                    continue
                 if len(buf) < 4 + length:
                     break
                 msg = json.loads(buf[4:4 + length])

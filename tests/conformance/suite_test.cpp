@@ -262,7 +262,7 @@ TEST(OperatorSuite, WellBehavedClientPassesEveryCase) {
     EXPECT_EQ(c["verdict"].GetString(), expected) << id << ": " << c["actual"].GetString();
     std::printf("  %-14s %6.0f ms  %s\n", id.c_str(), c["duration_ms"].GetDouble(), c["verdict"].GetString());
   }
-  EXPECT_EQ(r.index["cases"].Size(), 12u);
+  EXPECT_EQ(r.index["cases"].Size(), 15u);
   std::printf("  suite: %.1f s\n", r.index["duration_ms"].GetDouble() / 1000.0);
 }
 
@@ -292,6 +292,9 @@ TEST_P(OperatorClient, GetsItsVerdicts) {
 INSTANTIATE_TEST_SUITE_P(
     OneRuleEach, OperatorClient,
     ::testing::Values(OperatorCase{"op-oversized", {{"operator/2/1", "FAILED"}}},
+                      // One recv() taken as one frame: split and coalesced frames both break it.
+                      OperatorCase{"op-naive-recv", {{"operator/2/3", "FAILED"}, {"operator/2/4", "FAILED"}}},
+                      OperatorCase{"op-reject-oversized", {{"operator/2/5", "FAILED"}}},
                       OperatorCase{"op-no-keepalive", {{"operator/2/2", "FAILED"}}},
                       // Returns no published pair at all: 4.2/1 fails, the INFO case only reports.
                       OperatorCase{"op-corrupt", {{"operator/4.2/1", "FAILED"}, {"operator/4.2/6", "INFORMATIONAL"}}},

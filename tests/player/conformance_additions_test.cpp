@@ -89,11 +89,15 @@ TEST_F(PlayerConformanceAdditions, RawFrameInPiecesArrivesWholeAfterTheLastPiece
       published.push_back(wire->length_prefix);
     }
   });
+  const std::uint64_t bytes_before = harness.player.stats().client_bytes_out;
   ASSERT_TRUE(harness.player.write_raw_to_client(frame, {1, 4, 10}, Micros{2000}).ok());
+  EXPECT_EQ(harness.player.stats().client_bytes_out - bytes_before, 1u);   // the first piece only
   EXPECT_EQ(published, std::vector<std::uint32_t>{static_cast<std::uint32_t>(frame.size() - 4)});
   harness.run_until(at_ms(5) + Micros{5'900});
   EXPECT_EQ(client.received.size(), before);   // last piece due at +6 ms
+  EXPECT_EQ(harness.player.stats().client_bytes_out - bytes_before, 10u);
   harness.run_until(at_ms(12));
+  EXPECT_EQ(harness.player.stats().client_bytes_out - bytes_before, frame.size());
   ASSERT_EQ(client.received.size(), before + 1);
   EXPECT_EQ(client.latest().vehicle_feedback.at("truck-1").ack, pair);
   EXPECT_GE(client.received_at.back() - at_ms(5), Micros{6000});

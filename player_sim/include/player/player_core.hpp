@@ -89,6 +89,7 @@ struct PlayerStats {
   std::uint64_t client_connections_refused = 0; // second client while one is active
   std::uint64_t client_connections_closed = 0;  // closed by us or by the peer
   std::uint64_t client_frames_sent = 0;
+  std::uint64_t client_bytes_out = 0;           // every byte written to the tcp client (headers, raw writes)
   std::uint64_t client_frames_too_large = 0;    // VehicleOcpShared over 16 KiB, not sent
   std::uint64_t source_conflicts = 0;
   std::uint64_t unknown_vehicle_entries = 0;
