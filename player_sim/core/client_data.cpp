@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "ocp/json_codec.hpp"
+#include "ocp/raw_pieces.hpp"
 
 #include "player_impl.hpp"
 
@@ -154,43 +155,22 @@ void PlayerCore::Impl::send_to_client(const VehicleOcpShared& shared) {
 
 Status PlayerCore::Impl::write_raw_to_client(std::string bytes, std::vector<std::size_t> cuts, Micros gap) {
   if (!client) return Error{LocalError::not_connected, "no tcp client connected"};
-  // Piece boundaries: 0, the valid cuts in ascending order, the end.
-  std::vector<std::size_t> bounds{0};
-  for (const std::size_t cut : cuts) {
-    if (cut > bounds.back() && cut < bytes.size()) bounds.push_back(cut);
-  }
-  bounds.push_back(bytes.size());
-  auto shared = std::make_shared<const std::string>(std::move(bytes));
-  const std::string_view all(*shared);
   if (events.active()) {
     // One WireFrame per frame the bytes hold; a truncated last frame carries what is there.
+    const std::string_view all(bytes);
     for (std::size_t at = 0; at + 4 <= all.size();) {
-      std::uint32_t prefix = 0;
-      for (std::size_t i = 4; i-- > 0;) prefix = (prefix << 8) | static_cast<unsigned char>(all[at + i]);
       WireFrame frame;
       frame.wire = Wire::operator_;
       frame.direction = FrameDirection::out;
       frame.kind = WireMessageKind::vehicle_ocp_shared;
-      frame.length_prefix = prefix;
-      frame.payload = all.substr(at + 4, prefix);
+      frame.length_prefix = read_length_prefix(all.substr(at));
+      frame.payload = all.substr(at + 4, frame.length_prefix);
       frame.peer = client->peer();
       publish(frame);
       at += 4 + frame.payload.size();
     }
   }
-  Status first = client->write_raw(all.substr(0, bounds[1]));
-  if (!first) return first;
-  // Later pieces go to the connection that got the first one, or nowhere.
-  std::weak_ptr<FramedConnection> target = client;
-  for (std::size_t i = 1; i + 1 < bounds.size(); ++i) {
-    const SimTime due = executor.now() + gap * static_cast<std::int64_t>(i);
-    (void)executor.call_at(due, [this, target, shared, from = bounds[i], to = bounds[i + 1]] {
-      auto connection = target.lock();
-      if (!connection || connection != client || !connection->is_open()) return;
-      (void)connection->write_raw(std::string_view(*shared).substr(from, to - from));
-    });
-  }
-  return Ok{};
+  return write_raw_in_pieces(executor, client, std::move(bytes), cuts, gap);
 }
 
 void PlayerCore::Impl::on_client_closed(const CloseReason& reason) {

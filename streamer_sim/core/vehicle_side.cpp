@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "ocp/json_codec.hpp"
+#include "ocp/raw_pieces.hpp"
 #include "streamer_state.hpp"
 
 namespace ocp {
@@ -84,42 +85,21 @@ void StreamerCore::State::on_vehicle_closed(const CloseReason& reason) {
 Status StreamerCore::State::write_raw_to_vehicle(std::string bytes, std::vector<std::size_t> cuts,
                                                 Micros gap) {
   if (!vehicle) return Error{LocalError::not_connected, "no vehicle connected"};
-  // Piece boundaries: 0, the valid cuts in ascending order, the end.
-  std::vector<std::size_t> bounds{0};
-  for (const std::size_t cut : cuts) {
-    if (cut > bounds.back() && cut < bytes.size()) bounds.push_back(cut);
-  }
-  bounds.push_back(bytes.size());
-  auto shared = std::make_shared<const std::string>(std::move(bytes));
-  const std::string_view all(*shared);
   if (events.active()) {
+    const std::string_view all(bytes);
     WireFrame frame;
     frame.wire = Wire::vehicle;
     frame.direction = FrameDirection::out;
     frame.kind = WireMessageKind::control;
     if (all.size() >= 4) {
-      std::uint32_t prefix = 0;
-      for (int i = 3; i >= 0; --i) prefix = (prefix << 8) | static_cast<unsigned char>(all[static_cast<std::size_t>(i)]);
-      frame.length_prefix = prefix;
+      frame.length_prefix = read_length_prefix(all);
       frame.payload = all.substr(4);
       if (auto decoded = decode_control_message(frame.payload)) frame.ack = decoded->ack;
     }
     frame.peer = vehicle->peer();
     events.publish(Event{executor.now(), component(), frame});
   }
-  Status first = vehicle->write_raw(all.substr(0, bounds[1]));
-  if (!first) return first;
-  // Later pieces go to the connection that got the first one, or nowhere.
-  std::weak_ptr<FramedConnection> target = vehicle;
-  for (std::size_t i = 1; i + 1 < bounds.size(); ++i) {
-    const SimTime due = executor.now() + gap * static_cast<std::int64_t>(i);
-    (void)executor.call_at(due, [this, target, shared, from = bounds[i], to = bounds[i + 1]] {
-      auto connection = target.lock();
-      if (!connection || connection != vehicle || !connection->is_open()) return;
-      (void)connection->write_raw(std::string_view(*shared).substr(from, to - from));
-    });
-  }
-  return Ok{};
+  return write_raw_in_pieces(executor, vehicle, std::move(bytes), cuts, gap);
 }
 
 }  // namespace ocp
