@@ -48,6 +48,43 @@ def frame(obj):
 last_echoed = None
 
 
+class Oversized(ValueError):
+    """A reject-oversized client meets a frame over the limit: it ends the connection."""
+
+
+class Deframer:
+    """SPEC §2 framing as a correct client reads it: frames split or coalesced anyhow, an
+    oversized frame drained and skipped (unless this client is one that rejects it)."""
+
+    def __init__(self, reject_oversized):
+        self.buf = b""
+        self.skip = 0
+        self.reject_oversized = reject_oversized
+
+    def feed(self, data):
+        """Yields the payload of every whole frame `data` completes."""
+        self.buf += data
+        while True:
+            if self.skip:
+                n = min(self.skip, len(self.buf))
+                self.buf, self.skip = self.buf[n:], self.skip - n
+                if self.skip:
+                    return
+            if len(self.buf) < 4:
+                return
+            (length,) = struct.unpack("<I", self.buf[:4])
+            if length > LIMIT:
+                if self.reject_oversized:
+                    raise Oversized()
+                self.buf, self.skip = self.buf[4:], length
+                continue
+            if len(self.buf) < 4 + length:
+                return
+            payload = self.buf[4:4 + length]
+            self.buf = self.buf[4 + length:]
+            yield payload
+
+
 def response(pair):
     global last_echoed
     last_echoed = pair
@@ -155,8 +192,8 @@ def operator_session(sock):
         sock.sendall(frame({"client_user_data": {name: {"ack_time_returned": p[0], "ack_time_mac_returned": p[1]}
                                                  for name, p in last_returned.items()}}))
     sock.settimeout(0.05)
-    buf = b""
-    skip = 0
+    # Bug (op-reject-oversized): an oversized frame ends the connection.
+    deframer = Deframer(reject_oversized=MODE == "op-reject-oversized")
     state = {}
     last_sent = time.monotonic()
     try:
@@ -178,25 +215,8 @@ def operator_session(sock):
                 sock.sendall(frame(operator_reply(msg, state)))
                 last_sent = time.monotonic()
                 data = b""
-            buf += data
-            while True:
-                if skip:
-                    n = min(skip, len(buf))
-                    buf, skip = buf[n:], skip - n
-                    if skip:
-                        break
-                if len(buf) < 4:
-                    break
-                (length,) = struct.unpack("<I", buf[:4])
-                if length > LIMIT:
-                    if MODE == "op-reject-oversized":
-                        return   # Bug: an oversized frame ends the connection.
-                    buf, skip = buf[4:], length
-                    continue
-                if len(buf) < 4 + length:
-                    break
-                msg = json.loads(buf[4:4 + length])
-                buf = buf[4 + length:]
+            for payload in deframer.feed(data):
+                msg = json.loads(payload)
                 sock.sendall(frame(operator_reply(msg, state)))
                 last_sent = time.monotonic()
             if MODE != "op-no-keepalive" and time.monotonic() - last_sent >= KEEP_ALIVE_S:
@@ -215,13 +235,12 @@ def session(sock):
         operator_session(sock)
         return
     sock.settimeout(0.01)
-    buf = b""
+    deframer = Deframer(reject_oversized=MODE == "reject-oversized")
     pair = last_echoed if MODE == "sticky-pair" else None
     if MODE == "early-echo":
         sock.sendall(response((0, 0)))
     if MODE == "sticky-pair" and pair:
         sock.sendall(response(pair))
-    skip = 0
     last_sent = time.monotonic()
     next_timer = time.monotonic() + 0.01
     while True:
@@ -244,25 +263,8 @@ def session(sock):
             pair = (msg["ack_time"], msg["ack_time_mac"])
             got_new = True
             data = b""
-        buf += data
-        while True:
-            if skip:
-                n = min(skip, len(buf))
-                buf, skip = buf[n:], skip - n
-                if skip:
-                    break
-            if len(buf) < 4:
-                break
-            (length,) = struct.unpack("<I", buf[:4])
-            if length > LIMIT:
-                if MODE == "reject-oversized":
-                    return
-                buf, skip = buf[4:], length
-                continue
-            if len(buf) < 4 + length:
-                break
-            msg = json.loads(buf[4:4 + length])
-            buf = buf[4 + length:]
+        for payload in deframer.feed(data):
+            msg = json.loads(payload)
             if not acceptable(msg):
                 return
             if MODE == "fault-enum" and msg["telemetry"]["fault"] and msg["telemetry"]["fault_reason"] not in FAULT_NAMES:
