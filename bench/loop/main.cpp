@@ -6,6 +6,7 @@
 
 #include "fleet_command.hpp"
 #include "loop_command.hpp"
+#include "ocp/cli_parse.hpp"
 
 int main(int argc, char** argv) {
   using namespace ocp::bench;
@@ -15,16 +16,7 @@ int main(int argc, char** argv) {
   CLI::App* loop = add_loop_command(app, loop_options);
   FleetOptions fleet_options;
   CLI::App* fleet = add_fleet_command(app, fleet_options);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& help) {
-    return app.exit(help);
-  } catch (const CLI::CallForAllHelp& help) {
-    return app.exit(help);
-  } catch (const CLI::ParseError& error) {
-    std::cerr << "ocp_bench: " << error.what() << "\nRun with --help for the options.\n";
-    return 2;
-  }
+  if (auto exit_code = ocp::cli::parse_or_exit_code(app, argc, argv)) return *exit_code;
   if (loop->parsed()) return run_loop(loop_options);
   if (fleet->parsed()) return run_fleet(fleet_options);
   return 2;

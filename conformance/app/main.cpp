@@ -15,6 +15,8 @@
 #include "conformance/reports.hpp"
 #include "conformance/runner.hpp"
 #include "conformance/vehicle_cases.hpp"
+#include "ocp/cli_parse.hpp"
+#include "ocp/cli_checks.hpp"
 
 namespace {
 
@@ -59,7 +61,7 @@ int main(int argc, char** argv) {
     suite->add_option("--cases", include, "Only these cases: comma-separated ids, prefixes or globs (vehicle/2,vehicle/3.3/*)");
     suite->add_option("--exclude", exclude, "Skip these cases (same syntax)");
     suite->add_option("--timeout-scale", options.timeout_scale, "Multiply every timeout (slow machines, sanitizers)")
-        ->check(CLI::Range(0.1, 100.0));
+        ->check(ocp::cli::real(0.1, 100.0));
     suite->add_option("--out", out_dir, "Write index.json, report.html and client logs into this directory");
     suite->add_option("--junit", junit, "Write JUnit XML to this file");
     suite->add_option("--baseline", baseline_path, "Expected failures (one case id per line); the run is judged against it");
@@ -67,12 +69,7 @@ int main(int argc, char** argv) {
     suite->add_option("command", command, "-- CMD ARGS…: launch the client; OCP_PORT and {port} carry the port");
   }
 
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& error) {
-    const int code = app.exit(error);
-    return code == 0 ? 0 : 2;
-  }
+  if (auto exit_code = ocp::cli::parse_or_exit_code(app, argc, argv)) return *exit_code;
   const bool operator_suite = operator_side->parsed();
   const std::string suite_name = operator_suite ? "operator" : "vehicle";
   std::vector<VehicleCase> cases = select_cases(operator_suite ? operator_cases() : vehicle_cases(), include, exclude);

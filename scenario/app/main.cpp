@@ -14,6 +14,7 @@
 #include "scenario/reports.hpp"
 #include "scenario/runner.hpp"
 #include "scenario/verdicts.hpp"
+#include "ocp/cli_parse.hpp"
 #include "world/seeds.hpp"
 
 namespace fs = std::filesystem;
@@ -62,7 +63,7 @@ int main(int argc, char** argv) {
 }
 
 int run_tool(int argc, char** argv) {
-  CLI::App app{"ocp_scenario: scenario files with verdicts, run in virtual time (docs/scenarios.md)"};
+  CLI::App app{"ocp_scenario: scenario files with verdicts, run in virtual time (docs/scenarios.md)", "ocp_scenario"};
   app.require_subcommand(1);
   CLI::App* run = app.add_subcommand("run", "run scenario files (or every *.yaml in a folder)");
   std::vector<std::string> inputs;
@@ -84,12 +85,8 @@ int run_tool(int argc, char** argv) {
                 "external vehicle clients over TCP");
   run->add_option("--tcp-port", tcp_port, "--realtime: port of the first external vehicle (the next +1, …; 0: any)")
       ->capture_default_str();
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& error) {
-    // --help is exit 0; a bad command line is a harness error like a bad file: 2.
-    return app.exit(error) == 0 ? exit_pass : exit_error;
-  }
+  // --help is exit 0; a bad command line is a harness error like a bad file: 2.
+  if (auto exit_code = ocp::cli::parse_or_exit_code(app, argc, argv)) return *exit_code;
 
   std::vector<Scenario> scenarios;
   bool bad = false;

@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "ocp/cli_checks.hpp"
+#include "ocp/cli_parse.hpp"
 
 namespace ocp {
 namespace {
@@ -100,17 +101,7 @@ ParseOutcome parse_program_options(int argc, const char* const* argv) {
   app.add_flag("--misbehave-silent", misbehave.silent,
                "Never send a response (Streamer's 2 s read timeout)")->group(misbehave_group);
 
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& help) {
-    return {std::nullopt, app.exit(help)};
-  } catch (const CLI::CallForAllHelp& help) {
-    return {std::nullopt, app.exit(help)};
-  } catch (const CLI::ParseError& error) {
-    // Same shape as the simulators' errors: "vehicle_client: …" then a hint.
-    std::cerr << "vehicle_client: " << error.what() << "\nRun with --help for more information.\n";
-    return {std::nullopt, 2};
-  }
+  if (auto exit_code = cli::parse_or_exit_code(app, argc, argv)) return {std::nullopt, *exit_code};
 
   const auto fail = [](const std::string& message) {
     std::cerr << "vehicle_client: " << message << "\nRun with --help for more information.\n";

@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "ocp/cli_checks.hpp"
+#include "ocp/cli_parse.hpp"
 #include "ocp/number_text.hpp"
 #include "sim_app/exit_codes.hpp"
 
@@ -188,16 +189,7 @@ Status finish_common_options(CommonOptions& options) {
 
 std::optional<int> parse_command_line(CLI::App& app, int argc, const char* const* argv,
                                       CommonOptions& options) {
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& help) {
-    return app.exit(help);
-  } catch (const CLI::CallForAllHelp& help) {
-    return app.exit(help);
-  } catch (const CLI::ParseError& error) {
-    std::cerr << app.get_name() << ": " << error.what() << "\nRun with --help for the options.\n";
-    return exit_usage_error;
-  }
+  if (auto exit_code = cli::parse_or_exit_code(app, argc, argv)) return exit_code;
   if (auto status = finish_common_options(options); !status) {
     std::cerr << app.get_name() << ": " << status.error().detail
               << "\nRun with --help for the options.\n";
