@@ -15,6 +15,7 @@
 #include "json_text.hpp"
 #include "ocp/faults.hpp"
 #include "svg_chart.hpp"
+#include "ocp/cli_checks.hpp"
 
 namespace ocp::bench {
 
@@ -28,13 +29,13 @@ CLI::App* add_fleet_command(CLI::App& app, FleetOptions& options) {
   fleet->add_option("--virtual", options.virtual_vehicles, "vehicle counts in virtual time (0: none)")
       ->delimiter(',')->capture_default_str()->check(CLI::Range(0, 100000));
   fleet->add_option("--window-s", options.window_s, "loopback: wall seconds measured per point (after --warm-up-s)")
-      ->capture_default_str()->check(CLI::Range(0.1, 3600.0));
+      ->capture_default_str()->check(ocp::cli::real(0.1, 3600.0));
   fleet->add_option("--simulated-s", options.simulated_s, "virtual: simulated seconds measured per point")
-      ->capture_default_str()->check(CLI::Range(0.1, 36000.0));
+      ->capture_default_str()->check(ocp::cli::real(0.1, 36000.0));
   fleet->add_option("--warm-up-s", options.warm_up_s, "run this long (wall or simulated) before measuring")
-      ->capture_default_str()->check(CLI::Range(0.0, 600.0));
+      ->capture_default_str()->check(ocp::cli::real(0.0, 600.0));
   fleet->add_option("--point-timeout-s", options.point_timeout_s, "kill a point that runs longer than this")
-      ->capture_default_str()->check(CLI::Range(1.0, 86400.0));
+      ->capture_default_str()->check(ocp::cli::real(1.0, 86400.0));
   fleet->add_flag("--unobserved", options.unobserved,
                   "virtual points: do not subscribe to events (observing decodes every frame's pair)");
   fleet->add_option("--streamer-threads", options.streamer_threads,

@@ -19,6 +19,7 @@
 #include "ocp/asio_executor.hpp"
 #include "streamer_app/streamer_simulation.hpp"
 #include "timer_client.hpp"
+#include "ocp/cli_checks.hpp"
 
 namespace ocp::bench {
 
@@ -31,9 +32,9 @@ CLI::App* add_loop_command(CLI::App& app, LoopOptions& options) {
       "  ocp_bench loop -- ./my_client 127.0.0.1:{port}  launch it ({port} and $OCP_PORT)");
   loop->add_option("--port", options.port, "Streamer TCP port (default: 4000 when waiting, a free one with a command)");
   loop->add_option("--duration-s", options.duration_s, "measurement time from the client's connection")
-      ->capture_default_str()->check(CLI::Range(0.1, 86400.0));
+      ->capture_default_str()->check(ocp::cli::real(0.1, 86400.0));
   loop->add_option("--connect-timeout-s", options.connect_timeout_s, "give up when no client connects within this")
-      ->capture_default_str()->check(CLI::Range(0.1, 3600.0));
+      ->capture_default_str()->check(ocp::cli::real(0.1, 3600.0));
   loop->add_option("--json", options.json_path, "write the figures as JSON to FILE");
   loop->add_option("--html", options.html_path, "write a self-contained HTML page (inline SVG) to FILE");
   loop->add_flag("--compare", options.compare,
