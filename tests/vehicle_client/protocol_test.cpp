@@ -51,6 +51,42 @@ TEST(VehicleClientProtocol, EchoesThePairInsideTheOnBytesCallThatDeliveredTheCon
   EXPECT_EQ(executor.events_run(), 0u);
 }
 
+// Once the server has sent one valid control message, the pair is answered before the message
+// is validated: a later message that fails validation still gets its pair back, then the
+// connection closes as a protocol error. The first message is validated before any answer.
+TEST(VehicleClientProtocol, AnswersThePairBeforeValidatingOnceTheServerSpokeOcp) {
+  VirtualExecutor executor;
+  VehicleClient client(executor, {}, Logger(executor, "vehicle-client", make_null_sink()));
+  auto stream = std::make_shared<RecordingStream>();
+  client.attach(stream);
+  OcpControlMessage message;
+  message.ack = AckPair{1, 11};
+  stream->deliver(control_frame(message));
+  ASSERT_EQ(stream->responses().size(), 1u);
+
+  std::string frame;
+  ASSERT_TRUE(append_frame(R"({"ack_time":2,"ack_time_mac":22,"telemetry":"not an object"})", frame));
+  stream->deliver(frame);
+  const std::vector<VehicleResponseMessage> responses = stream->responses();
+  ASSERT_EQ(responses.size(), 2u);
+  EXPECT_EQ(responses[1].ack, (AckPair{2, 22}));
+  EXPECT_FALSE(client.connected());
+  EXPECT_EQ(client.stats().last_disconnect_kind, DisconnectKind::protocol_error);
+  EXPECT_EQ(client.stats().control_messages_received, 1u);
+}
+
+TEST(VehicleClientProtocol, ValidatesTheFirstControlMessageBeforeAnsweringIt) {
+  VirtualExecutor executor;
+  VehicleClient client(executor, {}, Logger(executor, "vehicle-client", make_null_sink()));
+  auto stream = std::make_shared<RecordingStream>();
+  client.attach(stream);
+  std::string frame;
+  ASSERT_TRUE(append_frame(R"({"ack_time":2,"ack_time_mac":22})", frame));   // no telemetry
+  stream->deliver(frame);
+  EXPECT_TRUE(stream->written.empty());
+  EXPECT_EQ(client.stats().last_disconnect_kind, DisconnectKind::not_an_ocp_server);
+}
+
 TEST(VehicleClientProtocol, EchoesOnTheLastByteWhenAFrameArrivesByteByByte) {
   VirtualExecutor executor;
   VehicleClient client(executor, {}, Logger(executor, "vehicle-client", make_null_sink()));

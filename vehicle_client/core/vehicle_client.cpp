@@ -170,6 +170,16 @@ bool VehicleClient::check_first_header(std::string_view bytes) {
 }
 
 void VehicleClient::handle_payload(std::string_view payload) {
+  // Latency first: once the server has proved it speaks OCP, the pair is read straight out of
+  // the frame and echoed before the message is decoded and validated (scan_control_ack_pair:
+  // same pair as the full decode, or none — then the echo waits for the decode as before).
+  bool echoed = false;
+  if (seen_valid_control_) {
+    if (const std::optional<AckPair> pair = scan_control_ack_pair(payload)) {
+      echo(*pair);
+      echoed = true;
+    }
+  }
   Result<OcpControlMessage> message = decode_control_message(payload);
   if (!message.ok()) {
     if (!seen_valid_control_) {
@@ -181,15 +191,17 @@ void VehicleClient::handle_payload(std::string_view payload) {
     }
     return;
   }
+  if (!echoed) echo(message->ack);
   handle_control_message(*message);
+}
+
+void VehicleClient::echo(const AckPair& pair) {
+  if (!(config_.misbehave.stop_echo && echo_pair_)) echo_pair_ = pair;
+  send_response(ResponseCause::echo);
 }
 
 void VehicleClient::handle_control_message(const OcpControlMessage& message) {
   const SimTime now = executor_.now();
-  // Latency first: the echo leaves before anything else is looked at.
-  if (!(config_.misbehave.stop_echo && echo_pair_)) echo_pair_ = message.ack;
-  send_response(ResponseCause::echo);
-
   seen_valid_control_ = true;
   ++stats_.control_messages_received;
   stats_.last_ack = message.ack;

@@ -16,6 +16,7 @@
 //   the double range (RapidJSON refuses them) and embedded NUL bytes are malformed_json.
 // * Encoders replace invalid UTF-8 in strings by U+FFFD, write non-finite doubles as null
 //   (decoders then reject them) and an empty RawJson as null.
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -31,6 +32,12 @@ Result<OcpControlMessage> decode_control_message(std::string_view json);
 Result<VehicleResponseMessage> decode_vehicle_response(std::string_view json);
 Result<VehicleOcpShared> decode_vehicle_ocp_shared(std::string_view json);
 Result<ClientOcpShared> decode_client_ocp_shared(std::string_view json);
+
+// The ack pair of a control message, found without decoding the rest: for a client that
+// answers first and validates after. nullopt for anything unusual (escaped keys, a pair that is
+// not a plain in-range integer, no object) — decode fully then. Whenever both succeed it equals
+// decode_control_message(json)->ack, duplicate keys included (fuzz_control_message checks it).
+std::optional<AckPair> scan_control_ack_pair(std::string_view json);
 
 void encode_control_message(const OcpControlMessage& message, std::string& out);
 void encode_vehicle_response(const VehicleResponseMessage& message, std::string& out);

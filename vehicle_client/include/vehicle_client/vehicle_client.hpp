@@ -9,7 +9,10 @@
 // What it does on the wire:
 //   * decodes each frame with the libocp codec;
 //   * after each control message echoes its ack pair AT ONCE, inside the same on_bytes call
-//     (no timer, no queue), so it adds as little as possible to the measured latency;
+//     (no timer, no queue), so it adds as little as possible to the measured latency: once a
+//     valid control message has been seen, the pair is scanned out of the frame and echoed
+//     before the message is decoded and validated (a message that then fails validation still
+//     closes the connection, its pair already answered);
 //   * also sends a response whenever `response_period` passed without one, so the Streamer's
 //     2 s read timeout never fires while the client is alive, even if control pauses;
 //   * every response carries vehicle_user_data: pos from the vehicle model and user_data
@@ -114,6 +117,7 @@ class VehicleClient {
   void on_closed(const std::string& reason);
   [[nodiscard]] bool check_first_header(std::string_view bytes);
   void handle_payload(std::string_view payload);
+  void echo(const AckPair& pair);   // the response that carries a control message's pair back
   void handle_control_message(const OcpControlMessage& message);
   void close_with(DisconnectKind kind, const std::string& reason);
   void release_connection();
