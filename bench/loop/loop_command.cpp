@@ -11,6 +11,7 @@
 #include <iostream>
 #include <memory>
 
+#include "bare_client.hpp"
 #include "child_process.hpp"
 #include "floor_echo.hpp"
 #include "loop_recorder.hpp"
@@ -38,8 +39,9 @@ CLI::App* add_loop_command(CLI::App& app, LoopOptions& options) {
   loop->add_option("--json", options.json_path, "write the figures as JSON to FILE");
   loop->add_option("--html", options.html_path, "write a self-contained HTML page (inline SVG) to FILE");
   loop->add_flag("--compare", options.compare,
-                 "also measure, in the same run, the machine floor (bare blocking-socket echo) and a client\n"
-                 "answering on its own 10 ms timer, and print ratios");
+                 "also measure, in the same run: the machine floor (bare blocking-socket echo, no Streamer),\n"
+                 "a bare client (blocking read, libocp codec, answers at once) against a Streamer of its own,\n"
+                 "and a client answering on its own 10 ms timer; print the client's ratios to each");
   loop->add_flag("--quiet", options.quiet, "no progress line");
   loop->add_option("command", options.command, "client command after `--`; {port} is replaced by the port");
   return loop;
@@ -91,23 +93,31 @@ int run_loop(const LoopOptions& options) {
   const SimTime start = executor.now();
   LoopRecorder recorder(simulation.streamer().events(), start);
 
-  // --compare: the two references run beside the client under test, on the same machine at the
-  // same time, so ratios are fair on a busy machine. Phases: nothing else the bench does is
-  // scheduled at the moment the client's round trip runs (it used to be: the reference
-  // Streamer's tick wrote its control frame right after the one under test and woke the timer
-  // client's thread in the middle of its round trip, doubling the measured echo delay). Within
-  // each 10 ms period: the Streamer under test ticks at 0 (its operator's frame at 1.25 ms), the
-  // floor sends at 2.5 ms, the reference Streamer ticks at 5 ms, housekeeping runs at 7.5 ms. The timer client answers at
-  // a phase that sweeps the whole period (by design), so it meets each of them briefly.
+  // --compare: the references run beside the client under test, on the same machine at the same
+  // time, so ratios are fair on a busy machine. Phases: nothing else the bench does is scheduled
+  // at the moment the client's round trip runs (it used to be: the reference Streamer's tick
+  // wrote its control frame right after the one under test and woke the timer client's thread in
+  // the middle of its round trip, doubling the measured echo delay). Within each 10 ms period,
+  // 1.25 ms apart: the Streamer under test ticks at 0 (its operator's frame at 1.25 ms), the floor
+  // sends at 2.5 ms, the bare client's Streamer ticks at 3.75 ms (operator 5 ms), the timer
+  // client's at 6.25 ms (operator 7.5 ms), housekeeping runs at 8.75 ms. The timer client answers
+  // at a phase that sweeps the whole period (by design), so it meets each of them briefly.
   constexpr Micros floor_phase{2'500};
-  constexpr Micros timer_streamer_phase{5'000};
-  constexpr Micros housekeeping_phase{7'500};
-  std::unique_ptr<StreamerSimulation> timer_simulation;
-  std::unique_ptr<LoopRecorder> timer_recorder;
+  constexpr Micros bare_streamer_phase{3'750};
+  constexpr Micros timer_streamer_phase{6'250};
+  constexpr Micros housekeeping_phase{8'750};
+  // A reference client's own Streamer, started at its phase; its recorder exists once started.
+  struct Reference {
+    std::unique_ptr<StreamerSimulation> simulation;
+    std::unique_ptr<LoopRecorder> recorder;
+  };
+  Reference bare, timer;
+  std::unique_ptr<BareClient> bare_client;
   std::unique_ptr<TimerClient> timer_client;
   std::unique_ptr<FloorEcho> floor;
   if (options.compare) {
-    timer_simulation = std::make_unique<StreamerSimulation>(executor, streamer_options(0, "timer_vehicle"), quiet_sink);
+    bare.simulation = std::make_unique<StreamerSimulation>(executor, streamer_options(0, "bare_vehicle"), quiet_sink);
+    timer.simulation = std::make_unique<StreamerSimulation>(executor, streamer_options(0, "timer_vehicle"), quiet_sink);
   }
 
   ChildProcess child;
@@ -132,14 +142,15 @@ int run_loop(const LoopOptions& options) {
     measure_end = executor.now();
     io.stop();
   };
-  if (timer_simulation) {
-    executor.call_at(start + timer_streamer_phase, [&] {
-      if (auto status = timer_simulation->start(); !status) {
-        std::cerr << "ocp_bench loop: cannot start the reference Streamer: " << status.error().detail << "\n";
+  for (auto [reference, phase] : {std::pair{&bare, bare_streamer_phase}, std::pair{&timer, timer_streamer_phase}}) {
+    if (!reference->simulation) continue;
+    executor.call_at(start + phase, [&, reference] {
+      if (auto status = reference->simulation->start(); !status) {
+        std::cerr << "ocp_bench loop: cannot start a reference Streamer: " << status.error().detail << "\n";
         finish(1);
         return;
       }
-      timer_recorder = std::make_unique<LoopRecorder>(timer_simulation->streamer().events(), start);
+      reference->recorder = std::make_unique<LoopRecorder>(reference->simulation->streamer().events(), start);
     });
   }
   asio::signal_set signals(io, SIGINT, SIGTERM);
@@ -162,7 +173,8 @@ int run_loop(const LoopOptions& options) {
       if (recorder.connected_once()) {
         measure_start = now;
         if (options.compare) {
-          timer_client = std::make_unique<TimerClient>(timer_simulation->port());
+          bare_client = std::make_unique<BareClient>(bare.simulation->port());
+          timer_client = std::make_unique<TimerClient>(timer.simulation->port());
           // The floor's grid: floor_phase after a tick of the Streamer under test, ≥ 10 ms ahead.
           const SimTime first_send = now + Micros{10'000} - (now - start) % Micros{10'000} + floor_phase;
           floor = std::make_unique<FloorEcho>(executor.to_steady(first_send));
@@ -196,6 +208,7 @@ int run_loop(const LoopOptions& options) {
   LoopResult result;
   result.child_exit = launch ? child.poll() : std::nullopt;
   child.stop();
+  if (bare_client) bare_client->stop();
   if (timer_client) timer_client->stop();
   if (floor) floor->stop();
 
@@ -205,13 +218,18 @@ int run_loop(const LoopOptions& options) {
   result.duration_s = static_cast<double>((measure_end.value_or(executor.now()) - window_start).count()) / 1e6;
   const double since_start_s = static_cast<double>((measure_end.value_or(executor.now()) - start).count()) / 1e6;
   result.client = figures_from("client", recorder, since_start_s);
-  if (timer_recorder) result.timer_client = figures_from("timer_client (answers every 10 ms)", *timer_recorder, since_start_s);
+  if (bare.recorder) {
+    result.bare_client = figures_from("bare_client (blocking read, answers at once)", *bare.recorder, since_start_s);
+  }
+  if (timer.recorder) result.timer_client = figures_from("timer_client (answers every 10 ms)", *timer.recorder, since_start_s);
   if (floor) {
     result.floor_echo_delays_us = floor->round_trips_us();
     result.floor_echo_us = summarize(result.floor_echo_delays_us);
   }
   simulation.stop();
-  if (timer_simulation) timer_simulation->stop();
+  for (Reference* reference : {&bare, &timer}) {
+    if (reference->simulation) reference->simulation->stop();
+  }
 
   print_table(std::cout, result);
   if (!options.json_path.empty() && !write_file(options.json_path, to_json(result))) {

@@ -59,6 +59,21 @@ std::string client_json(const ClientFigures& figures) {
       json_summary(figures.latency_ms), json_summary(figures.tick_lateness_us), figures.connections, faults);
 }
 
+// The references the client is divided by, in the order they are printed.
+struct RatioRow {
+  std::string label;   // terminal
+  std::string key;     // JSON: echo_p50_vs_<key>
+  Summary reference;
+};
+
+std::vector<RatioRow> ratio_rows(const LoopResult& result) {
+  std::vector<RatioRow> rows;
+  if (result.floor_echo_us) rows.push_back({"vs machine floor", "floor", *result.floor_echo_us});
+  if (result.bare_client) rows.push_back({"vs bare client (same Streamer)", "bare_client", result.bare_client->echo_us});
+  if (result.timer_client) rows.push_back({"vs 10 ms timer client", "timer_client", result.timer_client->echo_us});
+  return rows;
+}
+
 }  // namespace
 
 void print_table(std::ostream& out, const LoopResult& result) {
@@ -66,20 +81,20 @@ void print_table(std::ostream& out, const LoopResult& result) {
                      result.command.empty() ? "" : " — " + result.command);
   if (result.child_exit) out << fmt::format("client process exited early with status {}\n", *result.child_exit);
   print_client(out, result.client);
+  if (result.bare_client) print_client(out, *result.bare_client);
   if (result.timer_client) print_client(out, *result.timer_client);
   if (result.floor_echo_us) {
     out << "machine floor (bare blocking-socket echo)\n";
     print_summary_row(out, "echo round trip", *result.floor_echo_us, 1.0, "µs");
   }
-  if (result.floor_echo_us && result.timer_client) {
-    const Summary& client = result.client.echo_us;
-    out << "client echo delay as a ratio (same run)\n";
-    out << fmt::format("  {:<34} {:>9} {:>9} {:>9}\n", "", "p50", "p99", "max");
-    out << fmt::format("  {:<34} {:>8.2f}× {:>8.2f}× {:>8.2f}×\n", "vs machine floor", ratio(client.p50, result.floor_echo_us->p50),
-                       ratio(client.p99, result.floor_echo_us->p99), ratio(client.max, result.floor_echo_us->max));
-    const Summary& timer = result.timer_client->echo_us;
-    out << fmt::format("  {:<34} {:>8.2f}× {:>8.2f}× {:>8.2f}×\n", "vs 10 ms timer client", ratio(client.p50, timer.p50),
-                       ratio(client.p99, timer.p99), ratio(client.max, timer.max));
+  const std::vector<RatioRow> rows = ratio_rows(result);
+  if (rows.empty()) return;
+  const Summary& client = result.client.echo_us;
+  out << "client echo delay as a ratio (same run)\n";
+  out << fmt::format("  {:<34} {:>9} {:>9} {:>9}\n", "", "p50", "p99", "max");
+  for (const RatioRow& row : rows) {
+    out << fmt::format("  {:<34} {:>8.2f}× {:>8.2f}× {:>8.2f}×\n", row.label, ratio(client.p50, row.reference.p50),
+                       ratio(client.p99, row.reference.p99), ratio(client.max, row.reference.max));
   }
 }
 
@@ -90,14 +105,18 @@ std::string to_json(const LoopResult& result) {
                       result.child_exit ? std::to_string(*result.child_exit) : "null", result.faults_after_connect(),
                       client_json(result.client));
   if (result.floor_echo_us) json += fmt::format(R"(,"floor_echo_us":{})", json_summary(*result.floor_echo_us));
+  if (result.bare_client) json += fmt::format(R"(,"bare_client":{})", client_json(*result.bare_client));
   if (result.timer_client) json += fmt::format(R"(,"timer_client":{})", client_json(*result.timer_client));
-  if (result.floor_echo_us && result.timer_client) {
+  const std::vector<RatioRow> rows = ratio_rows(result);
+  if (!rows.empty()) {
     const Summary& client = result.client.echo_us;
-    json += fmt::format(R"(,"ratios":{{"echo_p50_vs_floor":{},"echo_p99_vs_floor":{},"echo_p50_vs_timer_client":{},"echo_p99_vs_timer_client":{}}})",
-                        json_number(ratio(client.p50, result.floor_echo_us->p50)),
-                        json_number(ratio(client.p99, result.floor_echo_us->p99)),
-                        json_number(ratio(client.p50, result.timer_client->echo_us.p50)),
-                        json_number(ratio(client.p99, result.timer_client->echo_us.p99)));
+    std::string ratios;
+    for (const RatioRow& row : rows) {
+      ratios += fmt::format(R"({}"echo_p50_vs_{}":{},"echo_p99_vs_{}":{})", ratios.empty() ? "" : ",", row.key,
+                            json_number(ratio(client.p50, row.reference.p50)), row.key,
+                            json_number(ratio(client.p99, row.reference.p99)));
+    }
+    json += R"(,"ratios":{)" + ratios + "}";
   }
   return json + "}\n";
 }
@@ -105,6 +124,7 @@ std::string to_json(const LoopResult& result) {
 std::string to_html(const LoopResult& result) {
   std::vector<HistogramSeries> histogram{{result.client.name, "#1f77b4", result.client.echo_delays_us}};
   if (result.floor_echo_us) histogram.push_back({"machine floor", "#2ca02c", result.floor_echo_delays_us});
+  if (result.bare_client) histogram.push_back({"bare client", "#ff7f0e", result.bare_client->echo_delays_us});
   if (result.timer_client) histogram.push_back({"10 ms timer client", "#d62728", result.timer_client->echo_delays_us});
   ChartOptions histogram_options;
   histogram_options.title = "Echo delay: control frame out → first response with its pair";
@@ -117,6 +137,9 @@ std::string to_html(const LoopResult& result) {
     return points;
   };
   std::vector<XySeries> echo_series{{result.client.name, "#1f77b4", to_points(result.client.echo_series_us), true}};
+  if (result.bare_client) {
+    echo_series.push_back({"bare client", "#ff7f0e", to_points(result.bare_client->echo_series_us), true});
+  }
   if (result.timer_client) {
     echo_series.push_back({"10 ms timer client", "#d62728", to_points(result.timer_client->echo_series_us), true});
   }

@@ -11,7 +11,7 @@ namespace ocp::bench {
 
 // One Streamer and the client that answered it.
 struct ClientFigures {
-  std::string name;                  // "client", "timer_client"
+  std::string name;                  // "client", "bare_client", "timer_client"
   Summary echo_us;                   // control frame out → first response with its pair
   std::uint64_t control_frames = 0;
   std::uint64_t responses = 0;
@@ -35,6 +35,7 @@ struct LoopResult {
   ClientFigures client;
   std::optional<Summary> floor_echo_us;        // --compare: bare blocking-socket echo
   std::vector<double> floor_echo_delays_us;
+  std::optional<ClientFigures> bare_client;    // --compare: blocking read, answers at once
   std::optional<ClientFigures> timer_client;   // --compare: answers on its own 10 ms timer
   // Faults raised once the client was connected (clears, and what the Streamer raised while
   // alone, do not count).

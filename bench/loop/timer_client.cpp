@@ -12,8 +12,7 @@
 #include <optional>
 #include <string>
 
-#include "ocp/frame.hpp"
-#include "ocp/json_codec.hpp"
+#include "reference_response.hpp"
 
 namespace ocp::bench {
 
@@ -41,13 +40,8 @@ class Session {
         timer_.cancel();
         return;
       }
-      std::string_view input(buffer_.data(), size);
-      while (!input.empty()) {
-        FrameEvent event;
-        input.remove_prefix(decoder_.put(input, event));
-        if (event.kind != FrameEvent::Kind::frame) continue;
-        if (auto message = decode_control_message(event.payload)) newest_ = message->ack;
-      }
+      for_each_control_pair(decoder_, std::string_view(buffer_.data(), size),
+                            [this](const AckPair& pair) { newest_ = pair; });
       read();
     });
   }
@@ -67,12 +61,7 @@ class Session {
   }
 
   void answer(const AckPair& pair) {
-    VehicleResponseMessage response;
-    response.ack = pair;
-    payload_.clear();
-    encode_vehicle_response(response, payload_);
-    frame_.clear();
-    if (!append_frame(payload_, frame_)) return;
+    if (!frame_response(pair, payload_, frame_)) return;
     boost::system::error_code error;
     asio::write(socket_, asio::buffer(frame_), error);   // a few hundred bytes: never blocks
   }
