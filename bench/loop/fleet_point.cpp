@@ -9,12 +9,15 @@
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/post.hpp>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <functional>
 #include <memory>
 #include <optional>
 #include <thread>
 
+#include "kernel_floor.hpp"
 #include "ocp/asio_executor.hpp"
 #include "ocp/virtual_executor.hpp"
 #include "process_usage.hpp"
@@ -78,6 +81,8 @@ void take_figures(FleetPointResult& result, const FleetRecorder& recorder) {
   result.echo_p99_us = echoes.p99;
   result.responses = recorder.responses();
   result.connections = recorder.connections();
+  result.control_bytes = recorder.mean_control_bytes();
+  result.response_bytes = recorder.mean_response_bytes();
   for (std::size_t id = 0; id < fault_count; ++id) result.faults_raised[id] = recorder.faults_raised()[id];
 }
 
@@ -277,6 +282,25 @@ FleetPointResult run_virtual(const FleetPointOptions& options, FleetPointResult 
   return result;
 }
 
+// After the window and with the point's sockets closed, so it is neither in the point's cpu_s
+// nor competing with it.
+void add_kernel_floor(const FleetPointOptions& options, FleetPointResult& result) {
+  if (result.control_bytes < 1 || result.response_bytes < 1) {
+    std::snprintf(result.kernel_floor_error, sizeof result.kernel_floor_error, "no frames recorded to size it on");
+    return;
+  }
+  const KernelFloor floor =
+      measure_kernel_floor(options.vehicles, static_cast<std::size_t>(std::lround(result.control_bytes)),
+                           static_cast<std::size_t>(std::lround(result.response_bytes)), options.kernel_floor_s);
+  if (!floor.ok) {
+    std::snprintf(result.kernel_floor_error, sizeof result.kernel_floor_error, "%s", floor.error.c_str());
+    return;
+  }
+  result.kernel_floor_measured = true;
+  result.kernel_floor_us_per_vehicle_tick = floor.us_per_vehicle_tick;
+  result.kernel_floor_cpu_per_s = floor.cpu_per_s_at_100hz;
+}
+
 }  // namespace
 
 FleetPointResult run_fleet_point(const FleetPointOptions& options) {
@@ -287,6 +311,7 @@ FleetPointResult run_fleet_point(const FleetPointOptions& options) {
   result.control_tick_slots = static_cast<int>(options.control_tick_slots);
   result.streamer_threads = options.mode == FleetMode::loopback ? options.streamer_threads : 0;
   result = options.mode == FleetMode::loopback ? run_loopback(options, result) : run_virtual(options, result);
+  if (result.ok && options.mode == FleetMode::loopback && options.kernel_floor_s > 0) add_kernel_floor(options, result);
   if (result.ok) {
     result.cpu_per_simulated_s = result.window_s > 0 ? result.cpu_s / result.window_s : 0;
     result.simulated_per_wall_s = result.wall_s > 0 ? result.window_s / result.wall_s : 0;

@@ -1,0 +1,46 @@
+# ctest: a tiny `ocp_bench fleet` loopback point reports the kernel floor (the kernel's TCP cost
+# of the same traffic, measured after the point) with the machine's cores, and --no-kernel-floor
+# leaves it out.
+# Run as: cmake -DOCP_BENCH=… -DOUT_DIR=… -P fleet_kernel_floor.cmake
+function(run_fleet json_file)
+  file(REMOVE ${json_file})
+  execute_process(
+    COMMAND ${OCP_BENCH} fleet --loopback 2 --virtual 0 --window-s 0.5 --warm-up-s 0.2 --json ${json_file} ${ARGN}
+    RESULT_VARIABLE exit_code OUTPUT_VARIABLE output ERROR_VARIABLE errors TIMEOUT 90)
+  if(NOT exit_code EQUAL 0)
+    message(FATAL_ERROR "ocp_bench fleet ${ARGN} exited with ${exit_code}\n${output}\n${errors}")
+  endif()
+  file(READ ${json_file} json)
+  string(JSON ok GET "${json}" points 0 ok)
+  if(NOT ok)
+    message(FATAL_ERROR "the point failed\n${output}")
+  endif()
+  set(json "${json}" PARENT_SCOPE)
+  set(output "${output}" PARENT_SCOPE)
+endfunction()
+
+run_fleet(${OUT_DIR}/ocp_bench_fleet_floor.json)
+string(JSON cores GET "${json}" cores)
+if(NOT cores GREATER 0)
+  message(FATAL_ERROR "cores: ${cores}\n${json}")
+endif()
+foreach(field kernel_floor_cpu_per_s kernel_floor_us_per_vehicle_tick control_bytes response_bytes)
+  string(JSON value GET "${json}" points 0 ${field})
+  if(NOT value GREATER 0)
+    message(FATAL_ERROR "${field} is ${value}, expected > 0\n${json}")
+  endif()
+endforeach()
+if(NOT output MATCHES "kernel TCP alone")
+  message(FATAL_ERROR "no kernel floor line in the report\n${output}")
+endif()
+
+run_fleet(${OUT_DIR}/ocp_bench_fleet_no_floor.json --no-kernel-floor)
+foreach(field kernel_floor_cpu_per_s kernel_floor_us_per_vehicle_tick)
+  string(JSON type TYPE "${json}" points 0 ${field})
+  if(NOT type STREQUAL "NULL")
+    message(FATAL_ERROR "--no-kernel-floor: ${field} is ${type}, expected null\n${json}")
+  endif()
+endforeach()
+if(output MATCHES "kernel TCP alone")
+  message(FATAL_ERROR "--no-kernel-floor still reports a kernel floor\n${output}")
+endif()
