@@ -48,6 +48,9 @@ CLI::App* add_fleet_command(CLI::App& app, FleetOptions& options) {
   fleet->add_flag("--no-kernel-floor{false}", options.kernel_floor,
                   "loopback points: skip the kernel floor (the kernel's TCP cost of the same traffic, no simulator,\n"
                   "one thread, measured after the point's window)");
+  fleet->add_flag("--no-codec-floor{false}", options.codec_floor,
+                  "virtual points: skip the codec floor (the wire codec and MAC work of the same fleet alone,\n"
+                  "measured after the point's window)");
   fleet->add_flag("--in-process", options.in_process, "run the points in this process, not forked children (for profilers)");
   fleet->add_option("--json", options.json_path, "write the points as JSON to FILE");
   fleet->add_option("--svg", options.svg_path, "write the scale curve as SVG to FILE");
@@ -142,10 +145,10 @@ std::string fault_summary(const FleetPointResult& point) {
 
 void print_header(std::ostream& out) {
   out << fmt::format("{:<9} {:>6} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>10} {:>9} {:>9} {:>9}  {}\n", "mode", "N",
-                     "ticks", "tick p50", "tick p99", "tick max", "echo p50", "echo p99", "CPU s/s", "kernel TCP", "sim/wall",
+                     "ticks", "tick p50", "tick p99", "tick max", "echo p50", "echo p99", "CPU s/s", "floor", "sim/wall",
                      "KiB/veh", "marginal", "faults raised");
   out << fmt::format("{:<9} {:>6} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>10} {:>9} {:>9} {:>9}\n", "", "", "run %", "µs",
-                     "µs", "µs", "µs", "µs", "(CPU/sim)", "alone s/s", "", "", "KiB/veh");
+                     "µs", "µs", "µs", "µs", "(CPU/sim)", "CPU s/s", "", "", "KiB/veh");
 }
 
 // Control ticks that ran ÷ those due (N × 100 Hz over the window). A saturated executor
@@ -162,7 +165,10 @@ void print_point(std::ostream& out, const FleetPointResult& point) {
     return;
   }
   const std::string mode = fleet_mode_name(point.mode) + (point.observed ? "" : "*");
-  const std::string floor = point.kernel_floor_measured ? fmt::format("{:.3f}", point.kernel_floor_cpu_per_s) : "-";
+  // Loopback: the kernel's TCP alone; virtual: the codec alone (print_floors says which).
+  const std::string floor = point.kernel_floor_measured  ? fmt::format("{:.3f}", point.kernel_floor_cpu_per_s)
+                            : point.codec_floor_measured ? fmt::format("{:.3f}", point.codec_floor_cpu_per_s)
+                                                         : "-";
   out << fmt::format("{:<9} {:>6} {:>6.1f} {:>9.0f} {:>9.0f} {:>9.0f} {:>9.0f} {:>9.0f} {:>10.3f} {:>10} {:>9.2f} {:>9.1f} {:>9.1f}  {}\n",
                      mode, point.vehicles, 100.0 * ticks_run_share(point), point.tick_p50_us, point.tick_p99_us,
                      point.tick_max_us, point.echo_p50_us, point.echo_p99_us, point.cpu_per_simulated_s, floor,
@@ -170,26 +176,34 @@ void print_point(std::ostream& out, const FleetPointResult& point) {
                      fault_summary(point));
 }
 
-// The kernel floor against the machine: how much of the cores the traffic alone takes.
-void print_kernel_floors(std::ostream& out, const std::vector<FleetPointResult>& points, int cores) {
+// The floors against the machine and the point: how much of the cores the kernel's TCP alone
+// takes (loopback), how much of the point's CPU the codec alone is (virtual).
+void print_floors(std::ostream& out, const std::vector<FleetPointResult>& points, int cores) {
   for (const auto& point : points) {
-    if (!point.ok || point.mode != FleetMode::loopback) continue;
-    if (!point.kernel_floor_measured) {
-      if (point.kernel_floor_error[0] != '\0') {
-        out << fmt::format("loopback N={}: kernel floor not measured: {}\n", point.vehicles, point.kernel_floor_error);
-      }
-      continue;
+    if (!point.ok) continue;
+    const std::string name = fmt::format("{} N={}", fleet_mode_name(point.mode), point.vehicles);
+    if (point.kernel_floor_measured) {
+      out << fmt::format(
+          "{}: kernel TCP alone (one thread, {:.0f}-byte frames out, {:.0f} back, no simulator): {:.1f} µs CPU per "
+          "vehicle-tick = {:.3g} CPU s/s of {} cores ({:.0f} %); the point used {:.3g} CPU s/s and ran {:.1f} % of its ticks\n",
+          name, point.control_bytes, point.response_bytes, point.kernel_floor_us_per_vehicle_tick,
+          point.kernel_floor_cpu_per_s, cores, 100.0 * point.kernel_floor_cpu_per_s / cores, point.cpu_per_simulated_s,
+          100.0 * ticks_run_share(point));
+    } else if (point.codec_floor_measured) {
+      out << fmt::format(
+          "{}: codec alone (control encode + decode, response encode + decode, MAC issue + verify): {:.2f} µs CPU per "
+          "vehicle cycle = {:.3g} CPU s per simulated s ({:.0f} % of the point's {:.3g})\n",
+          name, point.codec_floor_us_per_vehicle_cycle, point.codec_floor_cpu_per_s,
+          100.0 * point.codec_floor_cpu_per_s / point.cpu_per_simulated_s, point.cpu_per_simulated_s);
     }
-    out << fmt::format(
-        "loopback N={}: kernel TCP alone (one thread, {:.0f}-byte frames out, {:.0f} back, no simulator): {:.1f} µs CPU "
-        "per vehicle-tick = {:.3g} CPU s/s of {} cores ({:.0f} %); the point used {:.3g} CPU s/s and ran {:.1f} % of its ticks\n",
-        point.vehicles, point.control_bytes, point.response_bytes, point.kernel_floor_us_per_vehicle_tick,
-        point.kernel_floor_cpu_per_s, cores, 100.0 * point.kernel_floor_cpu_per_s / cores, point.cpu_per_simulated_s,
-        100.0 * ticks_run_share(point));
+    for (const char* error : {point.kernel_floor_error, point.codec_floor_error}) {
+      if (error[0] != '\0') out << fmt::format("{}: floor not measured: {}\n", name, error);
+    }
   }
 }
 
 std::string optional_number(bool present, double value) { return present ? json_number(value) : "null"; }
+std::string optional_string(const char* text) { return text[0] != '\0' ? json_string(text) : "null"; }
 
 std::string point_json(const FleetPointResult& point) {
   std::string faults = "{";
@@ -203,7 +217,8 @@ std::string point_json(const FleetPointResult& point) {
       R"({{"mode":"{}","vehicles":{},"streamer_threads":{},"tick_slots":{},"observed":{},"ok":{},"error":{},"window_s":{},"wall_s":{},"cpu_s":{},"cpu_per_simulated_s":{},)"
       R"("simulated_per_wall_s":{},"rss_base_kib":{},"rss_end_kib":{},"kib_per_vehicle":{},"marginal_kib_per_vehicle":{},"tick_lateness_us":{{"p50":{},"p99":{},"max":{},"count":{}}},"ticks_run_share":{},)"
       R"("echo_delay_us":{{"p50":{},"p99":{},"count":{}}},"responses":{},"connections":{},"faults_raised":{},)"
-      R"("control_bytes":{},"response_bytes":{},"kernel_floor_cpu_per_s":{},"kernel_floor_us_per_vehicle_tick":{},"kernel_floor_error":{}}})",
+      R"("control_bytes":{},"response_bytes":{},"kernel_floor_cpu_per_s":{},"kernel_floor_us_per_vehicle_tick":{},"kernel_floor_error":{},)"
+      R"("codec_floor_cpu_per_simulated_s":{},"codec_floor_us_per_vehicle_cycle":{},"codec_floor_error":{}}})",
       fleet_mode_name(point.mode), point.vehicles, point.streamer_threads, point.control_tick_slots, point.observed, point.ok, json_string(point.error), json_number(point.window_s),
       json_number(point.wall_s), json_number(point.cpu_s), json_number(point.cpu_per_simulated_s),
       json_number(point.simulated_per_wall_s), json_number(point.rss_base_kib), json_number(point.rss_end_kib),
@@ -212,7 +227,9 @@ std::string point_json(const FleetPointResult& point) {
       point.echoes, point.responses, point.connections, faults, json_number(point.control_bytes),
       json_number(point.response_bytes), optional_number(point.kernel_floor_measured, point.kernel_floor_cpu_per_s),
       optional_number(point.kernel_floor_measured, point.kernel_floor_us_per_vehicle_tick),
-      point.kernel_floor_error[0] != '\0' ? json_string(point.kernel_floor_error) : "null");
+      optional_string(point.kernel_floor_error), optional_number(point.codec_floor_measured, point.codec_floor_cpu_per_s),
+      optional_number(point.codec_floor_measured, point.codec_floor_us_per_vehicle_cycle),
+      optional_string(point.codec_floor_error));
 }
 
 // Three charts stacked in one SVG file.
@@ -224,12 +241,11 @@ std::string scale_svg(const std::vector<FleetPointResult>& points, int cores) {
     }
     return one;
   };
-  XySeries kernel_floor{"kernel TCP alone", "#1f77b4", {}, false, true};
-  for (const auto& point : points) {
-    if (point.kernel_floor_measured) {
-      kernel_floor.points.push_back({static_cast<double>(point.vehicles), point.kernel_floor_cpu_per_s});
-    }
-  }
+  XySeries kernel_floor = series(FleetMode::loopback, "kernel TCP alone", "#1f77b4",
+                                 [](auto& p) { return p.kernel_floor_measured ? p.kernel_floor_cpu_per_s : 0.0; });
+  XySeries codec_floor = series(FleetMode::virtual_time, "codec alone", "#2ca02c",
+                                [](auto& p) { return p.codec_floor_measured ? p.codec_floor_cpu_per_s : 0.0; });
+  kernel_floor.dashed = codec_floor.dashed = true;
   // The machine's cores as a horizontal line across the vehicle counts plotted.
   XySeries core_line{fmt::format("{} cores", cores), "#7f7f7f", {}, false, true};
   for (const auto& point : points) {
@@ -261,7 +277,7 @@ std::string scale_svg(const std::vector<FleetPointResult>& points, int cores) {
                latency),
       xy_chart({series(FleetMode::loopback, "loopback", "#1f77b4", [](auto& p) { return p.cpu_per_simulated_s; }),
                 series(FleetMode::virtual_time, "virtual time", "#2ca02c", [](auto& p) { return p.cpu_per_simulated_s; }),
-                kernel_floor, core_line},
+                kernel_floor, codec_floor, core_line},
                cpu),
       xy_chart({series(FleetMode::loopback, "loopback ÷ N", "#1f77b4", [](auto& p) { return p.kib_per_vehicle; }),
                 series(FleetMode::loopback, "loopback marginal", "#aec7e8", [](auto& p) { return p.marginal_kib_per_vehicle; }),
@@ -287,11 +303,12 @@ int run_fleet(const FleetOptions& options) {
   for (const int vehicles : options.loopback_vehicles) {
     if (vehicles == 0) continue;
     plan.push_back({FleetMode::loopback, vehicles, options.warm_up_s, options.window_s, 60.0, true, options.streamer_threads,
-                    static_cast<std::size_t>(options.tick_slots), options.kernel_floor ? 0.4 : 0.0});
+                    static_cast<std::size_t>(options.tick_slots), options.kernel_floor ? 0.4 : 0.0, 0.0});
   }
   for (const int vehicles : options.virtual_vehicles) {
     if (vehicles == 0) continue;
-    plan.push_back({FleetMode::virtual_time, vehicles, options.warm_up_s, options.simulated_s, 60.0, !options.unobserved, 0, 0, 0.0});
+    plan.push_back({FleetMode::virtual_time, vehicles, options.warm_up_s, options.simulated_s, 60.0, !options.unobserved, 0, 0, 0.0,
+                    options.codec_floor ? 0.4 : 0.0});
   }
   const int cores = usable_cores();
   print_header(std::cout);
@@ -303,7 +320,7 @@ int run_fleet(const FleetOptions& options) {
     print_point(std::cout, points.back());
     std::cout.flush();
   }
-  print_kernel_floors(std::cout, points, cores);
+  print_floors(std::cout, points, cores);
   if (options.unobserved) std::cout << "* unobserved: no event subscription, so no latency or fault figures\n";
   int exit_code = 0;
   if (!options.json_path.empty()) {

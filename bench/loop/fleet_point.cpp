@@ -17,6 +17,7 @@
 #include <optional>
 #include <thread>
 
+#include "codec_floor.hpp"
 #include "kernel_floor.hpp"
 #include "ocp/asio_executor.hpp"
 #include "ocp/virtual_executor.hpp"
@@ -255,6 +256,23 @@ FleetPointResult run_loopback(const FleetPointOptions& options, FleetPointResult
   return result;
 }
 
+// After the window, with the World stopped: neither in the point's cpu_s nor sharing its caches.
+void add_codec_floor(const FleetPointOptions& options, const FleetRecorder& recorder, FleetPointResult& result) {
+  if (recorder.sample_control().empty() || recorder.sample_response().empty()) {
+    std::snprintf(result.codec_floor_error, sizeof result.codec_floor_error, "no frames recorded to take as samples");
+    return;
+  }
+  const CodecFloor floor =
+      measure_codec_floor(options.vehicles, recorder.sample_control(), recorder.sample_response(), options.codec_floor_s);
+  if (!floor.ok) {
+    std::snprintf(result.codec_floor_error, sizeof result.codec_floor_error, "%s", floor.error.c_str());
+    return;
+  }
+  result.codec_floor_measured = true;
+  result.codec_floor_us_per_vehicle_cycle = floor.us_per_vehicle_cycle;
+  result.codec_floor_cpu_per_s = floor.cpu_per_simulated_s;
+}
+
 FleetPointResult run_virtual(const FleetPointOptions& options, FleetPointResult result) {
   result.rss_base_kib = resident_kib();
   VirtualExecutor executor;
@@ -277,7 +295,10 @@ FleetPointResult run_virtual(const FleetPointOptions& options, FleetPointResult 
   result.rss_end_kib = resident_kib();
   result.window_s = options.window_s;
   world.stop();
-  if (recorder) take_figures(result, *recorder);
+  if (recorder) {
+    take_figures(result, *recorder);
+    if (options.codec_floor_s > 0) add_codec_floor(options, *recorder, result);
+  }
   result.ok = true;
   return result;
 }

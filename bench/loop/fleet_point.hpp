@@ -33,6 +33,9 @@ struct FleetPointOptions {
   // Loopback: seconds of kernel-floor rounds (kernel_floor.hpp) run after the point's window,
   // once its sockets are closed, with frames of the sizes the point sent; 0: not measured.
   double kernel_floor_s = 0.4;
+  // Virtual, observed: seconds of codec-floor rounds (codec_floor.hpp) run after the window on
+  // message samples the point sent; 0: not measured.
+  double codec_floor_s = 0.4;
 };
 
 // Trivially copyable: written as bytes through a pipe.
@@ -60,6 +63,11 @@ struct FleetPointResult {
   char kernel_floor_error[120] = {};
   double kernel_floor_us_per_vehicle_tick = 0;
   double kernel_floor_cpu_per_s = 0;               // CPU s per wall s at 100 Hz × vehicles
+  // Codec floor (virtual): CPU of the wire codec and MAC work alone for this fleet.
+  bool codec_floor_measured = false;
+  char codec_floor_error[120] = {};
+  double codec_floor_us_per_vehicle_cycle = 0;
+  double codec_floor_cpu_per_s = 0;                // CPU s per simulated s
   std::uint64_t faults_raised[fault_count] = {};
   std::uint64_t faults_total() const;
 };

@@ -24,6 +24,8 @@ void FleetRecorder::merge(const FleetRecorder& other) {
   control_frames_ += other.control_frames_;
   control_bytes_ += other.control_bytes_;
   response_bytes_ += other.response_bytes_;
+  if (sample_control_.empty()) sample_control_ = other.sample_control_;
+  if (sample_response_.empty()) sample_response_ = other.sample_response_;
 }
 
 void FleetRecorder::on_event(const Event& event, std::size_t vehicle) {
@@ -57,6 +59,7 @@ void FleetRecorder::on_frame(std::size_t vehicle, const WireFrame& frame, SimTim
     if (recording) {
       ++control_frames_;
       control_bytes_ += wire_bytes;
+      if (sample_control_.empty()) sample_control_ = frame.payload;
     }
     pending.emplace_back(frame.ack->ack_time, at);
     if (pending.size() > 256) pending.pop_front();   // a vehicle that stopped answering
@@ -65,6 +68,7 @@ void FleetRecorder::on_frame(std::size_t vehicle, const WireFrame& frame, SimTim
   if (recording) {
     ++responses_;
     response_bytes_ += wire_bytes;
+    if (sample_response_.empty()) sample_response_ = frame.payload;
   }
   const std::uint64_t ack_time = frame.ack->ack_time;
   while (!pending.empty() && pending.front().first < ack_time) pending.pop_front();

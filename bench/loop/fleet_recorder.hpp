@@ -43,6 +43,10 @@ class FleetRecorder {
   // in; 0 when none was recorded. The kernel floor (kernel_floor.hpp) sends frames of these sizes.
   double mean_control_bytes() const { return mean(control_bytes_, control_frames_); }
   double mean_response_bytes() const { return mean(response_bytes_, responses_); }
+  // The first control message and vehicle response payloads recorded (the codec floor's
+  // samples, codec_floor.hpp); empty if none.
+  const std::string& sample_control() const { return sample_control_; }
+  const std::string& sample_response() const { return sample_response_; }
 
  private:
   static double mean(std::uint64_t total, std::uint64_t count) {
@@ -60,6 +64,7 @@ class FleetRecorder {
   std::atomic<std::uint64_t> connections_ = 0;
   std::uint64_t responses_ = 0;
   std::uint64_t control_frames_ = 0, control_bytes_ = 0, response_bytes_ = 0;
+  std::string sample_control_, sample_response_;
   std::atomic<bool> recording_ = false;
   std::vector<EventBus::Subscription> subscriptions_;   // last: unsubscribe first
 };

@@ -5,29 +5,24 @@
 #include <netinet/tcp.h>
 #include <sched.h>
 #include <sys/resource.h>
-#include <time.h>
 #include <sys/socket.h>
 #include <unistd.h>
+
+#include <fmt/format.h>
 
 #include <cerrno>
 #include <chrono>
 #include <cstring>
-#include <fmt/format.h>
 #include <thread>
 #include <vector>
+
+#include "process_usage.hpp"
 
 namespace ocp::bench {
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-// This thread's user + system CPU: the rounds run on it alone.
-double thread_cpu_seconds() {
-  timespec now{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
-  return static_cast<double>(now.tv_sec) + static_cast<double>(now.tv_nsec) / 1e9;
-}
 
 // Closes every descriptor it holds when it goes.
 struct Sockets {

@@ -1,6 +1,8 @@
 #pragma once
-// What the process has used so far: CPU seconds (user + system, all threads) and resident size.
+// What the process has used so far: CPU seconds (user + system, all threads, or the calling
+// thread alone) and resident size.
 #include <sys/resource.h>
+#include <time.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -13,6 +15,12 @@ inline double process_cpu_seconds() {
   getrusage(RUSAGE_SELF, &usage);
   return static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
          static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec) / 1e6;
+}
+
+inline double thread_cpu_seconds() {
+  timespec now{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) + static_cast<double>(now.tv_nsec) / 1e9;
 }
 
 // VmRSS from /proc/self/status in KiB; 0 when unavailable.
