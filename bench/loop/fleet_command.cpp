@@ -185,10 +185,11 @@ void print_floors(std::ostream& out, const std::vector<FleetPointResult>& points
     if (point.kernel_floor_measured) {
       out << fmt::format(
           "{}: kernel TCP alone (one thread, {:.0f}-byte frames out, {:.0f} back, no simulator): {:.1f} µs CPU per "
-          "vehicle-tick = {:.3g} CPU s/s of {} cores ({:.0f} %); the point used {:.3g} CPU s/s and ran {:.1f} % of its ticks\n",
+          "vehicle-tick = {:.3g} CPU s/s of {} cores ({:.0f} %); the point used {:.3g} CPU s/s and ran {:.1f} % of its ticks, "
+          "{:.1f} µs CPU per vehicle-tick run\n",
           name, point.control_bytes, point.response_bytes, point.kernel_floor_us_per_vehicle_tick,
           point.kernel_floor_cpu_per_s, cores, 100.0 * point.kernel_floor_cpu_per_s / cores, point.cpu_per_simulated_s,
-          100.0 * ticks_run_share(point));
+          100.0 * ticks_run_share(point), point.ticks ? point.cpu_s * 1e6 / static_cast<double>(point.ticks) : 0.0);
     } else if (point.codec_floor_measured) {
       out << fmt::format(
           "{}: codec alone (control encode + decode, response encode + decode, MAC issue + verify): {:.2f} µs CPU per "
