@@ -187,6 +187,8 @@ FleetPointResult run_loopback(const FleetPointOptions& options, FleetPointResult
   // arena lock, and the threads sleep on it (1 000 vehicles, load ≈ 6.6, 2026-11-22: 0.67 CPU
   // s/s and 5.5 % of the ticks run with an arena per thread, 1.2–1.3 CPU s/s and 16 % with one).
   mallopt(M_ARENA_MAX, 1);
+  // Per vehicle: the Streamer's listening and accepted sockets and the client's.
+  make_room_for_descriptors(3 * static_cast<std::size_t>(options.vehicles));
   result.rss_base_kib = resident_kib();
   boost::asio::io_context io;
   AsioExecutor executor(io);
@@ -256,7 +258,7 @@ FleetPointResult run_loopback(const FleetPointOptions& options, FleetPointResult
   return result;
 }
 
-// After the window, with the World stopped: neither in the point's cpu_s nor sharing its caches.
+// After the window (so not in the point's cpu_s), with the World stopped.
 void add_codec_floor(const FleetPointOptions& options, const FleetRecorder& recorder, FleetPointResult& result) {
   if (recorder.sample_control().empty() || recorder.sample_response().empty()) {
     std::snprintf(result.codec_floor_error, sizeof result.codec_floor_error, "no frames recorded to take as samples");

@@ -4,12 +4,13 @@
 #include <netinet/in.h>
 #include <netinet/tcp.h>
 #include <sched.h>
-#include <sys/resource.h>
 #include <sys/socket.h>
+#include <sys/time.h>
 #include <unistd.h>
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstring>
@@ -31,18 +32,6 @@ struct Sockets {
     for (const int fd : fds) close(fd);
   }
 };
-
-// Room for `needed` more descriptors: the soft RLIMIT_NOFILE raised up to the hard one if not.
-bool make_room_for(std::size_t needed) {
-  rlimit limit{};
-  if (getrlimit(RLIMIT_NOFILE, &limit) != 0) return false;
-  const rlim_t wanted = needed + 64;   // beside what the process already holds (few after a point)
-  if (limit.rlim_cur != RLIM_INFINITY && limit.rlim_cur < wanted) {
-    limit.rlim_cur = limit.rlim_max == RLIM_INFINITY ? wanted : std::min<rlim_t>(limit.rlim_max, wanted);
-    setrlimit(RLIMIT_NOFILE, &limit);
-  }
-  return true;
-}
 
 // Sends or receives exactly `size` bytes on a blocking socket.
 bool send_all(int fd, const char* data, std::size_t size) {
@@ -75,7 +64,7 @@ KernelFloor measure_kernel_floor(int connections, std::size_t control_bytes, std
     floor.error = "nothing to measure";
     return floor;
   }
-  make_room_for(2 * static_cast<std::size_t>(connections) + 1);
+  make_room_for_descriptors(2 * static_cast<std::size_t>(connections) + 1);
   Sockets listener, servers, clients;   // servers[i] is the Streamer's end of clients[i]
   listener.fds.push_back(socket(AF_INET, SOCK_STREAM, 0));
   sockaddr_in address{};
@@ -89,6 +78,7 @@ KernelFloor measure_kernel_floor(int connections, std::size_t control_bytes, std
     return floor;
   }
   const int one = 1;
+  const timeval stuck{5, 0};   // a frame that has not arrived after this never will: an error, not a hang
   for (int index = 0; index < connections; ++index) {
     const int client = socket(AF_INET, SOCK_STREAM, 0);
     if (client < 0) {
@@ -106,8 +96,10 @@ KernelFloor measure_kernel_floor(int connections, std::size_t control_bytes, std
       return floor;
     }
     servers.fds.push_back(server);
-    setsockopt(client, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
-    setsockopt(server, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+    for (const int fd : {client, server}) {
+      setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+      setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &stuck, sizeof stuck);
+    }
   }
 
   const std::vector<char> control(control_bytes, 'c');
