@@ -13,6 +13,7 @@
 
 #include "fleet_point.hpp"
 #include "json_text.hpp"
+#include "kernel_floor.hpp"
 #include "ocp/faults.hpp"
 #include "svg_chart.hpp"
 #include "ocp/cli_checks.hpp"
@@ -44,6 +45,12 @@ CLI::App* add_fleet_command(CLI::App& app, FleetOptions& options) {
   fleet->add_option("--tick-slots", options.tick_slots,
                     "loopback: one shared control ticker per thread with this many slots over the 10 ms period (0: a timer per Streamer)")
       ->capture_default_str()->check(CLI::Range(0, 10000));
+  fleet->add_flag("--no-kernel-floor{false}", options.kernel_floor,
+                  "loopback points: skip the kernel floor (the kernel's TCP cost of the same traffic, no simulator,\n"
+                  "one thread, measured after the point's window)");
+  fleet->add_flag("--no-codec-floor{false}", options.codec_floor,
+                  "virtual points: skip the codec floor (the wire codec and MAC work of the same fleet alone,\n"
+                  "measured after the point's window)");
   fleet->add_flag("--in-process", options.in_process, "run the points in this process, not forked children (for profilers)");
   fleet->add_option("--json", options.json_path, "write the points as JSON to FILE");
   fleet->add_option("--svg", options.svg_path, "write the scale curve as SVG to FILE");
@@ -137,11 +144,11 @@ std::string fault_summary(const FleetPointResult& point) {
 }
 
 void print_header(std::ostream& out) {
-  out << fmt::format("{:<9} {:>6} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>9} {:>9}  {}\n", "mode", "N", "ticks",
-                     "tick p50", "tick p99", "tick max", "echo p50", "echo p99", "CPU s/s", "sim/wall", "KiB/veh", "marginal",
-                     "faults raised");
-  out << fmt::format("{:<9} {:>6} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>9} {:>9}\n", "", "", "run %", "µs", "µs",
-                     "µs", "µs", "µs", "(CPU/sim)", "", "", "KiB/veh");
+  out << fmt::format("{:<9} {:>6} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>10} {:>9} {:>9} {:>9}  {}\n", "mode", "N",
+                     "ticks", "tick p50", "tick p99", "tick max", "echo p50", "echo p99", "CPU s/s", "floor", "sim/wall",
+                     "KiB/veh", "marginal", "faults raised");
+  out << fmt::format("{:<9} {:>6} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>10} {:>9} {:>9} {:>9}\n", "", "", "run %", "µs",
+                     "µs", "µs", "µs", "µs", "(CPU/sim)", "CPU s/s", "", "", "KiB/veh");
 }
 
 // Control ticks that ran ÷ those due (N × 100 Hz over the window). A saturated executor
@@ -158,12 +165,46 @@ void print_point(std::ostream& out, const FleetPointResult& point) {
     return;
   }
   const std::string mode = fleet_mode_name(point.mode) + (point.observed ? "" : "*");
-  out << fmt::format("{:<9} {:>6} {:>6.1f} {:>9.0f} {:>9.0f} {:>9.0f} {:>9.0f} {:>9.0f} {:>10.3f} {:>9.2f} {:>9.1f} {:>9.1f}  {}\n",
+  // Loopback: the kernel's TCP alone; virtual: the codec alone (print_floors says which).
+  const std::string floor = point.kernel_floor_measured  ? fmt::format("{:.3f}", point.kernel_floor_cpu_per_s)
+                            : point.codec_floor_measured ? fmt::format("{:.3f}", point.codec_floor_cpu_per_s)
+                                                         : "-";
+  out << fmt::format("{:<9} {:>6} {:>6.1f} {:>9.0f} {:>9.0f} {:>9.0f} {:>9.0f} {:>9.0f} {:>10.3f} {:>10} {:>9.2f} {:>9.1f} {:>9.1f}  {}\n",
                      mode, point.vehicles, 100.0 * ticks_run_share(point), point.tick_p50_us, point.tick_p99_us,
-                     point.tick_max_us, point.echo_p50_us, point.echo_p99_us, point.cpu_per_simulated_s,
+                     point.tick_max_us, point.echo_p50_us, point.echo_p99_us, point.cpu_per_simulated_s, floor,
                      point.simulated_per_wall_s, point.kib_per_vehicle, point.marginal_kib_per_vehicle,
                      fault_summary(point));
 }
+
+// The floors against the machine and the point: how much of the cores the kernel's TCP alone
+// takes (loopback), how much of the point's CPU the codec alone is (virtual).
+void print_floors(std::ostream& out, const std::vector<FleetPointResult>& points, int cores) {
+  for (const auto& point : points) {
+    if (!point.ok) continue;
+    const std::string name = fmt::format("{} N={}", fleet_mode_name(point.mode), point.vehicles);
+    if (point.kernel_floor_measured) {
+      out << fmt::format(
+          "{}: kernel TCP alone (one thread, {:.0f}-byte frames out, {:.0f} back, no simulator): {:.1f} µs CPU per "
+          "vehicle-tick = {:.3g} CPU s/s of {} cores ({:.0f} %); the point used {:.3g} CPU s/s and ran {:.1f} % of its ticks, "
+          "{:.1f} µs CPU per vehicle-tick run\n",
+          name, point.control_bytes, point.response_bytes, point.kernel_floor_us_per_vehicle_tick,
+          point.kernel_floor_cpu_per_s, cores, 100.0 * point.kernel_floor_cpu_per_s / cores, point.cpu_per_simulated_s,
+          100.0 * ticks_run_share(point), point.ticks ? point.cpu_s * 1e6 / static_cast<double>(point.ticks) : 0.0);
+    } else if (point.codec_floor_measured) {
+      out << fmt::format(
+          "{}: codec alone (control encode + decode, response encode + decode, MAC issue + verify): {:.2f} µs CPU per "
+          "vehicle cycle = {:.3g} CPU s per simulated s ({:.0f} % of the point's {:.3g})\n",
+          name, point.codec_floor_us_per_vehicle_cycle, point.codec_floor_cpu_per_s,
+          100.0 * point.codec_floor_cpu_per_s / point.cpu_per_simulated_s, point.cpu_per_simulated_s);
+    }
+    for (const char* error : {point.kernel_floor_error, point.codec_floor_error}) {
+      if (error[0] != '\0') out << fmt::format("{}: floor not measured: {}\n", name, error);
+    }
+  }
+}
+
+std::string optional_number(bool present, double value) { return present ? json_number(value) : "null"; }
+std::string optional_string(const char* text) { return text[0] != '\0' ? json_string(text) : "null"; }
 
 std::string point_json(const FleetPointResult& point) {
   std::string faults = "{";
@@ -176,17 +217,24 @@ std::string point_json(const FleetPointResult& point) {
   return fmt::format(
       R"({{"mode":"{}","vehicles":{},"streamer_threads":{},"tick_slots":{},"observed":{},"ok":{},"error":{},"window_s":{},"wall_s":{},"cpu_s":{},"cpu_per_simulated_s":{},)"
       R"("simulated_per_wall_s":{},"rss_base_kib":{},"rss_end_kib":{},"kib_per_vehicle":{},"marginal_kib_per_vehicle":{},"tick_lateness_us":{{"p50":{},"p99":{},"max":{},"count":{}}},"ticks_run_share":{},)"
-      R"("echo_delay_us":{{"p50":{},"p99":{},"count":{}}},"responses":{},"connections":{},"faults_raised":{}}})",
+      R"("echo_delay_us":{{"p50":{},"p99":{},"count":{}}},"responses":{},"connections":{},"faults_raised":{},)"
+      R"("control_bytes":{},"response_bytes":{},"kernel_floor_cpu_per_s":{},"kernel_floor_us_per_vehicle_tick":{},"kernel_floor_error":{},)"
+      R"("codec_floor_cpu_per_simulated_s":{},"codec_floor_us_per_vehicle_cycle":{},"codec_floor_error":{}}})",
       fleet_mode_name(point.mode), point.vehicles, point.streamer_threads, point.control_tick_slots, point.observed, point.ok, json_string(point.error), json_number(point.window_s),
       json_number(point.wall_s), json_number(point.cpu_s), json_number(point.cpu_per_simulated_s),
       json_number(point.simulated_per_wall_s), json_number(point.rss_base_kib), json_number(point.rss_end_kib),
       json_number(point.kib_per_vehicle), json_number(point.marginal_kib_per_vehicle), json_number(point.tick_p50_us), json_number(point.tick_p99_us),
       json_number(point.tick_max_us), point.ticks, json_number(ticks_run_share(point)), json_number(point.echo_p50_us), json_number(point.echo_p99_us),
-      point.echoes, point.responses, point.connections, faults);
+      point.echoes, point.responses, point.connections, faults, json_number(point.control_bytes),
+      json_number(point.response_bytes), optional_number(point.kernel_floor_measured, point.kernel_floor_cpu_per_s),
+      optional_number(point.kernel_floor_measured, point.kernel_floor_us_per_vehicle_tick),
+      optional_string(point.kernel_floor_error), optional_number(point.codec_floor_measured, point.codec_floor_cpu_per_s),
+      optional_number(point.codec_floor_measured, point.codec_floor_us_per_vehicle_cycle),
+      optional_string(point.codec_floor_error));
 }
 
 // Three charts stacked in one SVG file.
-std::string scale_svg(const std::vector<FleetPointResult>& points) {
+std::string scale_svg(const std::vector<FleetPointResult>& points, int cores) {
   auto series = [&](FleetMode mode, const std::string& name, const std::string& color, auto value) {
     XySeries one{name, color, {}, false};
     for (const auto& point : points) {
@@ -194,6 +242,20 @@ std::string scale_svg(const std::vector<FleetPointResult>& points) {
     }
     return one;
   };
+  XySeries kernel_floor = series(FleetMode::loopback, "kernel TCP alone", "#1f77b4",
+                                 [](auto& p) { return p.kernel_floor_measured ? p.kernel_floor_cpu_per_s : 0.0; });
+  XySeries codec_floor = series(FleetMode::virtual_time, "codec alone", "#2ca02c",
+                                [](auto& p) { return p.codec_floor_measured ? p.codec_floor_cpu_per_s : 0.0; });
+  kernel_floor.dashed = codec_floor.dashed = true;
+  // The machine's cores as a horizontal line across the vehicle counts plotted.
+  XySeries core_line{fmt::format("{} cores", cores), "#7f7f7f", {}, false, true};
+  for (const auto& point : points) {
+    if (!point.ok) continue;
+    const double vehicles = static_cast<double>(point.vehicles);
+    if (core_line.points.empty()) core_line.points = {{vehicles, static_cast<double>(cores)}, {vehicles, static_cast<double>(cores)}};
+    core_line.points.front().x = std::min(core_line.points.front().x, vehicles);
+    core_line.points.back().x = std::max(core_line.points.back().x, vehicles);
+  }
   ChartOptions latency;
   latency.title = "Loopback, 100 Hz per vehicle: tick lateness and echo delay";
   latency.x_label = "vehicles in one process (log)";
@@ -215,7 +277,8 @@ std::string scale_svg(const std::vector<FleetPointResult>& points) {
                 series(FleetMode::loopback, "echo delay p99", "#1f77b4", [](auto& p) { return p.echo_p99_us; })},
                latency),
       xy_chart({series(FleetMode::loopback, "loopback", "#1f77b4", [](auto& p) { return p.cpu_per_simulated_s; }),
-                series(FleetMode::virtual_time, "virtual time", "#2ca02c", [](auto& p) { return p.cpu_per_simulated_s; })},
+                series(FleetMode::virtual_time, "virtual time", "#2ca02c", [](auto& p) { return p.cpu_per_simulated_s; }),
+                kernel_floor, codec_floor, core_line},
                cpu),
       xy_chart({series(FleetMode::loopback, "loopback ÷ N", "#1f77b4", [](auto& p) { return p.kib_per_vehicle; }),
                 series(FleetMode::loopback, "loopback marginal", "#aec7e8", [](auto& p) { return p.marginal_kib_per_vehicle; }),
@@ -236,17 +299,23 @@ std::string scale_svg(const std::vector<FleetPointResult>& points) {
 
 }  // namespace
 
+// Seconds of floor rounds after each point: ~30 rounds of 1 000 vehicles (a few % apart from
+// run to run), short beside the point itself.
+constexpr double floor_s = 0.4;
+
 int run_fleet(const FleetOptions& options) {
   std::vector<FleetPointOptions> plan;
   for (const int vehicles : options.loopback_vehicles) {
     if (vehicles == 0) continue;
     plan.push_back({FleetMode::loopback, vehicles, options.warm_up_s, options.window_s, 60.0, true, options.streamer_threads,
-                    static_cast<std::size_t>(options.tick_slots)});
+                    static_cast<std::size_t>(options.tick_slots), options.kernel_floor ? floor_s : 0.0, 0.0});
   }
   for (const int vehicles : options.virtual_vehicles) {
     if (vehicles == 0) continue;
-    plan.push_back({FleetMode::virtual_time, vehicles, options.warm_up_s, options.simulated_s, 60.0, !options.unobserved, 0, 0});
+    plan.push_back({FleetMode::virtual_time, vehicles, options.warm_up_s, options.simulated_s, 60.0, !options.unobserved, 0, 0, 0.0,
+                    options.codec_floor ? floor_s : 0.0});
   }
+  const int cores = usable_cores();
   print_header(std::cout);
   std::vector<FleetPointResult> points;
   for (const auto& point_options : plan) {
@@ -256,10 +325,11 @@ int run_fleet(const FleetOptions& options) {
     print_point(std::cout, points.back());
     std::cout.flush();
   }
+  print_floors(std::cout, points, cores);
   if (options.unobserved) std::cout << "* unobserved: no event subscription, so no latency or fault figures\n";
   int exit_code = 0;
   if (!options.json_path.empty()) {
-    std::string json = R"({"tool":"ocp_bench fleet","points":[)";
+    std::string json = fmt::format(R"({{"tool":"ocp_bench fleet","cores":{},"points":[)", cores);
     for (std::size_t index = 0; index < points.size(); ++index) json += (index ? "," : "") + point_json(points[index]);
     std::ofstream file(options.json_path);
     file << json << "]}\n";
@@ -267,7 +337,7 @@ int run_fleet(const FleetOptions& options) {
   }
   if (!options.svg_path.empty()) {
     std::ofstream file(options.svg_path);
-    file << scale_svg(points);
+    file << scale_svg(points, cores);
     if (!file) exit_code = 1;
   }
   return exit_code;

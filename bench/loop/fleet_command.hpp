@@ -19,6 +19,8 @@ struct FleetOptions {
   bool unobserved = false;         // virtual points without subscribing (the world's own speed)
   int streamer_threads = 2;        // loopback: threads hosting the Streamers (0: the main thread)
   int tick_slots = 10;             // loopback: WorldConfig::control_tick_slots (0: a timer per Streamer)
+  bool kernel_floor = true;        // loopback: measure the kernel's TCP cost of the traffic after each point
+  bool codec_floor = true;         // virtual, observed: measure the wire codec's cost alone after each point
   bool in_process = false;         // run points in this process (for profilers); memory then accumulates
   std::string json_path, svg_path;
 };

@@ -9,12 +9,16 @@
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/post.hpp>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <functional>
 #include <memory>
 #include <optional>
 #include <thread>
 
+#include "codec_floor.hpp"
+#include "kernel_floor.hpp"
 #include "ocp/asio_executor.hpp"
 #include "ocp/virtual_executor.hpp"
 #include "process_usage.hpp"
@@ -78,6 +82,8 @@ void take_figures(FleetPointResult& result, const FleetRecorder& recorder) {
   result.echo_p99_us = echoes.p99;
   result.responses = recorder.responses();
   result.connections = recorder.connections();
+  result.control_bytes = recorder.mean_control_bytes();
+  result.response_bytes = recorder.mean_response_bytes();
   for (std::size_t id = 0; id < fault_count; ++id) result.faults_raised[id] = recorder.faults_raised()[id];
 }
 
@@ -181,6 +187,8 @@ FleetPointResult run_loopback(const FleetPointOptions& options, FleetPointResult
   // arena lock, and the threads sleep on it (1 000 vehicles, load ≈ 6.6, 2026-11-22: 0.67 CPU
   // s/s and 5.5 % of the ticks run with an arena per thread, 1.2–1.3 CPU s/s and 16 % with one).
   mallopt(M_ARENA_MAX, 1);
+  // Per vehicle: the Streamer's listening and accepted sockets and the client's.
+  make_room_for_descriptors(3 * static_cast<std::size_t>(options.vehicles));
   result.rss_base_kib = resident_kib();
   boost::asio::io_context io;
   AsioExecutor executor(io);
@@ -250,6 +258,23 @@ FleetPointResult run_loopback(const FleetPointOptions& options, FleetPointResult
   return result;
 }
 
+// After the window (so not in the point's cpu_s), with the World stopped.
+void add_codec_floor(const FleetPointOptions& options, const FleetRecorder& recorder, FleetPointResult& result) {
+  if (recorder.sample_control().empty() || recorder.sample_response().empty()) {
+    std::snprintf(result.codec_floor_error, sizeof result.codec_floor_error, "no frames recorded to take as samples");
+    return;
+  }
+  const CodecFloor floor =
+      measure_codec_floor(options.vehicles, recorder.sample_control(), recorder.sample_response(), options.codec_floor_s);
+  if (!floor.ok) {
+    std::snprintf(result.codec_floor_error, sizeof result.codec_floor_error, "%s", floor.error.c_str());
+    return;
+  }
+  result.codec_floor_measured = true;
+  result.codec_floor_us_per_vehicle_cycle = floor.us_per_vehicle_cycle;
+  result.codec_floor_cpu_per_s = floor.cpu_per_simulated_s;
+}
+
 FleetPointResult run_virtual(const FleetPointOptions& options, FleetPointResult result) {
   result.rss_base_kib = resident_kib();
   VirtualExecutor executor;
@@ -272,9 +297,31 @@ FleetPointResult run_virtual(const FleetPointOptions& options, FleetPointResult 
   result.rss_end_kib = resident_kib();
   result.window_s = options.window_s;
   world.stop();
-  if (recorder) take_figures(result, *recorder);
+  if (recorder) {
+    take_figures(result, *recorder);
+    if (options.codec_floor_s > 0) add_codec_floor(options, *recorder, result);
+  }
   result.ok = true;
   return result;
+}
+
+// After the window and with the point's sockets closed, so it is neither in the point's cpu_s
+// nor competing with it.
+void add_kernel_floor(const FleetPointOptions& options, FleetPointResult& result) {
+  if (result.control_bytes < 1 || result.response_bytes < 1) {
+    std::snprintf(result.kernel_floor_error, sizeof result.kernel_floor_error, "no frames recorded to size it on");
+    return;
+  }
+  const KernelFloor floor =
+      measure_kernel_floor(options.vehicles, static_cast<std::size_t>(std::lround(result.control_bytes)),
+                           static_cast<std::size_t>(std::lround(result.response_bytes)), options.kernel_floor_s);
+  if (!floor.ok) {
+    std::snprintf(result.kernel_floor_error, sizeof result.kernel_floor_error, "%s", floor.error.c_str());
+    return;
+  }
+  result.kernel_floor_measured = true;
+  result.kernel_floor_us_per_vehicle_tick = floor.us_per_vehicle_tick;
+  result.kernel_floor_cpu_per_s = floor.cpu_per_s_at_100hz;
 }
 
 }  // namespace
@@ -287,6 +334,7 @@ FleetPointResult run_fleet_point(const FleetPointOptions& options) {
   result.control_tick_slots = static_cast<int>(options.control_tick_slots);
   result.streamer_threads = options.mode == FleetMode::loopback ? options.streamer_threads : 0;
   result = options.mode == FleetMode::loopback ? run_loopback(options, result) : run_virtual(options, result);
+  if (result.ok && options.mode == FleetMode::loopback && options.kernel_floor_s > 0) add_kernel_floor(options, result);
   if (result.ok) {
     result.cpu_per_simulated_s = result.window_s > 0 ? result.cpu_s / result.window_s : 0;
     result.simulated_per_wall_s = result.wall_s > 0 ? result.window_s / result.wall_s : 0;

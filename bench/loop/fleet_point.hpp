@@ -30,6 +30,12 @@ struct FleetPointOptions {
   // reference clients' keep-alive timers (response_period = 10 ms) fire just before control
   // frames that arrive off their phase, doubling the responses, so virtual points keep 0.
   std::size_t control_tick_slots = 10;
+  // Loopback: seconds of kernel-floor rounds (kernel_floor.hpp) run after the point's window,
+  // once its sockets are closed, with frames of the sizes the point sent; 0: not measured.
+  double kernel_floor_s = 0.4;
+  // Virtual, observed: seconds of codec-floor rounds (codec_floor.hpp) run after the window on
+  // message samples the point sent; 0: not measured.
+  double codec_floor_s = 0.4;
 };
 
 // Trivially copyable: written as bytes through a pipe.
@@ -51,6 +57,17 @@ struct FleetPointResult {
   double tick_p50_us = 0, tick_p99_us = 0, tick_max_us = 0;
   double echo_p50_us = 0, echo_p99_us = 0;
   std::uint64_t ticks = 0, echoes = 0, responses = 0, connections = 0;
+  double control_bytes = 0, response_bytes = 0;   // mean on the wire, over the window
+  // Kernel floor (loopback): CPU of the kernel's TCP work alone for this traffic.
+  bool kernel_floor_measured = false;
+  char kernel_floor_error[120] = {};
+  double kernel_floor_us_per_vehicle_tick = 0;
+  double kernel_floor_cpu_per_s = 0;               // CPU s per wall s at 100 Hz × vehicles
+  // Codec floor (virtual): CPU of the wire codec and MAC work alone for this fleet.
+  bool codec_floor_measured = false;
+  char codec_floor_error[120] = {};
+  double codec_floor_us_per_vehicle_cycle = 0;
+  double codec_floor_cpu_per_s = 0;                // CPU s per simulated s
   std::uint64_t faults_raised[fault_count] = {};
   std::uint64_t faults_total() const;
 };

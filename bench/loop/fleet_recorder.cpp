@@ -21,6 +21,11 @@ void FleetRecorder::merge(const FleetRecorder& other) {
   for (std::size_t id = 0; id < fault_count; ++id) faults_raised_[id] += other.faults_raised_[id];
   connections_ += other.connections_;
   responses_ += other.responses_;
+  control_frames_ += other.control_frames_;
+  control_bytes_ += other.control_bytes_;
+  response_bytes_ += other.response_bytes_;
+  if (sample_control_.empty()) sample_control_ = other.sample_control_;
+  if (sample_response_.empty()) sample_response_ = other.sample_response_;
 }
 
 void FleetRecorder::on_event(const Event& event, std::size_t vehicle) {
@@ -49,12 +54,22 @@ void FleetRecorder::on_event(const Event& event, std::size_t vehicle) {
 void FleetRecorder::on_frame(std::size_t vehicle, const WireFrame& frame, SimTime at) {
   auto& pending = pending_[vehicle];
   const bool recording = recording_.load(std::memory_order_relaxed);
+  const std::uint64_t wire_bytes = sizeof frame.length_prefix + frame.payload.size();
   if (frame.direction == FrameDirection::out) {
+    if (recording) {
+      ++control_frames_;
+      control_bytes_ += wire_bytes;
+      if (sample_control_.empty()) sample_control_ = frame.payload;
+    }
     pending.emplace_back(frame.ack->ack_time, at);
     if (pending.size() > 256) pending.pop_front();   // a vehicle that stopped answering
     return;
   }
-  if (recording) ++responses_;
+  if (recording) {
+    ++responses_;
+    response_bytes_ += wire_bytes;
+    if (sample_response_.empty()) sample_response_ = frame.payload;
+  }
   const std::uint64_t ack_time = frame.ack->ack_time;
   while (!pending.empty() && pending.front().first < ack_time) pending.pop_front();
   if (pending.empty() || pending.front().first != ack_time) return;

@@ -39,8 +39,19 @@ class FleetRecorder {
   const std::vector<double>& echo_delays_us() const { return echo_delays_us_; }
   const std::array<std::uint64_t, fault_count>& faults_raised() const { return faults_raised_; }
   std::uint64_t responses() const { return responses_; }
+  // Mean bytes on the wire (length prefix + payload) of a control frame out and of a response
+  // in; 0 when none was recorded. The kernel floor (kernel_floor.hpp) sends frames of these sizes.
+  double mean_control_bytes() const { return mean(control_bytes_, control_frames_); }
+  double mean_response_bytes() const { return mean(response_bytes_, responses_); }
+  // The first control message and vehicle response payloads recorded (the codec floor's
+  // samples, codec_floor.hpp); empty if none.
+  const std::string& sample_control() const { return sample_control_; }
+  const std::string& sample_response() const { return sample_response_; }
 
  private:
+  static double mean(std::uint64_t total, std::uint64_t count) {
+    return count ? static_cast<double>(total) / static_cast<double>(count) : 0.0;
+  }
   void on_event(const Event& event, std::size_t vehicle);
   void on_frame(std::size_t vehicle, const WireFrame& frame, SimTime at);
 
@@ -52,6 +63,8 @@ class FleetRecorder {
   std::array<std::uint64_t, fault_count> faults_raised_{};
   std::atomic<std::uint64_t> connections_ = 0;
   std::uint64_t responses_ = 0;
+  std::uint64_t control_frames_ = 0, control_bytes_ = 0, response_bytes_ = 0;
+  std::string sample_control_, sample_response_;
   std::atomic<bool> recording_ = false;
   std::vector<EventBus::Subscription> subscriptions_;   // last: unsubscribe first
 };

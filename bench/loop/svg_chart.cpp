@@ -128,7 +128,8 @@ std::string xy_chart(const std::vector<XySeries>& series, const ChartOptions& op
       }
       svg += "</g>\n";
     } else {
-      svg += fmt::format(R"(<polyline fill="none" stroke="{}" stroke-width="1.6" points=")", one.color);
+      svg += fmt::format(R"(<polyline fill="none" stroke="{}" stroke-width="1.6"{} points=")", one.color,
+                         one.dashed ? R"( stroke-dasharray="6 4")" : "");
       for (const auto& point : one.points) {
         if ((options.log_x && point.x <= 0) || (options.log_y && point.y <= 0)) continue;
         svg += fmt::format("{:.1f},{:.1f} ", x_axis.map(point.x, left, right), y_axis.map(point.y, bottom, top));

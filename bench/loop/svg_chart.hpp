@@ -16,6 +16,7 @@ struct XySeries {
   std::string color;           // any SVG colour, e.g. "#1f77b4"
   std::vector<XyPoint> points;
   bool dots = false;           // scatter instead of a polyline
+  bool dashed = false;         // polyline dashed (a floor or a limit beside the measured lines)
 };
 
 struct ChartOptions {

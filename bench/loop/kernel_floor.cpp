@@ -1,0 +1,156 @@
+#include "kernel_floor.hpp"
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <sched.h>
+#include <sys/socket.h>
+#include <sys/time.h>
+#include <unistd.h>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <thread>
+#include <vector>
+
+#include "process_usage.hpp"
+
+namespace ocp::bench {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Closes every descriptor it holds when it goes.
+struct Sockets {
+  std::vector<int> fds;
+  ~Sockets() {
+    for (const int fd : fds) close(fd);
+  }
+};
+
+// Sends or receives exactly `size` bytes on a blocking socket.
+bool send_all(int fd, const char* data, std::size_t size) {
+  while (size > 0) {
+    const ssize_t sent = send(fd, data, size, MSG_NOSIGNAL);
+    if (sent <= 0) return false;
+    data += sent;
+    size -= static_cast<std::size_t>(sent);
+  }
+  return true;
+}
+bool receive_all(int fd, char* data, std::size_t size) {
+  while (size > 0) {
+    const ssize_t got = recv(fd, data, size, 0);
+    if (got <= 0) return false;
+    data += got;
+    size -= static_cast<std::size_t>(got);
+  }
+  return true;
+}
+
+std::string system_error(const char* what) { return fmt::format("{}: {}", what, std::strerror(errno)); }
+
+}  // namespace
+
+KernelFloor measure_kernel_floor(int connections, std::size_t control_bytes, std::size_t response_bytes,
+                                 double duration_s) {
+  KernelFloor floor;
+  if (connections <= 0 || control_bytes == 0 || response_bytes == 0) {
+    floor.error = "nothing to measure";
+    return floor;
+  }
+  make_room_for_descriptors(2 * static_cast<std::size_t>(connections) + 1);
+  Sockets listener, servers, clients;   // servers[i] is the Streamer's end of clients[i]
+  listener.fds.push_back(socket(AF_INET, SOCK_STREAM, 0));
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t length = sizeof address;
+  const int listen_fd = listener.fds.front();
+  if (listen_fd < 0 || bind(listen_fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0 ||
+      listen(listen_fd, 128) != 0 || getsockname(listen_fd, reinterpret_cast<sockaddr*>(&address), &length) != 0) {
+    floor.error = system_error("listen");
+    return floor;
+  }
+  const int one = 1;
+  const timeval stuck{5, 0};   // a frame that has not arrived after this never will: an error, not a hang
+  for (int index = 0; index < connections; ++index) {
+    const int client = socket(AF_INET, SOCK_STREAM, 0);
+    if (client < 0) {
+      floor.error = system_error(fmt::format("socket {} of {}", 2 * index + 1, 2 * connections).c_str());
+      return floor;
+    }
+    clients.fds.push_back(client);
+    if (connect(client, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) {
+      floor.error = system_error("connect");
+      return floor;
+    }
+    const int server = accept(listen_fd, nullptr, nullptr);   // one at a time: the backlog never fills
+    if (server < 0) {
+      floor.error = system_error(fmt::format("accept {} of {}", index + 1, connections).c_str());
+      return floor;
+    }
+    servers.fds.push_back(server);
+    for (const int fd : {client, server}) {
+      setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+      setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &stuck, sizeof stuck);
+    }
+  }
+
+  const std::vector<char> control(control_bytes, 'c');
+  const std::vector<char> response(response_bytes, 'r');
+  std::vector<char> buffer(std::max(control_bytes, response_bytes));
+  // One tick: every control frame out, every client answers, every response read back.
+  auto round = [&] {
+    for (const int server : servers.fds) {
+      if (!send_all(server, control.data(), control.size())) return false;
+    }
+    for (const int client : clients.fds) {
+      if (!receive_all(client, buffer.data(), control.size()) || !send_all(client, response.data(), response.size())) {
+        return false;
+      }
+    }
+    for (const int server : servers.fds) {
+      if (!receive_all(server, buffer.data(), response.size())) return false;
+    }
+    return true;
+  };
+  for (int warm_up = 0; warm_up < 3; ++warm_up) {
+    if (!round()) {
+      floor.error = system_error("warm-up round");
+      return floor;
+    }
+  }
+  const double cpu_start = thread_cpu_seconds();
+  const auto wall_start = Clock::now();
+  const auto end = wall_start + std::chrono::duration<double>(duration_s);
+  std::uint64_t rounds = 0;
+  while (rounds < 3 || Clock::now() < end) {
+    if (!round()) {
+      floor.error = system_error("round");
+      return floor;
+    }
+    ++rounds;
+  }
+  floor.cpu_s = thread_cpu_seconds() - cpu_start;
+  floor.wall_s = std::chrono::duration<double>(Clock::now() - wall_start).count();
+  floor.vehicle_ticks = rounds * static_cast<std::uint64_t>(connections);
+  floor.us_per_vehicle_tick = floor.cpu_s * 1e6 / static_cast<double>(floor.vehicle_ticks);
+  floor.cpu_per_s_at_100hz = floor.us_per_vehicle_tick * 1e-6 * connections * 100.0;
+  floor.ok = true;
+  return floor;
+}
+
+int usable_cores() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) == 0 && CPU_COUNT(&set) > 0) return CPU_COUNT(&set);
+  return static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
+}
+
+}  // namespace ocp::bench
