@@ -143,8 +143,21 @@ Status World::start() {
         player_->handle_link_message(*handed.vehicle, std::move(handed.message));
       }
     };
-    for (const StreamerThread& thread : streamer_threads_) handovers_.push_back(std::make_unique<LinkHandover>(thread.post, deliver));
-    to_world_ = std::make_unique<LinkHandover>(post_to_world_, deliver);
+    auto overflow = [this](std::string where) {
+      return [this, where](std::uint64_t dropped) {
+        if (dropped == 0) {
+          logger_.warn("link hand-over to {} full ({} messages queued): dropping link messages", where,
+                       LinkHandover::default_max_queued);
+        } else {
+          logger_.warn("link hand-over to {}: {} link messages dropped while it was full", where, dropped);
+        }
+      };
+    };
+    for (std::size_t index = 0; index < streamer_threads_.size(); ++index) {
+      handovers_.push_back(std::make_unique<LinkHandover>(streamer_threads_[index].post, deliver,
+                                                          overflow(fmt::format("Streamer thread {}", index))));
+    }
+    to_world_ = std::make_unique<LinkHandover>(post_to_world_, deliver, overflow("the Player"));
   }
   for (auto& vehicle : vehicles_) {
     StreamerCore* streamer = vehicle->streamer.get();
