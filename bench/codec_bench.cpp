@@ -242,6 +242,17 @@ void BM_ControlDecodeCompact_Ours(benchmark::State& state) {
 }
 BENCHMARK(BM_ControlDecodeCompact_Ours);
 
+// The vehicle client's echo path: only the pair, read out of the same compact text.
+void BM_ControlAckScanCompact_Ours(benchmark::State& state) {
+  std::string text;
+  ocp::encode_control_message(ocp::decode_control_message(control_text).value(), text);
+  for (auto _ : state) {
+    auto pair = ocp::scan_control_ack_pair(text);
+    benchmark::DoNotOptimize(pair);
+  }
+}
+BENCHMARK(BM_ControlAckScanCompact_Ours);
+
 // The same with one non-ASCII string: falls back to RapidJSON with UTF-8 validation.
 void BM_ControlDecodeCompactNonAscii_Ours(benchmark::State& state) {
   ocp::OcpControlMessage message = ocp::decode_control_message(control_text).value();

@@ -4,6 +4,7 @@
 // bracket depth only. Anything it does not fully understand gives nullopt, and the caller falls
 // back to decode_control_message, so the scan never has to be a JSON validator — it only has to
 // agree with the decoder whenever both succeed (fuzz_control_message checks exactly that).
+#include <array>
 #include <optional>
 
 #include "ocp/json_codec.hpp"
@@ -100,39 +101,69 @@ class AckScanner {
   }
 
   // Any other value: strings (with escapes), nested objects and arrays by depth, and scalars up
-  // to the next delimiter. Well-formedness is the decoder's business.
+  // to the next delimiter. Well-formedness is the decoder's business. Only the bytes in
+  // `structural` are looked at; the rest is passed over one table lookup each (this runs on
+  // every control message, ahead of the full decode: it must cost much less than that decode).
   bool skip_value() {
+    const char* const begin = text_.data();
+    const char* const end = begin + text_.size();
+    const char* cursor = begin + position_;
     int depth = 0;
-    while (!at_end()) {
-      const char c = peek();
-      if (c == '"') {
-        if (!skip_string()) return false;
-      } else if (c == '{' || c == '[') {
-        ++depth;
-        ++position_;
-      } else if (c == '}' || c == ']') {
-        if (depth == 0) return true;   // the end of the top-level object
-        --depth;
-        ++position_;
-      } else if (c == ',' && depth == 0) {
-        return true;
-      } else {
-        ++position_;
+    for (;;) {
+      while (cursor < end && structural[static_cast<unsigned char>(*cursor)] == 0) ++cursor;
+      if (cursor >= end) return false;
+      switch (structural[static_cast<unsigned char>(*cursor)]) {
+        case quote:
+          cursor = after_string(cursor + 1, end);
+          if (cursor == nullptr) return false;
+          if (depth == 0) break;
+          continue;
+        case open:
+          ++depth;
+          ++cursor;
+          continue;
+        case close:
+          if (depth == 0) break;   // the end of the top-level object: the scalar before it ends here
+          ++cursor;
+          if (--depth == 0) break;
+          continue;
+        default:   // comma
+          if (depth == 0) break;
+          ++cursor;
+          continue;
       }
-      if (depth == 0 && (c == '"' || c == '}' || c == ']')) return true;
+      position_ = static_cast<std::size_t>(cursor - begin);
+      return true;
     }
-    return false;
   }
-  bool skip_string() {
-    ++position_;   // the opening quote
-    while (!at_end()) {
-      const char c = peek();
-      ++position_;
-      if (c == '"') return true;
-      if (c == '\\') ++position_;   // whatever is escaped cannot end the string
+  // Just past the quote that closes the string whose contents start at `cursor`, or nullptr.
+  static const char* after_string(const char* cursor, const char* end) {
+    for (;;) {
+      while (cursor < end && !string_stop[static_cast<unsigned char>(*cursor)]) ++cursor;
+      if (cursor >= end) return nullptr;
+      if (*cursor == '"') return cursor + 1;
+      if (end - cursor < 2) return nullptr;
+      cursor += 2;   // a backslash: whatever it escapes cannot end the string
     }
-    return false;
   }
+  static constexpr std::array<bool, 256> string_stop = [] {
+    std::array<bool, 256> table{};
+    table['"'] = true;
+    table['\\'] = true;
+    return table;
+  }();
+
+  enum : std::uint8_t { other, quote, open, close, comma };
+  static constexpr std::array<std::uint8_t, 256> structural = [] {
+    std::array<std::uint8_t, 256> table{};
+    table['"'] = quote;
+    table['{'] = open;
+    table['['] = open;
+    table['}'] = close;
+    table[']'] = close;
+    table[','] = comma;
+    return table;
+  }();
 
   std::string_view text_;
   std::size_t position_ = 0;
