@@ -242,16 +242,19 @@ void BM_ControlDecodeCompact_Ours(benchmark::State& state) {
 }
 BENCHMARK(BM_ControlDecodeCompact_Ours);
 
-// The vehicle client's echo path: only the pair, read out of the same compact text.
-void BM_ControlAckScanCompact_Ours(benchmark::State& state) {
+// The vehicle client's echo path: the pair after tokenizing, then the rest of the same tokens.
+void BM_ControlTwoStepDecodeCompact_Ours(benchmark::State& state) {
   std::string text;
   ocp::encode_control_message(ocp::decode_control_message(control_text).value(), text);
+  ocp::ControlMessageDecoder decoder;
   for (auto _ : state) {
-    auto pair = ocp::scan_control_ack_pair(text);
+    auto pair = decoder.start(text);
     benchmark::DoNotOptimize(pair);
+    auto message = decoder.finish();
+    benchmark::DoNotOptimize(message);
   }
 }
-BENCHMARK(BM_ControlAckScanCompact_Ours);
+BENCHMARK(BM_ControlTwoStepDecodeCompact_Ours);
 
 // The same with one non-ASCII string: falls back to RapidJSON with UTF-8 validation.
 void BM_ControlDecodeCompactNonAscii_Ours(benchmark::State& state) {

@@ -68,6 +68,45 @@ Result<OcpControlMessage> decode_control_message(std::string_view json) {
   return json_detail::decode_document<OcpControlMessage>(json, read_control_message);
 }
 
+struct ControlMessageDecoder::State {
+  json_detail::Tape tape;
+  Status tokenized = Ok{};
+};
+
+ControlMessageDecoder::ControlMessageDecoder() : state_(std::make_unique<State>()) {}
+ControlMessageDecoder::~ControlMessageDecoder() = default;
+
+std::optional<AckPair> ControlMessageDecoder::start(std::string_view json) {
+  json_detail::Tape& tape = state_->tape;
+  if (tape.text.capacity() > (std::size_t{1} << 20)) tape = json_detail::Tape{};   // a hostile megabyte is not kept
+  state_->tokenized = json_detail::tokenize(json, tape);
+  if (!state_->tokenized) return std::nullopt;
+  // The last occurrence of each key, read by the same readers read_control_message uses.
+  std::size_t ack_time = 0;
+  std::size_t ack_time_mac = 0;
+  const std::size_t end = tape.tokens[0].end_index;
+  for (std::size_t key = 1; key < end; key = tape.next(key + 1)) {
+    const std::string_view name = tape.text_of(tape.tokens[key]);
+    if (name == "ack_time") ack_time = key + 1;
+    if (name == "ack_time_mac") ack_time_mac = key + 1;
+  }
+  json_detail::Decoder decoder(tape);
+  AckPair pair;
+  if (ack_time == 0 || ack_time_mac == 0 || !decoder.read_u64(ack_time, pair.ack_time) ||
+      !decoder.read_u32(ack_time_mac, pair.ack_time_mac)) {
+    return std::nullopt;
+  }
+  return pair;
+}
+
+Result<OcpControlMessage> ControlMessageDecoder::finish() {
+  if (!state_->tokenized) return state_->tokenized.error();
+  json_detail::Decoder decoder(state_->tape);
+  OcpControlMessage message;
+  if (!read_control_message(decoder, 0, message)) return decoder.take_error();
+  return message;
+}
+
 void encode_control_message(const OcpControlMessage& message, std::string& out) {
   json_detail::JsonWriter writer(out);
   writer.literal("{\"controller\":");

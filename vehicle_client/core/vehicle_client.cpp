@@ -170,17 +170,13 @@ bool VehicleClient::check_first_header(std::string_view bytes) {
 }
 
 void VehicleClient::handle_payload(std::string_view payload) {
-  // Latency first: once the server has proved it speaks OCP, the pair is read straight out of
-  // the frame and echoed before the message is decoded and validated (scan_control_ack_pair:
-  // same pair as the full decode, or none — then the echo waits for the decode as before).
-  bool echoed = false;
-  if (seen_valid_control_) {
-    if (const std::optional<AckPair> pair = scan_control_ack_pair(payload)) {
-      echo(*pair);
-      echoed = true;
-    }
-  }
-  Result<OcpControlMessage> message = decode_control_message(payload);
+  // Latency first: once the server has proved it speaks OCP, the pair is echoed as soon as the
+  // message is tokenized, before the rest of it is decoded and validated (ControlMessageDecoder:
+  // one tokenization, the same result as decode_control_message).
+  const std::optional<AckPair> pair = control_decoder_.start(payload);
+  const bool echoed = seen_valid_control_ && pair.has_value();
+  if (echoed) echo(*pair);
+  Result<OcpControlMessage> message = control_decoder_.finish();
   if (!message.ok()) {
     if (!seen_valid_control_) {
       close_with(DisconnectKind::not_an_ocp_server,

@@ -16,6 +16,7 @@
 //   the double range (RapidJSON refuses them) and embedded NUL bytes are malformed_json.
 // * Encoders replace invalid UTF-8 in strings by U+FFFD, write non-finite doubles as null
 //   (decoders then reject them) and an empty RawJson as null.
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -33,11 +34,26 @@ Result<VehicleResponseMessage> decode_vehicle_response(std::string_view json);
 Result<VehicleOcpShared> decode_vehicle_ocp_shared(std::string_view json);
 Result<ClientOcpShared> decode_client_ocp_shared(std::string_view json);
 
-// The ack pair of a control message, found without decoding the rest: for a client that
-// answers first and validates after. nullopt for anything unusual (escaped keys, a pair that is
-// not a plain in-range integer, no object) — decode fully then. Whenever both succeed it equals
-// decode_control_message(json)->ack, duplicate keys included (fuzz_control_message checks it).
-std::optional<AckPair> scan_control_ack_pair(std::string_view json);
+// decode_control_message in two steps, for a client that answers the pair before it looks at
+// the rest of the message: start() tokenizes (on a tape of this object's own, so anything the
+// caller decodes in between is safe) and gives the pair when the top-level ack_time and
+// ack_time_mac read as the full decode reads them (last occurrence wins); finish() decodes the
+// rest of the same tokens and returns exactly what decode_control_message(json) returns. The
+// pair may come from a message that finish() then rejects. `json` must outlive finish().
+class ControlMessageDecoder {
+ public:
+  ControlMessageDecoder();
+  ~ControlMessageDecoder();
+  ControlMessageDecoder(const ControlMessageDecoder&) = delete;
+  ControlMessageDecoder& operator=(const ControlMessageDecoder&) = delete;
+
+  std::optional<AckPair> start(std::string_view json);
+  Result<OcpControlMessage> finish();
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
 
 void encode_control_message(const OcpControlMessage& message, std::string& out);
 void encode_vehicle_response(const VehicleResponseMessage& message, std::string& out);

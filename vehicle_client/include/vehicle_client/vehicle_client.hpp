@@ -10,9 +10,9 @@
 //   * decodes each frame with the libocp codec;
 //   * after each control message echoes its ack pair AT ONCE, inside the same on_bytes call
 //     (no timer, no queue), so it adds as little as possible to the measured latency: once a
-//     valid control message has been seen, the pair is scanned out of the frame and echoed
-//     before the message is decoded and validated (a message that then fails validation still
-//     closes the connection, its pair already answered);
+//     valid control message has been seen, the pair is echoed as soon as the frame is
+//     tokenized, before the rest is decoded and validated (a message that then fails
+//     validation still closes the connection, its pair already answered);
 //   * also sends a response whenever `response_period` passed without one, so the Streamer's
 //     2 s read timeout never fires while the client is alive, even if control pauses;
 //   * every response carries vehicle_user_data: pos from the vehicle model and user_data
@@ -31,6 +31,7 @@
 #include "ocp/executor.hpp"
 #include "ocp/flap_summariser.hpp"
 #include "ocp/frame.hpp"
+#include "ocp/json_codec.hpp"
 #include "ocp/log.hpp"
 #include "ocp/messages.hpp"
 #include "vehicle_client/misbehaviour.hpp"
@@ -144,6 +145,7 @@ class VehicleClient {
   std::shared_ptr<ByteStream> stream_;
   std::uint64_t connection_id_ = 0;            // bumped on every (de)attach: stale callbacks no-op
   FrameDecoder decoder_;
+  ControlMessageDecoder control_decoder_;      // its own tape: the echo goes out between its two steps
   std::string first_header_;                   // first 4 bytes of a connection ("not OCP" check)
   std::function<void(const std::string&)> on_disconnected_;
   VehicleClientStats stats_;
