@@ -14,6 +14,7 @@
 #include "bare_client.hpp"
 #include "child_process.hpp"
 #include "floor_echo.hpp"
+#include "loop_gates.hpp"
 #include "loop_recorder.hpp"
 #include "loop_report.hpp"
 #include "loop_result.hpp"
@@ -43,6 +44,16 @@ CLI::App* add_loop_command(CLI::App& app, LoopOptions& options) {
                  "a bare client (blocking read, libocp codec, answers at once) against a Streamer of its own,\n"
                  "and a client answering on its own 10 ms timer; print the client's ratios to each");
   loop->add_flag("--quiet", options.quiet, "no progress line");
+  loop->add_option("--max-echo-p50-us", options.max_echo_p50_us, "gate: fail (exit 1) when the client's echo delay p50 is above this")
+      ->check(ocp::cli::positive_real(1e9));
+  loop->add_option("--max-echo-p99-us", options.max_echo_p99_us, "gate: fail (exit 1) when the client's echo delay p99 is above this")
+      ->check(ocp::cli::positive_real(1e9));
+  loop->add_option("--max-floor-ratio", options.max_floor_ratio,
+                   "gate: fail (exit 1) when the client's echo p50 is more than this many times the machine floor's")
+      ->check(ocp::cli::positive_real(1e6))
+      ->needs(loop->get_option("--compare"));
+  loop->add_flag("--fail-on-fault", options.fail_on_fault,
+                 "gate: fail (exit 1) when the Streamer raised any fault after the client connected");
   loop->add_option("command", options.command, "client command after `--`; {port} is replaced by the port");
   return loop;
 }
@@ -231,7 +242,9 @@ int run_loop(const LoopOptions& options) {
     if (reference->simulation) reference->simulation->stop();
   }
 
+  result.gates = evaluate_gates(options, result);
   print_table(std::cout, result);
+  if (exit_code == 0 && !all_passed(result.gates)) exit_code = 1;
   if (!options.json_path.empty() && !write_file(options.json_path, to_json(result))) {
     std::cerr << "ocp_bench loop: cannot write " << options.json_path << "\n";
     exit_code = 1;

@@ -17,11 +17,17 @@ struct LoopOptions {
   std::string json_path, html_path;
   bool compare = false;
   bool quiet = false;                  // no progress line
+  // Gates (loop_gates.hpp): each is printed ✓/✗ with expected against actual; one that fails
+  // makes the exit code 1, so a team's CI can hold its client to a budget.
+  std::optional<double> max_echo_p50_us, max_echo_p99_us;
+  std::optional<double> max_floor_ratio;   // client echo p50 ÷ machine floor p50; needs --compare
+  bool fail_on_fault = false;              // any fault the Streamer raised once the client was there
   std::vector<std::string> command;    // after `--`
 };
 
 CLI::App* add_loop_command(CLI::App& app, LoopOptions& options);
-// Exit code: 0 measured, 1 runtime error (port busy, no client, client exited early).
+// Exit code: 0 measured and every gate passed, 1 a gate failed or a runtime error (port busy,
+// no client, client exited early).
 int run_loop(const LoopOptions& options);
 
 }  // namespace ocp::bench

@@ -88,13 +88,21 @@ void print_table(std::ostream& out, const LoopResult& result) {
     print_summary_row(out, "echo round trip", *result.floor_echo_us, 1.0, "µs");
   }
   const std::vector<RatioRow> rows = ratio_rows(result);
-  if (rows.empty()) return;
-  const Summary& client = result.client.echo_us;
-  out << "client echo delay as a ratio (same run)\n";
-  out << fmt::format("  {:<34} {:>9} {:>9} {:>9}\n", "", "p50", "p99", "max");
-  for (const RatioRow& row : rows) {
-    out << fmt::format("  {:<34} {:>8.2f}× {:>8.2f}× {:>8.2f}×\n", row.label, ratio(client.p50, row.reference.p50),
-                       ratio(client.p99, row.reference.p99), ratio(client.max, row.reference.max));
+  if (!rows.empty()) {
+    const Summary& client = result.client.echo_us;
+    out << "client echo delay as a ratio (same run)\n";
+    out << fmt::format("  {:<34} {:>9} {:>9} {:>9}\n", "", "p50", "p99", "max");
+    for (const RatioRow& row : rows) {
+      out << fmt::format("  {:<34} {:>8.2f}× {:>8.2f}× {:>8.2f}×\n", row.label, ratio(client.p50, row.reference.p50),
+                         ratio(client.p99, row.reference.p99), ratio(client.max, row.reference.max));
+    }
+  }
+  if (!result.gates.empty()) {
+    out << "gates\n";
+    for (const GateResult& gate : result.gates) {
+      out << fmt::format("  {} {:<42} expected {:<12} actual {}\n", gate.passed ? "✓" : "✗", gate.name, gate.expected,
+                         gate.actual);
+    }
   }
 }
 
@@ -118,6 +126,12 @@ std::string to_json(const LoopResult& result) {
     }
     json += R"(,"ratios":{)" + ratios + "}";
   }
+  std::string gates;
+  for (const GateResult& gate : result.gates) {
+    gates += fmt::format(R"({}{{"name":{},"expected":{},"actual":{},"passed":{}}})", gates.empty() ? "" : ",",
+                         json_string(gate.name), json_string(gate.expected), json_string(gate.actual), gate.passed);
+  }
+  json += R"(,"gates":[)" + gates + "]";
   return json + "}\n";
 }
 

@@ -27,6 +27,14 @@ struct ClientFigures {
   std::vector<double> response_times_s;
 };
 
+// One pass/fail gate of the run (loop_gates.hpp).
+struct GateResult {
+  std::string name;       // "client echo delay p50"
+  std::string expected;   // "≤ 200 µs"
+  std::string actual;     // "103 µs"
+  bool passed = false;
+};
+
 struct LoopResult {
   std::string command;               // what was launched after `--`, or "" when waiting
   std::uint16_t port = 0;
@@ -37,6 +45,7 @@ struct LoopResult {
   std::vector<double> floor_echo_delays_us;
   std::optional<ClientFigures> bare_client;    // --compare: blocking read, answers at once
   std::optional<ClientFigures> timer_client;   // --compare: answers on its own 10 ms timer
+  std::vector<GateResult> gates;               // the --max-* / --fail-on-fault the run was held to
   // Faults raised once the client was connected (clears, and what the Streamer raised while
   // alone, do not count).
   std::size_t faults_after_connect() const;

@@ -4,7 +4,8 @@
 set(json_file ${OUT_DIR}/ocp_bench_loop_test.json)
 file(REMOVE ${json_file})
 execute_process(
-  COMMAND ${OCP_BENCH} loop --duration-s 2 --quiet --compare --json ${json_file} -- ${VEHICLE_CLIENT} 127.0.0.1:{port}
+  COMMAND ${OCP_BENCH} loop --duration-s 2 --quiet --compare --json ${json_file}
+          --max-echo-p50-us 1000000 --fail-on-fault -- ${VEHICLE_CLIENT} 127.0.0.1:{port}
   RESULT_VARIABLE exit_code OUTPUT_VARIABLE output ERROR_VARIABLE errors TIMEOUT 60)
 if(NOT exit_code EQUAL 0)
   message(FATAL_ERROR "ocp_bench loop exited with ${exit_code}\n${output}\n${errors}")
@@ -42,6 +43,13 @@ string(JSON floor_count GET "${json}" floor_echo_us count)
 if(floor_count LESS_EQUAL 0)
   message(FATAL_ERROR "the machine floor measured no round trip\n${json}")
 endif()
+# The gates it was held to (budgets any working client meets) passed.
+foreach(index 0 1)
+  string(JSON passed GET "${json}" gates ${index} passed)
+  if(NOT passed STREQUAL "ON")
+    message(FATAL_ERROR "gate ${index} failed\n${json}")
+  endif()
+endforeach()
 string(JSON faults GET "${json}" faults_after_connect)
 if(NOT faults EQUAL 0)
   message(FATAL_ERROR "faults raised while the client was connected\n${json}")
