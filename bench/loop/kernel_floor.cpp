@@ -17,6 +17,7 @@
 #include <thread>
 #include <vector>
 
+#include "blocking_socket.hpp"
 #include "process_usage.hpp"
 
 namespace ocp::bench {
@@ -32,26 +33,6 @@ struct Sockets {
     for (const int fd : fds) close(fd);
   }
 };
-
-// Sends or receives exactly `size` bytes on a blocking socket.
-bool send_all(int fd, const char* data, std::size_t size) {
-  while (size > 0) {
-    const ssize_t sent = send(fd, data, size, MSG_NOSIGNAL);
-    if (sent <= 0) return false;
-    data += sent;
-    size -= static_cast<std::size_t>(sent);
-  }
-  return true;
-}
-bool receive_all(int fd, char* data, std::size_t size) {
-  while (size > 0) {
-    const ssize_t got = recv(fd, data, size, 0);
-    if (got <= 0) return false;
-    data += got;
-    size -= static_cast<std::size_t>(got);
-  }
-  return true;
-}
 
 std::string system_error(const char* what) { return fmt::format("{}: {}", what, std::strerror(errno)); }
 
@@ -80,26 +61,20 @@ KernelFloor measure_kernel_floor(int connections, std::size_t control_bytes, std
   const int one = 1;
   const timeval stuck{5, 0};   // a frame that has not arrived after this never will: an error, not a hang
   for (int index = 0; index < connections; ++index) {
-    const int client = socket(AF_INET, SOCK_STREAM, 0);
+    const int client = connect_loopback(ntohs(address.sin_port));
     if (client < 0) {
-      floor.error = system_error(fmt::format("socket {} of {}", 2 * index + 1, 2 * connections).c_str());
+      floor.error = system_error(fmt::format("connection {} of {}", index + 1, connections).c_str());
       return floor;
     }
     clients.fds.push_back(client);
-    if (connect(client, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) {
-      floor.error = system_error("connect");
-      return floor;
-    }
     const int server = accept(listen_fd, nullptr, nullptr);   // one at a time: the backlog never fills
     if (server < 0) {
       floor.error = system_error(fmt::format("accept {} of {}", index + 1, connections).c_str());
       return floor;
     }
     servers.fds.push_back(server);
-    for (const int fd : {client, server}) {
-      setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
-      setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &stuck, sizeof stuck);
-    }
+    setsockopt(server, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);   // the client's end has it already
+    for (const int fd : {client, server}) setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &stuck, sizeof stuck);
   }
 
   const std::vector<char> control(control_bytes, 'c');

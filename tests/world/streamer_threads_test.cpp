@@ -31,13 +31,8 @@ WorldConfig fleet_of(int vehicles, bool in_process_clients) {
 }
 
 std::string trace_of(WorldConfig config) {
-  Impairments impairments;
-  impairments.delay = Millis{15};
-  impairments.jitter_kind = Impairments::JitterKind::uniform;
-  impairments.jitter = Millis{3};
-  impairments.loss_probability = 0.1;
-  config.vehicles[0].to_streamer = impairments;
-  config.vehicles[0].to_player = impairments;
+  config.vehicles[0].to_streamer = jittery_lossy_link();
+  config.vehicles[0].to_player = jittery_lossy_link();
   VirtualWorld sim(config);
   EXPECT_TRUE(sim.start());
   sim.run_for(Millis{150});

@@ -130,13 +130,8 @@ TEST(WorldTrace, PlayerEventsCoverSourceLockingGamepadAndActiveVehicle) {
 // 300 ms with an impairment change and a reconnect, so every common event kind appears.
 std::string golden_world_trace() {
   WorldConfig config = one_vehicle_config(424242);
-  Impairments impairments;
-  impairments.delay = Millis{15};
-  impairments.jitter_kind = Impairments::JitterKind::uniform;
-  impairments.jitter = Millis{3};
-  impairments.loss_probability = 0.1;
-  config.vehicles[0].to_streamer = impairments;
-  config.vehicles[0].to_player = impairments;
+  config.vehicles[0].to_streamer = jittery_lossy_link();
+  config.vehicles[0].to_player = jittery_lossy_link();
   VirtualWorld sim(config);
   EXPECT_TRUE(sim.start());
   Waveform waveform;

@@ -50,6 +50,16 @@ inline Impairments delay_of(Micros delay) {
   return impairments;
 }
 
+// The golden trace's link (both directions): 15 ms ± 3 ms uniform jitter, 10 % loss.
+inline Impairments jittery_lossy_link() {
+  Impairments impairments;
+  impairments.delay = Millis{15};
+  impairments.jitter_kind = Impairments::JitterKind::uniform;
+  impairments.jitter = Millis{3};
+  impairments.loss_probability = 0.1;
+  return impairments;
+}
+
 inline void set_down(ComChannel& link, bool to_streamer, bool down) {
   LinkDirection& direction = to_streamer ? link.to_streamer() : link.to_player();
   Impairments impairments = direction.impairments();
