@@ -101,10 +101,7 @@ std::optional<AckPair> ControlMessageDecoder::start(std::string_view json) {
 
 Result<OcpControlMessage> ControlMessageDecoder::finish() {
   if (!state_->tokenized) return state_->tokenized.error();
-  json_detail::Decoder decoder(state_->tape);
-  OcpControlMessage message;
-  if (!read_control_message(decoder, 0, message)) return decoder.take_error();
-  return message;
+  return json_detail::decode_tape<OcpControlMessage>(state_->tape, read_control_message);
 }
 
 void encode_control_message(const OcpControlMessage& message, std::string& out) {

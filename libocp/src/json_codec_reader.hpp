@@ -98,6 +98,15 @@ bool read_optional_controller(Decoder& decoder, std::size_t index,
                               std::optional<Controller>& out);
 bool read_vehicle_user_data(Decoder& decoder, std::size_t index, VehicleUserData& out);
 
+// Runs `decode_root(decoder, root_index, message)` over an already tokenized document.
+template <class Message, class DecodeRoot>
+Result<Message> decode_tape(const Tape& tape, DecodeRoot&& decode_root) {
+  Decoder decoder(tape);
+  Message message;
+  if (!decode_root(decoder, std::size_t{0}, message)) return decoder.take_error();
+  return message;
+}
+
 // Tokenizes `json` with the thread's tape and runs `decode_root(decoder, root_index)`.
 template <class Message, class DecodeRoot>
 Result<Message> decode_document(std::string_view json, DecodeRoot&& decode_root) {
@@ -115,10 +124,7 @@ Result<Message> decode_document(std::string_view json, DecodeRoot&& decode_root)
   } trim{tape};
   Status status = tokenize(json, tape);
   if (!status) return status.error();
-  Decoder decoder(tape);
-  Message message;
-  if (!decode_root(decoder, std::size_t{0}, message)) return decoder.take_error();
-  return message;
+  return decode_tape<Message>(tape, decode_root);
 }
 
 }  // namespace ocp::json_detail
