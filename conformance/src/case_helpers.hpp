@@ -2,6 +2,7 @@
 // Shared pieces of the vehicle case bodies (private to the library).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <functional>
@@ -44,29 +45,17 @@ inline const Response* first_echo(const Observations& obs, const AckPair& pair, 
   return nullptr;
 }
 
-// Responses at or after `after_us` whose pair is neither one the Streamer sent nor `extra`.
-// A made-up pair sent before the client had seen any control frame may reach us after our
-// first frame left (they cross on the wire): that is vehicle/3.3/4's business, so counting
-// starts at the client's first echo of a real pair — or at `after_us` if it never echoes one.
+// Responses in the window (observations.hpp: what the client wrote before it read a control
+// message is vehicle/3.3/4's business) at or after `after_us` whose pair is neither one the
+// Streamer sent nor `extra`.
 inline std::vector<AckPair> unknown_pairs(const Observations& obs, std::int64_t after_us,
                                           const std::vector<AckPair>& extra = {}) {
   const auto known = [&](const AckPair& pair) {
-    if (obs.find_sent(pair) >= 0) return true;
-    for (const AckPair& p : extra) {
-      if (p == pair) return true;
-    }
-    return false;
+    return obs.find_sent(pair) >= 0 || std::find(extra.begin(), extra.end(), pair) != extra.end();
   };
-  std::int64_t from = after_us;
-  for (const Response& r : obs.responses) {
-    if (r.time_us >= after_us && r.ack && known(*r.ack)) {
-      from = r.time_us;
-      break;
-    }
-  }
   std::vector<AckPair> out;
   for (const Response& r : obs.responses) {
-    if (r.time_us >= from && r.ack && !known(*r.ack)) out.push_back(*r.ack);
+    if (r.time_us >= after_us && r.ack && !known(*r.ack)) out.push_back(*r.ack);
   }
   return out;
 }

@@ -23,7 +23,9 @@ Outcome grade_reconnect(CaseContext& ctx, std::int64_t break_us, const std::vect
   const Observations obs = Observations::from(ctx.entries(), opened);
   std::vector<AckPair> stale;
   std::size_t fresh = 0;
-  for (const Response& r : obs.responses) {
+  // Every response of the new connection, also those written before the client read a control
+  // message there: a pair kept from the old connection is exactly what this case is about.
+  for (const Response& r : obs.all_responses) {
     if (!r.ack) continue;
     bool is_old = false;
     for (const AckPair& p : old_pairs) is_old = is_old || p == *r.ack;

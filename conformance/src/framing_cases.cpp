@@ -17,13 +17,13 @@ Outcome valid_responses(CaseContext& ctx) {
   const Observations obs = Observations::from(ctx.entries());
   std::size_t drained = 0, valid = 0;
   std::uint32_t largest = 0;
-  for (const Response& r : obs.responses) {
+  for (const Response& r : obs.all_responses) {   // a rule for every frame, in the window or not
     drained += r.drained;
     valid += r.ack.has_value();
     largest = std::max(largest, r.length_prefix);
   }
   const std::string counts = fmt::format("{} responses: {} valid, {} oversized (drained), largest length prefix {} bytes",
-                                         obs.responses.size(), valid, drained, largest);
+                                         obs.all_responses.size(), valid, drained, largest);
   if (obs.closed_by_peer_error()) return failed(counts + "; the Streamer closed the connection: " + last_close(obs));
   if (drained > 0) return failed(counts);
   if (valid < 10) return failed(counts + "; fewer than 10 valid responses in 1 s");
@@ -153,7 +153,7 @@ Outcome responds_while_paused(CaseContext& ctx) {
   const Observations obs = Observations::from(ctx.entries());
   std::int64_t last = paused_at, max_gap = 0;
   std::size_t during = 0;
-  for (const Response& r : obs.responses) {
+  for (const Response& r : obs.all_responses) {   // any response keeps the connection alive
     if (r.time_us < paused_at || r.time_us > resumed_at) continue;
     ++during;
     max_gap = std::max(max_gap, r.time_us - last);

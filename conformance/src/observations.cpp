@@ -2,20 +2,59 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
+#include <utility>
 
 namespace ocp::conformance {
 
+namespace {
+
+// The log index at which each response's connection window opens (see the header): per
+// connection, the first echo of a pair sent on it, else its first control frame. Responses
+// before that index are "before control". Connections start at each `opened` entry.
+std::vector<bool> in_window(const std::vector<WireLogEntry>& entries) {
+  std::vector<bool> windowed(entries.size(), false);
+  std::size_t begin = 0;
+  while (begin < entries.size()) {
+    std::size_t end = begin + 1;
+    while (end < entries.size() && entries[end].kind != WireEntryKind::opened) ++end;
+    std::set<std::pair<std::uint64_t, std::uint32_t>> sent_here;
+    std::optional<std::size_t> first_control, first_echo;
+    for (std::size_t i = begin; i < end && !first_echo; ++i) {
+      const WireLogEntry& e = entries[i];
+      if (e.kind == WireEntryKind::out && e.ack) {
+        if (!first_control) first_control = i;
+        sent_here.emplace(e.ack->ack_time, e.ack->ack_time_mac);
+      } else if (e.kind == WireEntryKind::in && e.ack && first_control &&
+                 sent_here.count({e.ack->ack_time, e.ack->ack_time_mac}) > 0) {
+        first_echo = i;
+      }
+    }
+    const std::size_t opens = first_echo ? *first_echo : first_control ? *first_control : end;
+    for (std::size_t i = opens; i < end; ++i) windowed[i] = true;
+    begin = end;
+  }
+  return windowed;
+}
+
+}  // namespace
+
 Observations Observations::from(const std::vector<WireLogEntry>& entries, std::int64_t since_us) {
   Observations o;
-  for (const WireLogEntry& e : entries) {
+  const std::vector<bool> windowed = in_window(entries);
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    const WireLogEntry& e = entries[i];
     if (e.time_us < since_us) continue;
     switch (e.kind) {
       case WireEntryKind::out:
         if (e.ack) o.sent.push_back(SentPair{e.time_us, *e.ack});
         break;
-      case WireEntryKind::in:
-        o.responses.push_back(Response{e.time_us, e.ack, e.drained, e.length_prefix, e.text});
+      case WireEntryKind::in: {
+        const Response response{e.time_us, e.ack, e.drained, e.length_prefix, e.text};
+        o.all_responses.push_back(response);
+        (windowed[i] ? o.responses : o.before_control).push_back(response);
         break;
+      }
       case WireEntryKind::opened:
         o.opened_us.push_back(e.time_us);
         break;

@@ -25,7 +25,7 @@ LIMIT = 16384
 # Broken modes (each fails one case) and hostile modes (the harness must stay in control).
 BROKEN = {"echo-only", "timer-echo", "naive-recv", "reject-oversized", "require-controller",
           "fault-enum", "flat-user-data", "strict-schema", "bad-pos", "no-reconnect",
-          "sticky-pair", "early-echo", "scalar-user-data"}
+          "sticky-pair", "early-echo", "slow-early-echo", "scalar-user-data"}
 # Operator-side (:4001) clients: op-echo behaves (op-disable too, with the gamepad disabled);
 # the others break one rule.
 OPERATOR = {"op-echo", "op-corrupt", "op-stale", "op-double", "op-oversized", "op-no-keepalive", "op-no-reconnect",
@@ -239,6 +239,10 @@ def session(sock):
     pair = last_echoed if MODE == "sticky-pair" else None
     if MODE == "early-echo":
         sock.sendall(response((0, 0)))
+    # slow-early-echo is early-echo as a loaded machine delivers it: the made-up (0, 0) written
+    # at connect reaches the Streamer only after its first control frame left, in the same
+    # segment as the first real echo (so in the same read, with the same time stamp).
+    held = response((0, 0)) if MODE == "slow-early-echo" else b""
     if MODE == "sticky-pair" and pair:
         sock.sendall(response(pair))
     last_sent = time.monotonic()
@@ -280,7 +284,8 @@ def session(sock):
                     next_timer += 0.01
             continue
         if got_new:
-            sock.sendall(response(pair))
+            sock.sendall(held + response(pair))
+            held = b""
             last_sent = now
         elif MODE != "echo-only" and pair and now - last_sent >= 0.01:
             sock.sendall(response(pair))

@@ -178,5 +178,48 @@ TEST(Observations, PercentilesAndLookups) {
   EXPECT_EQ(obs.responses_with_pair(), 1u);
 }
 
+// The window rule (observations.hpp): per connection, what the client wrote before it read a
+// control message — before our first frame, or crossing it on the wire, even in the same read
+// as its first real echo — is set apart in before_control; other cases never grade it.
+TEST(Observations, WindowOpensAtTheClientsFirstControlMessageOnEachConnection) {
+  std::vector<WireLogEntry> log;
+  const auto add = [&](WireEntryKind kind, std::int64_t time_us, std::optional<AckPair> ack = std::nullopt) {
+    WireLogEntry entry;
+    entry.kind = kind;
+    entry.time_us = time_us;
+    entry.ack = ack;
+    log.push_back(entry);
+  };
+  const AckPair a{100, 1}, b{200, 2}, c{300, 3};
+  add(WireEntryKind::opened, 0);
+  add(WireEntryKind::in, 1, AckPair{0, 0});       // before any control frame
+  add(WireEntryKind::out, 10, a);
+  add(WireEntryKind::in, 12, AckPair{7, 7});      // crossed our first frame on the wire
+  add(WireEntryKind::in, 12, a);                  // same read: the first real echo
+  add(WireEntryKind::in, 15, AckPair{9, 9});      // after an echo: the client's own doing
+  add(WireEntryKind::closed, 20);
+  add(WireEntryKind::opened, 30);                 // a reconnect starts a new window
+  add(WireEntryKind::out, 31, b);
+  add(WireEntryKind::in, 33, AckPair{5, 5});
+  add(WireEntryKind::in, 33, b);
+  add(WireEntryKind::opened, 40);                 // never echoes: no crossing allowance
+  add(WireEntryKind::in, 41, AckPair{6, 6});
+  add(WireEntryKind::out, 42, c);
+  add(WireEntryKind::in, 43, AckPair{8, 8});
+  const Observations obs = Observations::from(log);
+  const auto pairs = [](const std::vector<Response>& responses) {
+    std::vector<std::uint64_t> out;
+    for (const Response& r : responses) out.push_back(r.ack->ack_time);
+    return out;
+  };
+  EXPECT_EQ(pairs(obs.before_control), (std::vector<std::uint64_t>{0, 7, 5, 6}));
+  EXPECT_EQ(pairs(obs.responses), (std::vector<std::uint64_t>{100, 9, 200, 8}));
+  EXPECT_EQ(pairs(obs.all_responses), (std::vector<std::uint64_t>{0, 7, 100, 9, 5, 200, 6, 8}));
+  // A `since` inside a connection filters by time but keeps that connection's window.
+  const Observations late = Observations::from(log, 12);
+  EXPECT_EQ(pairs(late.before_control), (std::vector<std::uint64_t>{7, 5, 6}));
+  EXPECT_EQ(pairs(late.responses), (std::vector<std::uint64_t>{100, 9, 200, 8}));
+}
+
 }  // namespace
 }  // namespace ocp::conformance

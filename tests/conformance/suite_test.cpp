@@ -174,7 +174,10 @@ INSTANTIATE_TEST_SUITE_P(
                       ExactCase{"scalar-user-data", {}, "vehicle/3.3/3", "NON-STRICT"},
                       ExactCase{"no-reconnect", {"vehicle/3.1/1", "vehicle/3.1/2"}, "vehicle/3.1/1", "FAILED"},
                       ExactCase{"sticky-pair", {"vehicle/3.1/1", "vehicle/3.1/2"}, "vehicle/3.1/2", "FAILED"},
-                      ExactCase{"early-echo", {}, "vehicle/3.3/4", "NON-STRICT"}));
+                      ExactCase{"early-echo", {}, "vehicle/3.3/4", "NON-STRICT"},
+                      // The CI flake, made deterministic: a made-up pair that arrives in the same
+                      // read as the first real echo is 3.3/4's alone (the harness's window rule).
+                      ExactCase{"slow-early-echo", {}, "vehicle/3.3/4", "NON-STRICT"}));
 
 // The same broken clients pass the cases they do not break (spot checks: the suite grades
 // the rule, not the client as a whole).
