@@ -12,7 +12,7 @@ using test::fails_with;
 using test::remove_member;
 using test::set_member;
 
-ClientOcpShared sample_message() {
+ClientOcpShared sample_client_data() {
   ClientOcpShared message;
   message.active_vehicle = "truck-1";
   ClientVehicleEntry entry;
@@ -24,9 +24,9 @@ ClientOcpShared sample_message() {
   return message;
 }
 
-std::string sample_text() {
+std::string sample_client_data_text() {
   std::string text;
-  encode_client_ocp_shared(sample_message(), text);
+  encode_client_ocp_shared(sample_client_data(), text);
   return text;
 }
 
@@ -47,7 +47,7 @@ TEST(JsonCodecClient, SeedExamplesDecode) {
 }
 
 TEST(JsonCodecClient, EncodesTheCanonicalCompactForm) {
-  EXPECT_EQ(sample_text(),
+  EXPECT_EQ(sample_client_data_text(),
             R"({"active_vehicle":"truck-1","client_user_data":{"truck-1":{)"
             R"("user_data":{"steering_mode":"manual"},"ocp_disable_gamepad":true,)"
             R"("ack_time_returned":18446744073709551615,"ack_time_mac_returned":987654321}}})");
@@ -57,9 +57,9 @@ TEST(JsonCodecClient, EncodesTheCanonicalCompactForm) {
 }
 
 TEST(JsonCodecClient, RoundTripsThroughEncodeAndDecode) {
-  const auto decoded = decode_client_ocp_shared(sample_text());
+  const auto decoded = decode_client_ocp_shared(sample_client_data_text());
   ASSERT_TRUE(decoded.ok()) << decoded.error().message();
-  EXPECT_EQ(*decoded, sample_message());
+  EXPECT_EQ(*decoded, sample_client_data());
 }
 
 TEST(JsonCodecClient, EveryFieldIsOptionalAndNullMeansAbsent) {
@@ -82,44 +82,44 @@ TEST(JsonCodecClient, EveryFieldIsOptionalAndNullMeansAbsent) {
   for (const char* field :
        {"user_data", "ocp_disable_gamepad", "ack_time_returned", "ack_time_mac_returned"}) {
     SCOPED_TRACE(field);
-    const auto without = decode_client_ocp_shared(remove_member(sample_text(), field));
+    const auto without = decode_client_ocp_shared(remove_member(sample_client_data_text(), field));
     ASSERT_TRUE(without.ok());
-    EXPECT_NE(without->client_user_data.at("truck-1"), sample_message().client_user_data.at("truck-1"));
+    EXPECT_NE(without->client_user_data.at("truck-1"), sample_client_data().client_user_data.at("truck-1"));
   }
 }
 
 TEST(JsonCodecClient, EveryFieldIsTypeChecked) {
-  EXPECT_TRUE(fails_with(decode_client_ocp_shared(set_member(sample_text(), "active_vehicle", "1")),
+  EXPECT_TRUE(fails_with(decode_client_ocp_shared(set_member(sample_client_data_text(), "active_vehicle", "1")),
                          PeerError::wrong_type, "active_vehicle: expected string"));
-  EXPECT_TRUE(fails_with(decode_client_ocp_shared(set_member(sample_text(), "client_user_data", "[]")),
+  EXPECT_TRUE(fails_with(decode_client_ocp_shared(set_member(sample_client_data_text(), "client_user_data", "[]")),
                          PeerError::wrong_type, "client_user_data: expected object"));
-  EXPECT_TRUE(fails_with(decode_client_ocp_shared(set_member(sample_text(), "truck-1", "true")),
+  EXPECT_TRUE(fails_with(decode_client_ocp_shared(set_member(sample_client_data_text(), "truck-1", "true")),
                          PeerError::wrong_type, "client_user_data.truck-1: expected object"));
   EXPECT_TRUE(fails_with(
-      decode_client_ocp_shared(set_member(sample_text(), "ocp_disable_gamepad", "\"yes\"")),
+      decode_client_ocp_shared(set_member(sample_client_data_text(), "ocp_disable_gamepad", "\"yes\"")),
       PeerError::wrong_type, "client_user_data.truck-1.ocp_disable_gamepad: expected boolean"));
   EXPECT_TRUE(fails_with(
-      decode_client_ocp_shared(set_member(sample_text(), "ack_time_returned", "18446744073709551616")),
+      decode_client_ocp_shared(set_member(sample_client_data_text(), "ack_time_returned", "18446744073709551616")),
       PeerError::out_of_range,
       "client_user_data.truck-1.ack_time_returned: expected unsigned 64-bit integer, got "
       "18446744073709551616"));
   EXPECT_TRUE(fails_with(
-      decode_client_ocp_shared(set_member(sample_text(), "ack_time_returned", "\"1\"")),
+      decode_client_ocp_shared(set_member(sample_client_data_text(), "ack_time_returned", "\"1\"")),
       PeerError::wrong_type,
       "client_user_data.truck-1.ack_time_returned: expected unsigned 64-bit integer"));
   EXPECT_TRUE(fails_with(
-      decode_client_ocp_shared(set_member(sample_text(), "ack_time_mac_returned", "1.5")),
+      decode_client_ocp_shared(set_member(sample_client_data_text(), "ack_time_mac_returned", "1.5")),
       PeerError::out_of_range,
       "client_user_data.truck-1.ack_time_mac_returned: expected unsigned 32-bit integer, got 1.5"));
   EXPECT_TRUE(fails_with(
-      decode_client_ocp_shared(set_member(sample_text(), "ack_time_mac_returned", "false")),
+      decode_client_ocp_shared(set_member(sample_client_data_text(), "ack_time_mac_returned", "false")),
       PeerError::wrong_type,
       "client_user_data.truck-1.ack_time_mac_returned: expected unsigned 32-bit integer"));
 }
 
 TEST(JsonCodecClient, UserDataIsCarriedByteExact) {
   const std::string user_data = R"([ 1e2, -0.0, 18446744073709551616, "\ud83d\ude00" ])";
-  const auto decoded = decode_client_ocp_shared(set_member(sample_text(), "user_data", user_data));
+  const auto decoded = decode_client_ocp_shared(set_member(sample_client_data_text(), "user_data", user_data));
   ASSERT_TRUE(decoded.ok()) << decoded.error().message();
   EXPECT_EQ(decoded->client_user_data.at("truck-1").user_data->text, user_data);
 }
@@ -134,12 +134,12 @@ TEST(JsonCodecClient, DuplicateVehicleNamesKeepTheLastEntry) {
 }
 
 TEST(JsonCodecClient, UnknownFieldsAreIgnored) {
-  std::string text = sample_text();
+  std::string text = sample_client_data_text();
   text = test::replace_once(text, "{\"active_vehicle\":", R"({"version":[1],"active_vehicle":)");
   text = test::replace_once(text, "{\"user_data\":", R"({"color":"red","user_data":)");
   const auto decoded = decode_client_ocp_shared(text);
   ASSERT_TRUE(decoded.ok()) << decoded.error().message();
-  EXPECT_EQ(*decoded, sample_message());
+  EXPECT_EQ(*decoded, sample_client_data());
 }
 
 }  // namespace

@@ -12,7 +12,7 @@ using test::fails_with;
 using test::remove_member;
 using test::set_member;
 
-VehicleOcpShared sample_message() {
+VehicleOcpShared sample_feedback() {
   VehicleFeedback feedback;
   feedback.ping_latency_ms = 12;
   feedback.message_latency_roundtrip = 80;
@@ -31,9 +31,9 @@ VehicleOcpShared sample_message() {
   return message;
 }
 
-std::string sample_text() {
+std::string sample_feedback_text() {
   std::string text;
-  encode_vehicle_ocp_shared(sample_message(), text);
+  encode_vehicle_ocp_shared(sample_feedback(), text);
   return text;
 }
 
@@ -58,13 +58,13 @@ TEST(JsonCodecFeedback, SeedExampleDecodes) {
 }
 
 TEST(JsonCodecFeedback, RoundTripsThroughEncodeAndDecode) {
-  const auto decoded = decode_vehicle_ocp_shared(sample_text());
+  const auto decoded = decode_vehicle_ocp_shared(sample_feedback_text());
   ASSERT_TRUE(decoded.ok()) << decoded.error().message();
-  EXPECT_EQ(*decoded, sample_message());
+  EXPECT_EQ(*decoded, sample_feedback());
 }
 
 TEST(JsonCodecFeedback, NullableFieldsEncodeAsNullAndDecodeToNullopt) {
-  VehicleOcpShared message = sample_message();
+  VehicleOcpShared message = sample_feedback();
   VehicleFeedback& feedback = message.vehicle_feedback.begin()->second;
   feedback.message_latency_roundtrip.reset();
   feedback.missing_cameras.reset();
@@ -83,7 +83,7 @@ TEST(JsonCodecFeedback, NullableFieldsEncodeAsNullAndDecodeToNullopt) {
 }
 
 TEST(JsonCodecFeedback, OptionalFieldsMayBeAbsent) {
-  std::string text = sample_text();
+  std::string text = sample_feedback_text();
   for (const char* field : {"message_latency_roundtrip", "missing_cameras", "vehicle_data",
                             "last_remote_input", "is_monitor", "last_input"}) {
     text = remove_member(text, field);
@@ -103,11 +103,11 @@ TEST(JsonCodecFeedback, RequiredEntryFieldsAreReportedWithTheVehicleName) {
   for (const char* field : {"ping_latency_ms", "ms_since_last_vehicle_data", "sender_fault",
                             "receiver_fault", "ack_time", "ack_time_mac"}) {
     SCOPED_TRACE(field);
-    EXPECT_TRUE(fails_with(decode_vehicle_ocp_shared(remove_member(sample_text(), field)),
+    EXPECT_TRUE(fails_with(decode_vehicle_ocp_shared(remove_member(sample_feedback_text(), field)),
                            PeerError::missing_field,
                            std::string(entry_path).append(field).append(": required field missing")));
   }
-  EXPECT_TRUE(fails_with(decode_vehicle_ocp_shared(remove_member(sample_text(), "vehicle_feedback")),
+  EXPECT_TRUE(fails_with(decode_vehicle_ocp_shared(remove_member(sample_feedback_text(), "vehicle_feedback")),
                          PeerError::missing_field, "vehicle_feedback: required field missing"));
 }
 
@@ -138,29 +138,29 @@ TEST(JsonCodecFeedback, EveryFieldIsTypeChecked) {
   for (const Case& c : cases) {
     SCOPED_TRACE(c.field);
     const std::string suffix = std::string(c.field) == "missing_cameras" ? "[0]" : "";
-    EXPECT_TRUE(fails_with(decode_vehicle_ocp_shared(set_member(sample_text(), c.field, c.value)),
+    EXPECT_TRUE(fails_with(decode_vehicle_ocp_shared(set_member(sample_feedback_text(), c.field, c.value)),
                            c.code, std::string(entry_path).append(c.field).append(suffix).append(": ").append(c.message)));
   }
-  EXPECT_TRUE(fails_with(decode_vehicle_ocp_shared(set_member(sample_text(), "last_input", "[]")),
+  EXPECT_TRUE(fails_with(decode_vehicle_ocp_shared(set_member(sample_feedback_text(), "last_input", "[]")),
                          PeerError::wrong_type, "last_input: expected object"));
-  EXPECT_TRUE(fails_with(decode_vehicle_ocp_shared(set_member(sample_text(), "vehicle_feedback", "[]")),
+  EXPECT_TRUE(fails_with(decode_vehicle_ocp_shared(set_member(sample_feedback_text(), "vehicle_feedback", "[]")),
                          PeerError::wrong_type, "vehicle_feedback: expected object"));
-  EXPECT_TRUE(fails_with(decode_vehicle_ocp_shared(set_member(sample_text(), "vehicle_feedback",
+  EXPECT_TRUE(fails_with(decode_vehicle_ocp_shared(set_member(sample_feedback_text(), "vehicle_feedback",
                                                               R"({"t":5})")),
                          PeerError::wrong_type, "vehicle_feedback.t: expected object"));
 }
 
 TEST(JsonCodecFeedback, NestedControllerAndVehicleDataErrorsCarryTheFullPath) {
-  EXPECT_TRUE(fails_with(decode_vehicle_ocp_shared(set_member(sample_text(), "start", "1")),
+  EXPECT_TRUE(fails_with(decode_vehicle_ocp_shared(set_member(sample_feedback_text(), "start", "1")),
                          PeerError::wrong_type,
                          std::string(entry_path) + "last_remote_input.buttons.start: expected boolean"));
-  EXPECT_TRUE(fails_with(decode_vehicle_ocp_shared(remove_member(sample_text(), "user_data")),
+  EXPECT_TRUE(fails_with(decode_vehicle_ocp_shared(remove_member(sample_feedback_text(), "user_data")),
                          PeerError::missing_field,
                          std::string(entry_path) + "vehicle_data.user_data: required field missing"));
 }
 
 TEST(JsonCodecFeedback, SeveralVehiclesAndAnEmptyFleetRoundTrip) {
-  VehicleOcpShared message = sample_message();
+  VehicleOcpShared message = sample_feedback();
   message.vehicle_feedback["b"] = VehicleFeedback{};
   message.vehicle_feedback["ä"] = VehicleFeedback{};
   std::string text;

@@ -12,7 +12,7 @@ using test::fails_with;
 using test::remove_member;
 using test::set_member;
 
-VehicleResponseMessage sample_message() {
+VehicleResponseMessage sample_response() {
   VehicleResponseMessage message;
   message.ack = {18446744073709551615u, 4294967295u};
   message.vehicle_user_data = VehicleUserData{Position{57.7089, 11.9746},
@@ -20,9 +20,9 @@ VehicleResponseMessage sample_message() {
   return message;
 }
 
-std::string sample_text() {
+std::string sample_response_text() {
   std::string text;
-  encode_vehicle_response(sample_message(), text);
+  encode_vehicle_response(sample_response(), text);
   return text;
 }
 
@@ -46,7 +46,7 @@ TEST(JsonCodecResponse, SeedResponseWithVehicleDataDecodes) {
 }
 
 TEST(JsonCodecResponse, EncodesTheCanonicalCompactForm) {
-  EXPECT_EQ(sample_text(),
+  EXPECT_EQ(sample_response_text(),
             R"({"ack_time":18446744073709551615,"ack_time_mac":4294967295,)"
             R"("vehicle_user_data":{"pos":{"lat":57.7089,"lon":11.9746},)"
             R"("user_data":{"speed_mps":1.4}}})");
@@ -58,31 +58,31 @@ TEST(JsonCodecResponse, EncodesTheCanonicalCompactForm) {
 }
 
 TEST(JsonCodecResponse, RoundTripsThroughEncodeAndDecode) {
-  const auto decoded = decode_vehicle_response(sample_text());
+  const auto decoded = decode_vehicle_response(sample_response_text());
   ASSERT_TRUE(decoded.ok()) << decoded.error().message();
-  EXPECT_EQ(*decoded, sample_message());
+  EXPECT_EQ(*decoded, sample_response());
 }
 
 TEST(JsonCodecResponse, AckPairIsRequiredAndTyped) {
-  EXPECT_TRUE(fails_with(decode_vehicle_response(remove_member(sample_text(), "ack_time")),
+  EXPECT_TRUE(fails_with(decode_vehicle_response(remove_member(sample_response_text(), "ack_time")),
                          PeerError::missing_field, "ack_time: required field missing"));
-  EXPECT_TRUE(fails_with(decode_vehicle_response(remove_member(sample_text(), "ack_time_mac")),
+  EXPECT_TRUE(fails_with(decode_vehicle_response(remove_member(sample_response_text(), "ack_time_mac")),
                          PeerError::missing_field, "ack_time_mac: required field missing"));
-  EXPECT_TRUE(fails_with(decode_vehicle_response(set_member(sample_text(), "ack_time", "1.0")),
+  EXPECT_TRUE(fails_with(decode_vehicle_response(set_member(sample_response_text(), "ack_time", "1.0")),
                          PeerError::out_of_range,
                          "ack_time: expected unsigned 64-bit integer, got 1.0"));
-  EXPECT_TRUE(fails_with(decode_vehicle_response(set_member(sample_text(), "ack_time", "true")),
+  EXPECT_TRUE(fails_with(decode_vehicle_response(set_member(sample_response_text(), "ack_time", "true")),
                          PeerError::wrong_type, "ack_time: expected unsigned 64-bit integer"));
   EXPECT_TRUE(
-      fails_with(decode_vehicle_response(set_member(sample_text(), "ack_time_mac", "-5")),
+      fails_with(decode_vehicle_response(set_member(sample_response_text(), "ack_time_mac", "-5")),
                  PeerError::out_of_range, "ack_time_mac: expected unsigned 32-bit integer, got -5"));
   EXPECT_TRUE(
-      fails_with(decode_vehicle_response(set_member(sample_text(), "ack_time_mac", "\"5\"")),
+      fails_with(decode_vehicle_response(set_member(sample_response_text(), "ack_time_mac", "\"5\"")),
                  PeerError::wrong_type, "ack_time_mac: expected unsigned 32-bit integer"));
 }
 
 TEST(JsonCodecResponse, AckTimeAboveTwoToThe53SurvivesExactly) {
-  const std::string json = set_member(sample_text(), "ack_time", "9007199254740993");
+  const std::string json = set_member(sample_response_text(), "ack_time", "9007199254740993");
   const auto decoded = decode_vehicle_response(json);
   ASSERT_TRUE(decoded.ok());
   EXPECT_EQ(decoded->ack.ack_time, 9007199254740993u);
@@ -92,48 +92,48 @@ TEST(JsonCodecResponse, AckTimeAboveTwoToThe53SurvivesExactly) {
 }
 
 TEST(JsonCodecResponse, VehicleUserDataIsOptionalAndNullMeansAbsent) {
-  auto decoded = decode_vehicle_response(remove_member(sample_text(), "vehicle_user_data"));
+  auto decoded = decode_vehicle_response(remove_member(sample_response_text(), "vehicle_user_data"));
   ASSERT_TRUE(decoded.ok());
   EXPECT_FALSE(decoded->vehicle_user_data.has_value());
-  decoded = decode_vehicle_response(set_member(sample_text(), "vehicle_user_data", "null"));
+  decoded = decode_vehicle_response(set_member(sample_response_text(), "vehicle_user_data", "null"));
   ASSERT_TRUE(decoded.ok());
   EXPECT_FALSE(decoded->vehicle_user_data.has_value());
   EXPECT_TRUE(fails_with(
-      decode_vehicle_response(set_member(sample_text(), "vehicle_user_data", "\"x\"")),
+      decode_vehicle_response(set_member(sample_response_text(), "vehicle_user_data", "\"x\"")),
       PeerError::wrong_type, "vehicle_user_data: expected object"));
 }
 
 TEST(JsonCodecResponse, UserDataIsRequiredAndMayBeAnyJsonValue) {
-  EXPECT_TRUE(fails_with(decode_vehicle_response(remove_member(sample_text(), "user_data")),
+  EXPECT_TRUE(fails_with(decode_vehicle_response(remove_member(sample_response_text(), "user_data")),
                          PeerError::missing_field,
                          "vehicle_user_data.user_data: required field missing"));
   for (const char* value : {"null", "3", "\"s\"", "[true]", R"({"n":18446744073709551617})"}) {
     SCOPED_TRACE(value);
-    const auto decoded = decode_vehicle_response(set_member(sample_text(), "user_data", value));
+    const auto decoded = decode_vehicle_response(set_member(sample_response_text(), "user_data", value));
     ASSERT_TRUE(decoded.ok());
     EXPECT_EQ(decoded->vehicle_user_data->user_data.text, value);
   }
 }
 
 TEST(JsonCodecResponse, PosIsOptionalOrNullElseNeedsNumericLatAndLon) {
-  auto decoded = decode_vehicle_response(remove_member(sample_text(), "pos"));
+  auto decoded = decode_vehicle_response(remove_member(sample_response_text(), "pos"));
   ASSERT_TRUE(decoded.ok());
   EXPECT_FALSE(decoded->vehicle_user_data->pos.has_value());
-  decoded = decode_vehicle_response(set_member(sample_text(), "pos", "null"));
+  decoded = decode_vehicle_response(set_member(sample_response_text(), "pos", "null"));
   ASSERT_TRUE(decoded.ok());
   EXPECT_FALSE(decoded->vehicle_user_data->pos.has_value());
 
-  EXPECT_TRUE(fails_with(decode_vehicle_response(set_member(sample_text(), "pos", "[]")),
+  EXPECT_TRUE(fails_with(decode_vehicle_response(set_member(sample_response_text(), "pos", "[]")),
                          PeerError::wrong_type, "vehicle_user_data.pos: expected object"));
-  EXPECT_TRUE(fails_with(decode_vehicle_response(remove_member(sample_text(), "lat")),
+  EXPECT_TRUE(fails_with(decode_vehicle_response(remove_member(sample_response_text(), "lat")),
                          PeerError::missing_field,
                          "vehicle_user_data.pos.lat: required field missing"));
-  EXPECT_TRUE(fails_with(decode_vehicle_response(remove_member(sample_text(), "lon")),
+  EXPECT_TRUE(fails_with(decode_vehicle_response(remove_member(sample_response_text(), "lon")),
                          PeerError::missing_field,
                          "vehicle_user_data.pos.lon: required field missing"));
-  EXPECT_TRUE(fails_with(decode_vehicle_response(set_member(sample_text(), "lat", "\"57\"")),
+  EXPECT_TRUE(fails_with(decode_vehicle_response(set_member(sample_response_text(), "lat", "\"57\"")),
                          PeerError::wrong_type, "vehicle_user_data.pos.lat: expected number"));
-  EXPECT_TRUE(fails_with(decode_vehicle_response(set_member(sample_text(), "lon", "null")),
+  EXPECT_TRUE(fails_with(decode_vehicle_response(set_member(sample_response_text(), "lon", "null")),
                          PeerError::wrong_type, "vehicle_user_data.pos.lon: expected number"));
 }
 
@@ -148,13 +148,13 @@ TEST(JsonCodecResponse, EncoderWritesNullPosAndNullForEmptyUserData) {
 }
 
 TEST(JsonCodecResponse, UnknownFieldsAreIgnored) {
-  std::string text = sample_text();
+  std::string text = sample_response_text();
   text = test::replace_once(text, "{\"ack_time\":", R"({"v":2,"ack_time":)");
   text = test::replace_once(text, "{\"pos\":", R"({"extra":{},"pos":)");
   text = test::replace_once(text, "{\"lat\":", R"({"alt":12.5,"lat":)");
   const auto decoded = decode_vehicle_response(text);
   ASSERT_TRUE(decoded.ok()) << decoded.error().message();
-  EXPECT_EQ(*decoded, sample_message());
+  EXPECT_EQ(*decoded, sample_response());
 }
 
 }  // namespace

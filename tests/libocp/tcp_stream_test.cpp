@@ -21,7 +21,7 @@ using tcp = asio::ip::tcp;
 constexpr std::chrono::milliseconds wait_limit{20'000};
 
 // The shared bounded wait, with this suite's longer limit.
-bool run_until(asio::io_context& io, const std::function<bool()>& done) {
+bool run_within_wait_limit(asio::io_context& io, const std::function<bool()>& done) {
   return testing::run_until(io, done, wait_limit);
 }
 
@@ -48,7 +48,7 @@ struct Connection {
     tcp::socket client_socket(io);
     bool connected = false;
     client_socket.async_connect(acceptor.local_endpoint(), [&](const boost::system::error_code& error) { connected = !error; });
-    run_until(io, [&] { return accepted && connected; });
+    run_within_wait_limit(io, [&] { return accepted && connected; });
     server = make_tcp_stream(std::move(server_socket));
     client = make_tcp_stream(std::move(client_socket));
   }
@@ -63,7 +63,7 @@ TEST(TcpStream, BytesFlowBothWays) {
   connection.client->write("hello ");
   connection.client->write("server");
   connection.server->write("hello client");
-  ASSERT_TRUE(run_until(connection.io, [&] { return at_server.bytes.size() == 12 && at_client.bytes.size() == 12; }));
+  ASSERT_TRUE(run_within_wait_limit(connection.io, [&] { return at_server.bytes.size() == 12 && at_client.bytes.size() == 12; }));
   EXPECT_EQ(at_server.bytes, "hello server");
   EXPECT_EQ(at_client.bytes, "hello client");
 }
@@ -81,7 +81,7 @@ TEST(TcpStream, LargeWriteArrivesIntactAndInOrder) {
   for (std::size_t offset = 1000; offset < big.size(); offset += 65536) {
     connection.client->write(std::string_view(big).substr(offset, 65536));
   }
-  ASSERT_TRUE(run_until(connection.io, [&] { return at_server.bytes.size() >= big.size(); }));
+  ASSERT_TRUE(run_within_wait_limit(connection.io, [&] { return at_server.bytes.size() >= big.size(); }));
   EXPECT_TRUE(at_server.bytes == big);
 }
 
@@ -90,10 +90,10 @@ TEST(TcpStream, BytesSentBeforeHandlersAreSetAreNotLost) {
   connection.client->write("early");
   // Give the bytes time to reach the server's kernel buffer before reading starts.
   const auto settle_until = std::chrono::steady_clock::now() + std::chrono::milliseconds(100);
-  run_until(connection.io, [&] { return std::chrono::steady_clock::now() >= settle_until; });
+  run_within_wait_limit(connection.io, [&] { return std::chrono::steady_clock::now() >= settle_until; });
   Received at_server;
   connection.server->set_handlers(at_server.handlers());
-  ASSERT_TRUE(run_until(connection.io, [&] { return at_server.bytes == "early"; }));
+  ASSERT_TRUE(run_within_wait_limit(connection.io, [&] { return at_server.bytes == "early"; }));
 }
 
 TEST(TcpStream, PeerCloseIsReportedOnceAfterItsLastBytes) {
@@ -105,7 +105,7 @@ TEST(TcpStream, PeerCloseIsReportedOnceAfterItsLastBytes) {
   connection.client->write("goodbye");
   connection.client->close();
   EXPECT_FALSE(connection.client->is_open());
-  ASSERT_TRUE(run_until(connection.io, [&] { return !at_server.closes.empty(); }));
+  ASSERT_TRUE(run_within_wait_limit(connection.io, [&] { return !at_server.closes.empty(); }));
   EXPECT_EQ(at_server.bytes, "goodbye");
   ASSERT_EQ(at_server.closes.size(), 1u);
   EXPECT_EQ(at_server.closes[0], "connection closed by peer");
@@ -122,7 +122,7 @@ TEST(TcpStream, CloseIsIdempotentAndLaterWritesAreIgnored) {
   connection.client->close();
   connection.client->close();
   connection.client->write("ignored");
-  ASSERT_TRUE(run_until(connection.io, [&] { return !at_server.closes.empty(); }));
+  ASSERT_TRUE(run_within_wait_limit(connection.io, [&] { return !at_server.closes.empty(); }));
   EXPECT_TRUE(at_server.bytes.empty());
   EXPECT_EQ(at_server.closes.size(), 1u);
   EXPECT_TRUE(at_client.closes.empty());
@@ -139,7 +139,7 @@ TEST(TcpStream, StreamStaysAliveWhileOperationsArePending) {
   connection.client->set_handlers(ByteStreamHandlers{});
   connection.client->write("from a dropped stream");
   connection.client.reset();  // pending read and write keep it alive
-  ASSERT_TRUE(run_until(connection.io, [&] { return at_server.bytes == "from a dropped stream"; }));
+  ASSERT_TRUE(run_within_wait_limit(connection.io, [&] { return at_server.bytes == "from a dropped stream"; }));
 }
 
 TEST(TcpStream, AbortedPeerIsReportedAsReset) {
@@ -155,7 +155,7 @@ TEST(TcpStream, AbortedPeerIsReportedAsReset) {
   // Linger with a zero timeout makes close() send a RST instead of a FIN.
   client.set_option(asio::socket_base::linger(true, 0));
   client.close();
-  ASSERT_TRUE(run_until(io, [&] { return !at_server.closes.empty(); }));
+  ASSERT_TRUE(run_within_wait_limit(io, [&] { return !at_server.closes.empty(); }));
   EXPECT_EQ(at_server.closes, std::vector<std::string>{"connection reset"});
 }
 

@@ -14,12 +14,7 @@ using testing::control_frame;
 using testing::largest_response_gap;
 using testing::ms;
 using testing::RecordingStream;
-
-Controller start_pressed() {
-  Controller controller;
-  controller.buttons.start = true;
-  return controller;
-}
+using testing::start_pressed;
 
 Controller full_throttle() {
   Controller controller;

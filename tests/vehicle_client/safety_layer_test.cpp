@@ -3,10 +3,13 @@
 
 #include <gtest/gtest.h>
 
+#include "inputs.hpp"
+
 namespace ocp {
 namespace {
 
-constexpr Micros ms(std::int64_t value) { return Micros{value * 1000}; }
+using testing::ms;
+using testing::start_pressed;
 
 OcpControlMessage message_with(std::optional<Controller> controller, bool fault = false) {
   OcpControlMessage message;
@@ -20,12 +23,6 @@ OcpControlMessage user_data_message(std::string json) {
   message.controller = std::nullopt;
   message.client_user_data = RawJson{std::move(json)};
   return message;
-}
-
-Controller start_pressed() {
-  Controller controller;
-  controller.buttons.start = true;
-  return controller;
 }
 
 Controller driving(double throttle_raw, double left_x = 0.0, double brake_raw = -1.0) {

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "inputs.hpp"
 #include "ocp/log.hpp"
 #include "ocp/pipe.hpp"
 #include "ocp/virtual_executor.hpp"
@@ -11,8 +12,6 @@
 #include "vehicle_client/vehicle_client.hpp"
 
 namespace ocp::testing {
-
-constexpr Micros ms(std::int64_t value) { return Micros{value * 1000}; }
 
 struct ClientWorld {
   explicit ClientWorld(VehicleClientConfig client_config = {}, PipeOptions pipe_options = {})
