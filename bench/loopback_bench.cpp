@@ -29,7 +29,7 @@
 #include "loop/floor_echo.hpp"
 #include "ocp/asio_executor.hpp"
 #include "streamer_app/streamer_simulation.hpp"
-#include "vehicle_client/tcp_runner.hpp"
+#include "vehicle_app/tcp_runner.hpp"
 
 namespace ocp {
 namespace {
@@ -37,7 +37,7 @@ namespace {
 constexpr std::chrono::seconds measure_window{5};
 constexpr std::chrono::seconds warm_up{1};
 
-// As sim::RealTimeRunner does for the executables: no 50 µs default timer slack.
+// As sim_app::RealTimeRunner does for the executables: no 50 µs default timer slack.
 void use_precise_timers() { prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL); }
 
 double thread_cpu_seconds() {

@@ -23,8 +23,8 @@
 #include "ocp/virtual_executor.hpp"
 #include "process_usage.hpp"
 #include "stats.hpp"
-#include "streamer_app/streamer_front.hpp"
-#include "vehicle_client/tcp_runner.hpp"
+#include "sim_app/tcp_front.hpp"
+#include "vehicle_app/tcp_runner.hpp"
 #include "world/world.hpp"
 
 namespace ocp::bench {
@@ -201,11 +201,11 @@ FleetPointResult run_loopback(const FleetPointOptions& options, FleetPointResult
     world.set_streamer_threads(streamer_threads.threads(),
                                [&io](std::function<void()> task) { boost::asio::post(io, std::move(task)); });
   }
-  std::vector<std::unique_ptr<StreamerFront>> fronts;
+  std::vector<std::unique_ptr<sim_app::TcpFront>> fronts;
   std::vector<std::uint16_t> ports;
   for (std::size_t vehicle = 0; vehicle < names.size(); ++vehicle) {
     AsioExecutor& front_executor = threaded ? streamer_threads.executor_of(vehicle) : executor;
-    fronts.push_back(std::make_unique<StreamerFront>(front_executor, world, names[vehicle], Logger(front_executor, "front", {})));
+    fronts.push_back(sim_app::vehicle_api_front(front_executor, world, names[vehicle], Logger(front_executor, "front", {})));
     if (auto status = fronts.back()->listen(TcpServerOptions{0, false}); !status) {
       fail(result, "listen: " + status.error().detail);
       return result;

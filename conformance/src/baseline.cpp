@@ -21,29 +21,29 @@ Result<Baseline> load_baseline(const std::string& path) {
 
 std::string baseline_text(const std::vector<CaseResult>& results) {
   std::string out = "# ocp_conformance baseline: cases expected to fail\n";
-  for (const CaseResult& r : results) {
-    if (r.verdict == Verdict::failed) out += r.info.id + "  # " + r.info.title + "\n";
+  for (const CaseResult& result : results) {
+    if (result.verdict == Verdict::failed) out += result.info.id + "  # " + result.info.title + "\n";
   }
   return out;
 }
 
 BaselineDiff diff_baseline(const Baseline& baseline, const std::vector<CaseResult>& results) {
   BaselineDiff diff;
-  for (const CaseResult& r : results) {
-    const bool expected = baseline.count(r.info.id) > 0;
-    if (r.verdict == Verdict::failed) {
-      (expected ? diff.still_failing : diff.new_failures).push_back(r.info.id);
+  for (const CaseResult& result : results) {
+    const bool expected = baseline.count(result.info.id) > 0;
+    if (result.verdict == Verdict::failed) {
+      (expected ? diff.still_failing : diff.new_failures).push_back(result.info.id);
     } else if (expected) {
-      diff.fixed.push_back(r.info.id);
+      diff.fixed.push_back(result.info.id);
     }
   }
   return diff;
 }
 
 int exit_code(const std::vector<CaseResult>& results, const Baseline* baseline) {
-  for (const CaseResult& r : results) {
-    if (r.verdict != Verdict::failed || r.info.tier != Tier::must) continue;
-    if (baseline != nullptr && baseline->count(r.info.id) > 0) continue;
+  for (const CaseResult& result : results) {
+    if (result.verdict != Verdict::failed || result.info.tier != Tier::must) continue;
+    if (baseline != nullptr && baseline->count(result.info.id) > 0) continue;
     return 1;
   }
   return 0;

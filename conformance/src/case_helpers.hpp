@@ -22,8 +22,8 @@ inline Outcome ok(std::string actual) { return {Verdict::ok, std::move(actual)};
 inline Outcome non_strict(std::string actual) { return {Verdict::non_strict, std::move(actual)}; }
 inline Outcome failed(std::string actual) { return {Verdict::failed, std::move(actual)}; }
 
-inline std::string last_close(const Observations& obs) {
-  return obs.close_codes.empty() ? std::string("unknown reason") : obs.close_codes.back();
+inline std::string last_close(const Observations& observed) {
+  return observed.close_codes.empty() ? std::string("unknown reason") : observed.close_codes.back();
 }
 
 inline std::string describe(const AckPair& pair) {
@@ -31,16 +31,16 @@ inline std::string describe(const AckPair& pair) {
 }
 
 // The client must be connected before anything else is graded.
-inline bool connected(CaseContext& ctx, Outcome& outcome) {
-  if (ctx.wait_connected()) return true;
+inline bool connected(CaseContext& context, Outcome& outcome) {
+  if (context.wait_connected()) return true;
   outcome = failed("the client did not connect within 10 s");
   return false;
 }
 
 // First response at or after `after_us` carrying exactly `pair`, or nullptr.
-inline const Response* first_echo(const Observations& obs, const AckPair& pair, std::int64_t after_us) {
-  for (const Response& r : obs.responses) {
-    if (r.time_us >= after_us && r.ack && *r.ack == pair) return &r;
+inline const Response* first_echo(const Observations& observed, const AckPair& pair, std::int64_t after_us) {
+  for (const Response& response : observed.responses) {
+    if (response.time_us >= after_us && response.ack && *response.ack == pair) return &response;
   }
   return nullptr;
 }
@@ -48,14 +48,14 @@ inline const Response* first_echo(const Observations& obs, const AckPair& pair, 
 // Responses in the window (observations.hpp: what the client wrote before it read a control
 // message is vehicle/3.3/4's business) at or after `after_us` whose pair is neither one the
 // Streamer sent nor `extra`.
-inline std::vector<AckPair> unknown_pairs(const Observations& obs, std::int64_t after_us,
+inline std::vector<AckPair> unknown_pairs(const Observations& observed, std::int64_t after_us,
                                           const std::vector<AckPair>& extra = {}) {
   const auto known = [&](const AckPair& pair) {
-    return obs.find_sent(pair) >= 0 || std::find(extra.begin(), extra.end(), pair) != extra.end();
+    return observed.find_sent(pair) >= 0 || std::find(extra.begin(), extra.end(), pair) != extra.end();
   };
   std::vector<AckPair> out;
-  for (const Response& r : obs.responses) {
-    if (r.time_us >= after_us && r.ack && !known(*r.ack)) out.push_back(*r.ack);
+  for (const Response& response : observed.responses) {
+    if (response.time_us >= after_us && response.ack && !known(*response.ack)) out.push_back(*response.ack);
   }
   return out;
 }
@@ -81,36 +81,36 @@ inline AckPair crafted_pair(std::uint64_t salt, std::size_t i) {
   return AckPair{(std::uint64_t{1} << 63) + salt * 1'000'000 + i, 0x80000000u + static_cast<std::uint32_t>(salt * 1000 + i)};
 }
 
-inline CraftedRun send_crafted(CaseContext& ctx, std::size_t count, milliseconds gap, milliseconds settle,
+inline CraftedRun send_crafted(CaseContext& context, std::size_t count, milliseconds gap, milliseconds settle,
                                const std::function<CraftedControl(std::size_t)>& make) {
   CraftedRun run;
-  run.start_us = ctx.now_us();
-  run.closes_before = Observations::from(ctx.entries()).closed_us.size();
-  ctx.streamer().set_control_output_paused(true);
+  run.start_us = context.now_us();
+  run.closes_before = Observations::from(context.entries()).closed_us.size();
+  context.streamer().set_control_output_paused(true);
   for (std::size_t i = 0; i < count; ++i) {
     CraftedControl control = make(i);
     run.pairs.push_back(control.ack);
-    if (!ctx.streamer().vehicle_connected()) break;
-    (void)ctx.streamer().write_raw_to_vehicle(frame_bytes(control_payload(control)));
-    ctx.run_for(gap);
+    if (!context.streamer().vehicle_connected()) break;
+    (void)context.streamer().write_raw_to_vehicle(frame_bytes(control_payload(control)));
+    context.run_for(gap);
   }
-  ctx.run_for(settle);
+  context.run_for(settle);
   return run;
 }
 
 // The common verdict of "the client must accept these frames": still connected, the last pair
 // echoed, no pair echoed that nobody sent.
-inline Outcome grade_crafted(CaseContext& ctx, const CraftedRun& run, const std::string& what) {
-  const Observations obs = Observations::from(ctx.entries());
+inline Outcome grade_crafted(CaseContext& context, const CraftedRun& run, const std::string& what) {
+  const Observations observed = Observations::from(context.entries());
   std::size_t echoed = 0;
-  for (const AckPair& p : run.pairs) echoed += first_echo(obs, p, run.start_us) != nullptr;
-  const bool closed = obs.closed_us.size() > run.closes_before;
-  const auto unknown = unknown_pairs(obs, run.start_us);
-  const bool last = !run.pairs.empty() && first_echo(obs, run.pairs.back(), run.start_us) != nullptr;
+  for (const AckPair& p : run.pairs) echoed += first_echo(observed, p, run.start_us) != nullptr;
+  const bool closed = observed.closed_us.size() > run.closes_before;
+  const auto unknown = unknown_pairs(observed, run.start_us);
+  const bool last = !run.pairs.empty() && first_echo(observed, run.pairs.back(), run.start_us) != nullptr;
   const std::string counts = fmt::format("{} frames {}; {} of their pairs echoed", run.pairs.size(), what, echoed);
   if (closed) {
     return failed(fmt::format("{}; the connection closed ({})", counts,
-                              obs.close_codes.empty() ? "?" : obs.close_codes.back()));
+                              observed.close_codes.empty() ? "?" : observed.close_codes.back()));
   }
   if (!unknown.empty()) return failed(fmt::format("{}; echoed pairs never sent: {}", counts, list_pairs(unknown)));
   if (!last) return failed(fmt::format("{}; the last pair {} was never echoed", counts, describe(run.pairs.back())));

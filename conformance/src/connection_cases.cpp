@@ -9,28 +9,28 @@ namespace {
 using namespace detail;
 
 // After the break at `break_us`: reconnected, echoes pairs of the new session only.
-Outcome grade_reconnect(CaseContext& ctx, std::int64_t break_us, const std::vector<AckPair>& old_pairs) {
-  const bool back = ctx.wait_until(
+Outcome grade_reconnect(CaseContext& context, std::int64_t break_us, const std::vector<AckPair>& old_pairs) {
+  const bool back = context.wait_until(
       [&] {
-        const Observations obs = Observations::from(ctx.entries(), break_us);
-        return !obs.opened_us.empty() && ctx.host().has_streamer() && ctx.streamer().vehicle_connected();
+        const Observations observed = Observations::from(context.entries(), break_us);
+        return !observed.opened_us.empty() && context.host().has_streamer() && context.streamer().vehicle_connected();
       },
       milliseconds(5000));
   if (!back) return failed("the client did not reconnect within 5 s");
-  const Observations reopen = Observations::from(ctx.entries(), break_us);
+  const Observations reopen = Observations::from(context.entries(), break_us);
   const std::int64_t opened = reopen.opened_us.front();
-  ctx.run_for(milliseconds(500));
-  const Observations obs = Observations::from(ctx.entries(), opened);
+  context.run_for(milliseconds(500));
+  const Observations observed = Observations::from(context.entries(), opened);
   std::vector<AckPair> stale;
   std::size_t fresh = 0;
   // Every response of the new connection, also those written before the client read a control
   // message there: a pair kept from the old connection is exactly what this case is about.
-  for (const Response& r : obs.all_responses) {
-    if (!r.ack) continue;
+  for (const Response& response : observed.all_responses) {
+    if (!response.ack) continue;
     bool is_old = false;
-    for (const AckPair& p : old_pairs) is_old = is_old || p == *r.ack;
-    if (is_old) stale.push_back(*r.ack);
-    fresh += obs.find_sent(*r.ack) >= 0;
+    for (const AckPair& p : old_pairs) is_old = is_old || p == *response.ack;
+    if (is_old) stale.push_back(*response.ack);
+    fresh += observed.find_sent(*response.ack) >= 0;
   }
   const std::string counts = fmt::format("reconnected {:.0f} ms after the break; {} echoes of new pairs, {} stale",
                                          static_cast<double>(opened - break_us) / 1000.0, fresh, stale.size());
@@ -39,33 +39,33 @@ Outcome grade_reconnect(CaseContext& ctx, std::int64_t break_us, const std::vect
   return ok(counts);
 }
 
-std::vector<AckPair> pairs_sent(CaseContext& ctx) {
+std::vector<AckPair> pairs_sent(CaseContext& context) {
   std::vector<AckPair> out;
-  for (const SentPair& s : Observations::from(ctx.entries()).sent) out.push_back(s.ack);
+  for (const SentPair& s : Observations::from(context.entries()).sent) out.push_back(s.ack);
   return out;
 }
 
-Outcome after_server_close(CaseContext& ctx) {
+Outcome after_server_close(CaseContext& context) {
   Outcome outcome;
-  if (!connected(ctx, outcome)) return outcome;
-  ctx.run_for(milliseconds(400));
-  const auto old_pairs = pairs_sent(ctx);
-  const std::int64_t break_us = ctx.now_us();
-  ctx.note("server closes the vehicle connection");
-  ctx.streamer().close_vehicle_connection();
-  return grade_reconnect(ctx, break_us, old_pairs);
+  if (!connected(context, outcome)) return outcome;
+  context.run_for(milliseconds(400));
+  const auto old_pairs = pairs_sent(context);
+  const std::int64_t break_us = context.now_us();
+  context.note("server closes the vehicle connection");
+  context.streamer().close_vehicle_connection();
+  return grade_reconnect(context, break_us, old_pairs);
 }
 
-Outcome after_restart(CaseContext& ctx) {
+Outcome after_restart(CaseContext& context) {
   Outcome outcome;
-  if (!connected(ctx, outcome)) return outcome;
-  ctx.run_for(milliseconds(400));
-  const auto old_pairs = pairs_sent(ctx);
-  const std::int64_t break_us = ctx.now_us();
+  if (!connected(context, outcome)) return outcome;
+  context.run_for(milliseconds(400));
+  const auto old_pairs = pairs_sent(context);
+  const std::int64_t break_us = context.now_us();
   StreamerSetup fresh;
   fresh.ack_time_offset = (std::uint64_t{1} << 53) + (std::uint64_t{1} << 44);
-  ctx.restart_streamer(fresh);
-  return grade_reconnect(ctx, break_us, old_pairs);
+  context.restart_streamer(fresh);
+  return grade_reconnect(context, break_us, old_pairs);
 }
 
 }  // namespace

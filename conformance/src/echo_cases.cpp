@@ -13,55 +13,55 @@ using namespace detail;
 
 constexpr std::int64_t stale_limit_us = 200'000;
 
-Outcome latest_pair(CaseContext& ctx) {
+Outcome latest_pair(CaseContext& context) {
   Outcome outcome;
-  if (!connected(ctx, outcome)) return outcome;
-  ctx.run_for(milliseconds(1500));
-  const Observations obs = Observations::from(ctx.entries());
-  if (obs.sent.empty()) return failed("no control frame was sent (harness)");
-  const std::int64_t first_sent = obs.sent.front().time_us;
+  if (!connected(context, outcome)) return outcome;
+  context.run_for(milliseconds(1500));
+  const Observations observed = Observations::from(context.entries());
+  if (observed.sent.empty()) return failed("no control frame was sent (harness)");
+  const std::int64_t first_sent = observed.sent.front().time_us;
   std::size_t graded = 0, stale = 0;
   std::int64_t worst_age = 0;
-  for (const Response& r : obs.responses) {
-    if (r.time_us < first_sent || !r.ack) continue;
-    const std::int64_t index = obs.find_sent(*r.ack);
+  for (const Response& response : observed.responses) {
+    if (response.time_us < first_sent || !response.ack) continue;
+    const std::int64_t index = observed.find_sent(*response.ack);
     if (index < 0) continue;  // counted as unknown below
     ++graded;
-    const std::int64_t latest = obs.latest_sent_before(r.time_us);
-    const std::int64_t age = obs.sent[static_cast<std::size_t>(latest)].time_us - obs.sent[static_cast<std::size_t>(index)].time_us;
+    const std::int64_t latest = observed.latest_sent_before(response.time_us);
+    const std::int64_t age = observed.sent[static_cast<std::size_t>(latest)].time_us - observed.sent[static_cast<std::size_t>(index)].time_us;
     worst_age = std::max(worst_age, age);
     if (age > stale_limit_us) ++stale;
   }
-  const auto unknown = unknown_pairs(obs, first_sent);
+  const auto unknown = unknown_pairs(observed, first_sent);
   const std::string counts = fmt::format("{} control frames, {} responses echoing a sent pair, {} stale (> 200 ms behind), "
                                          "worst {:.1f} ms behind, {} altered",
-                                         obs.sent.size(), graded, stale, static_cast<double>(worst_age) / 1000.0, unknown.size());
+                                         observed.sent.size(), graded, stale, static_cast<double>(worst_age) / 1000.0, unknown.size());
   if (!unknown.empty()) return failed(counts + "; altered / never-sent pairs: " + list_pairs(unknown));
   if (graded < 10) return failed(counts + "; fewer than 10 responses in 1.5 s");
   if (static_cast<double>(stale) > 0.05 * static_cast<double>(graded)) return failed(counts);
   return ok(counts);
 }
 
-Outcome ack_u64(CaseContext& ctx) {
+Outcome ack_u64(CaseContext& context) {
   Outcome outcome;
-  if (!connected(ctx, outcome)) return outcome;
-  ctx.run_for(milliseconds(600));
-  const std::int64_t normal_end = ctx.now_us();
+  if (!connected(context, outcome)) return outcome;
+  context.run_for(milliseconds(600));
+  const std::int64_t normal_end = context.now_us();
   // Extremes the Streamer's clock will not reach in a short run: hand-made frames.
   const std::vector<AckPair> extremes{
       {std::numeric_limits<std::uint64_t>::max(), std::numeric_limits<std::uint32_t>::max()},
       {(std::uint64_t{1} << 53) + 1, 0x80000001u},
       {(std::uint64_t{1} << 63) + 12345, (1u << 31) + 7},
       {std::numeric_limits<std::uint64_t>::max() - 1, 0xFFFFFFFEu}};
-  const CraftedRun run = send_crafted(ctx, extremes.size() * 3, milliseconds(10), milliseconds(300),
+  const CraftedRun run = send_crafted(context, extremes.size() * 3, milliseconds(10), milliseconds(300),
                                       [&](std::size_t i) { return CraftedControl{extremes[i % extremes.size()]}; });
-  const Observations obs = Observations::from(ctx.entries());
-  const auto unknown = unknown_pairs(obs, 0);
+  const Observations observed = Observations::from(context.entries());
+  const auto unknown = unknown_pairs(observed, 0);
   std::size_t normal_echoes = 0;
-  for (const Response& r : obs.responses) normal_echoes += r.time_us < normal_end && r.ack && obs.find_sent(*r.ack) >= 0;
+  for (const Response& response : observed.responses) normal_echoes += response.time_us < normal_end && response.ack && observed.find_sent(*response.ack) >= 0;
   std::vector<AckPair> missing;
   for (const AckPair& p : extremes) {
-    if (!first_echo(obs, p, run.start_us)) missing.push_back(p);
+    if (!first_echo(observed, p, run.start_us)) missing.push_back(p);
   }
   const std::string counts = fmt::format(
       "Streamer ack_time from 2^64-1-3e6 upwards: {} exact echoes; extremes {} of {} echoed exactly",
@@ -74,28 +74,28 @@ Outcome ack_u64(CaseContext& ctx) {
 
 // Irregular gaps (2–25 ms, fixed sequence) separate a client that echoes at once from one
 // that answers on its own timer: only the first keeps a small delay whatever the cadence.
-Outcome echo_delay(CaseContext& ctx) {
+Outcome echo_delay(CaseContext& context) {
   Outcome outcome;
-  if (!connected(ctx, outcome)) return outcome;
-  ctx.run_for(milliseconds(300));
+  if (!connected(context, outcome)) return outcome;
+  context.run_for(milliseconds(300));
   static constexpr int gaps_ms[] = {3, 17, 7, 23, 2, 11, 19, 5, 13, 25, 4, 9};
   std::vector<AckPair> pairs;
   std::vector<std::int64_t> sent_at;
-  ctx.streamer().set_control_output_paused(true);
-  const std::int64_t start = ctx.now_us();
-  for (std::size_t i = 0; i < 100 && ctx.streamer().vehicle_connected(); ++i) {
+  context.streamer().set_control_output_paused(true);
+  const std::int64_t start = context.now_us();
+  for (std::size_t i = 0; i < 100 && context.streamer().vehicle_connected(); ++i) {
     const CraftedControl control{crafted_pair(3, i)};
     pairs.push_back(control.ack);
-    sent_at.push_back(ctx.now_us());
-    (void)ctx.streamer().write_raw_to_vehicle(frame_bytes(control_payload(control)));
-    ctx.run_for(milliseconds(gaps_ms[i % std::size(gaps_ms)]));
+    sent_at.push_back(context.now_us());
+    (void)context.streamer().write_raw_to_vehicle(frame_bytes(control_payload(control)));
+    context.run_for(milliseconds(gaps_ms[i % std::size(gaps_ms)]));
   }
-  ctx.run_for(milliseconds(300));
-  const Observations obs = Observations::from(ctx.entries(), start);
+  context.run_for(milliseconds(300));
+  const Observations observed = Observations::from(context.entries(), start);
   std::vector<double> delays_ms;
   for (std::size_t i = 0; i < pairs.size(); ++i) {
-    if (const Response* r = first_echo(obs, pairs[i], sent_at[i])) {
-      delays_ms.push_back(static_cast<double>(r->time_us - sent_at[i]) / 1000.0);
+    if (const Response* response = first_echo(observed, pairs[i], sent_at[i])) {
+      delays_ms.push_back(static_cast<double>(response->time_us - sent_at[i]) / 1000.0);
     }
   }
   const double p50 = percentile(delays_ms, 50), p90 = percentile(delays_ms, 90), p99 = percentile(delays_ms, 99);
@@ -108,23 +108,23 @@ Outcome echo_delay(CaseContext& ctx) {
   return failed(stats);
 }
 
-Outcome no_pair_before_control(CaseContext& ctx) {
+Outcome no_pair_before_control(CaseContext& context) {
   Outcome outcome;
-  if (!connected(ctx, outcome)) return outcome;
-  ctx.run_for(milliseconds(400));   // control output paused from the start (setup)
-  ctx.streamer().set_control_output_paused(false);
-  const std::int64_t resumed = ctx.now_us();
-  ctx.run_for(milliseconds(400));
+  if (!connected(context, outcome)) return outcome;
+  context.run_for(milliseconds(400));   // control output paused from the start (setup)
+  context.streamer().set_control_output_paused(false);
+  const std::int64_t resumed = context.now_us();
+  context.run_for(milliseconds(400));
   // This case grades exactly what the window rule leaves out of every other case: responses
   // written before the client had read a control message, including those that crossed our
   // first control frame on the wire.
-  const Observations obs = Observations::from(ctx.entries());
+  const Observations observed = Observations::from(context.entries());
   std::vector<AckPair> early;
-  for (const Response& r : obs.before_control) {
-    if (r.ack) early.push_back(*r.ack);
+  for (const Response& response : observed.before_control) {
+    if (response.ack) early.push_back(*response.ack);
   }
   std::size_t echoes = 0;
-  for (const Response& r : obs.responses) echoes += r.time_us >= resumed && r.ack && obs.find_sent(*r.ack) >= 0;
+  for (const Response& response : observed.responses) echoes += response.time_us >= resumed && response.ack && observed.find_sent(*response.ack) >= 0;
   if (echoes == 0) return failed(fmt::format("no echo of a sent pair within 400 ms after control started ({} responses before it)", early.size()));
   if (!early.empty()) {
     return non_strict(fmt::format("{} responses written before the client read a control message, carrying made-up pairs such as {}; "

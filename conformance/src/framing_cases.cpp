@@ -10,36 +10,36 @@ namespace {
 
 using namespace detail;
 
-Outcome valid_responses(CaseContext& ctx) {
+Outcome valid_responses(CaseContext& context) {
   Outcome outcome;
-  if (!connected(ctx, outcome)) return outcome;
-  ctx.run_for(milliseconds(1000));
-  const Observations obs = Observations::from(ctx.entries());
+  if (!connected(context, outcome)) return outcome;
+  context.run_for(milliseconds(1000));
+  const Observations observed = Observations::from(context.entries());
   std::size_t drained = 0, valid = 0;
   std::uint32_t largest = 0;
-  for (const Response& r : obs.all_responses) {   // a rule for every frame, in the window or not
-    drained += r.drained;
-    valid += r.ack.has_value();
-    largest = std::max(largest, r.length_prefix);
+  for (const Response& response : observed.all_responses) {   // a rule for every frame, in the window or not
+    drained += response.drained;
+    valid += response.ack.has_value();
+    largest = std::max(largest, response.length_prefix);
   }
   const std::string counts = fmt::format("{} responses: {} valid, {} oversized (drained), largest length prefix {} bytes",
-                                         obs.all_responses.size(), valid, drained, largest);
-  if (obs.closed_by_peer_error()) return failed(counts + "; the Streamer closed the connection: " + last_close(obs));
+                                         observed.all_responses.size(), valid, drained, largest);
+  if (observed.closed_by_peer_error()) return failed(counts + "; the Streamer closed the connection: " + last_close(observed));
   if (drained > 0) return failed(counts);
   if (valid < 10) return failed(counts + "; fewer than 10 valid responses in 1 s");
   return ok(counts);
 }
 
-Outcome split_frames(CaseContext& ctx) {
+Outcome split_frames(CaseContext& context) {
   Outcome outcome;
-  if (!connected(ctx, outcome)) return outcome;
-  ctx.run_for(milliseconds(200));
-  ctx.streamer().set_control_output_paused(true);
-  const std::int64_t start = ctx.now_us();
-  const std::size_t closes_before = Observations::from(ctx.entries()).closed_us.size();
-  if (!ctx.streamer().vehicle_connected()) {
+  if (!connected(context, outcome)) return outcome;
+  context.run_for(milliseconds(200));
+  context.streamer().set_control_output_paused(true);
+  const std::int64_t start = context.now_us();
+  const std::size_t closes_before = Observations::from(context.entries()).closed_us.size();
+  if (!context.streamer().vehicle_connected()) {
     return failed("the connection closed before the split frames were sent: " +
-                  last_close(Observations::from(ctx.entries())));
+                  last_close(Observations::from(context.entries())));
   }
   std::vector<AckPair> pairs;
   // (a) One frame dribbled byte by byte, 1 ms apart.
@@ -51,52 +51,52 @@ Outcome split_frames(CaseContext& ctx) {
   pairs.push_back(dribbled.ack);
   // Each frame's pieces must all be out before the next frame starts: bytes_out tells.
   const auto written = [&](std::uint64_t target) {
-    return [&ctx, target] { return !ctx.streamer().vehicle_connected() || ctx.streamer().stats().vehicle_bytes_out >= target; };
+    return [&context, target] { return !context.streamer().vehicle_connected() || context.streamer().stats().vehicle_bytes_out >= target; };
   };
-  std::uint64_t target = ctx.streamer().stats().vehicle_bytes_out + whole.size();
-  (void)ctx.streamer().write_raw_to_vehicle(whole, every, milliseconds(1));
-  ctx.wait_until(written(target), milliseconds(5000));
-  ctx.run_for(milliseconds(50));   // time to answer it, even on a 10 ms timer
+  std::uint64_t target = context.streamer().stats().vehicle_bytes_out + whole.size();
+  (void)context.streamer().write_raw_to_vehicle(whole, every, milliseconds(1));
+  context.wait_until(written(target), milliseconds(5000));
+  context.run_for(milliseconds(50));   // time to answer it, even on a 10 ms timer
   const AckPair dribbled_pair = dribbled.ack;
   // (b) For every boundary k: one frame cut in two at k, the pieces 1 ms apart.
   std::size_t frame_size = 0;
   for (std::size_t k = 1;; ++k) {
-    if (!ctx.streamer().vehicle_connected()) break;
+    if (!context.streamer().vehicle_connected()) break;
     CraftedControl control{crafted_pair(22, k)};
     control.client_user_data = R"({"mode":"manual"})";
     const std::string frame = frame_bytes(control_payload(control));
     frame_size = frame.size();
     if (k >= frame.size()) break;
     pairs.push_back(control.ack);
-    target = ctx.streamer().stats().vehicle_bytes_out + frame.size();
-    (void)ctx.streamer().write_raw_to_vehicle(frame, {k}, milliseconds(1));
-    ctx.wait_until(written(target), milliseconds(1000));
-    ctx.run_for(milliseconds(1));
+    target = context.streamer().stats().vehicle_bytes_out + frame.size();
+    (void)context.streamer().write_raw_to_vehicle(frame, {k}, milliseconds(1));
+    context.wait_until(written(target), milliseconds(1000));
+    context.run_for(milliseconds(1));
   }
-  ctx.run_for(milliseconds(300));
-  const Observations obs = Observations::from(ctx.entries());
+  context.run_for(milliseconds(300));
+  const Observations observed = Observations::from(context.entries());
   std::size_t echoed = 0;
-  for (const AckPair& p : pairs) echoed += first_echo(obs, p, start) != nullptr;
-  const auto unknown = unknown_pairs(obs, start, pairs);
-  const bool closed = obs.closed_us.size() > closes_before;
+  for (const AckPair& p : pairs) echoed += first_echo(observed, p, start) != nullptr;
+  const auto unknown = unknown_pairs(observed, start, pairs);
+  const bool closed = observed.closed_us.size() > closes_before;
   const std::string counts = fmt::format("a {}-byte frame sent byte by byte, then {} frames cut at every boundary; {} of {} pairs echoed",
                                          frame_size, pairs.size() - 1, echoed, pairs.size());
-  if (closed) return failed(counts + "; connection closed: " + last_close(obs));
+  if (closed) return failed(counts + "; connection closed: " + last_close(observed));
   if (!unknown.empty()) return failed(counts + "; echoed pairs never sent: " + list_pairs(unknown));
-  if (!first_echo(obs, dribbled_pair, start)) return failed(counts + "; the byte-by-byte frame's pair was never echoed");
-  if (!first_echo(obs, pairs.back(), start)) return failed(counts + "; the last split frame's pair was never echoed");
+  if (!first_echo(observed, dribbled_pair, start)) return failed(counts + "; the byte-by-byte frame's pair was never echoed");
+  if (!first_echo(observed, pairs.back(), start)) return failed(counts + "; the last split frame's pair was never echoed");
   return ok(counts);
 }
 
-Outcome coalesced_frames(CaseContext& ctx) {
+Outcome coalesced_frames(CaseContext& context) {
   Outcome outcome;
-  if (!connected(ctx, outcome)) return outcome;
-  ctx.run_for(milliseconds(200));
-  ctx.streamer().set_control_output_paused(true);
-  const std::int64_t start = ctx.now_us();
-  const std::size_t closes_before = Observations::from(ctx.entries()).closed_us.size();
+  if (!connected(context, outcome)) return outcome;
+  context.run_for(milliseconds(200));
+  context.streamer().set_control_output_paused(true);
+  const std::int64_t start = context.now_us();
+  const std::size_t closes_before = Observations::from(context.entries()).closed_us.size();
   std::vector<AckPair> lasts, all;
-  for (std::size_t round = 0; round < 3 && ctx.streamer().vehicle_connected(); ++round) {
+  for (std::size_t round = 0; round < 3 && context.streamer().vehicle_connected(); ++round) {
     std::string segment;
     for (std::size_t i = 0; i < 50; ++i) {
       const CraftedControl control{crafted_pair(31 + round, i)};
@@ -104,65 +104,65 @@ Outcome coalesced_frames(CaseContext& ctx) {
       segment += frame_bytes(control_payload(control));
     }
     lasts.push_back(all.back());
-    (void)ctx.streamer().write_raw_to_vehicle(segment);
-    ctx.run_for(milliseconds(150));
+    (void)context.streamer().write_raw_to_vehicle(segment);
+    context.run_for(milliseconds(150));
   }
-  ctx.run_for(milliseconds(200));
-  const Observations obs = Observations::from(ctx.entries());
+  context.run_for(milliseconds(200));
+  const Observations observed = Observations::from(context.entries());
   std::size_t lasts_echoed = 0;
-  for (const AckPair& p : lasts) lasts_echoed += first_echo(obs, p, start) != nullptr;
-  const auto unknown = unknown_pairs(obs, start, all);
-  const bool closed = obs.closed_us.size() > closes_before;
+  for (const AckPair& p : lasts) lasts_echoed += first_echo(observed, p, start) != nullptr;
+  const auto unknown = unknown_pairs(observed, start, all);
+  const bool closed = observed.closed_us.size() > closes_before;
   const std::string counts = fmt::format("3 writes of 50 frames each; the last pair of {} of 3 writes echoed", lasts_echoed);
-  if (closed) return failed(counts + "; connection closed: " + last_close(obs));
+  if (closed) return failed(counts + "; connection closed: " + last_close(observed));
   if (!unknown.empty()) return failed(counts + "; echoed pairs never sent: " + list_pairs(unknown));
   if (lasts_echoed < lasts.size()) return failed(counts + " (the latest pair of a write must be echoed)");
   return ok(counts);
 }
 
-Outcome oversized_inbound(CaseContext& ctx) {
+Outcome oversized_inbound(CaseContext& context) {
   Outcome outcome;
-  if (!connected(ctx, outcome)) return outcome;
-  ctx.run_for(milliseconds(200));
-  ctx.streamer().set_control_output_paused(true);
-  const std::size_t closes_before = Observations::from(ctx.entries()).closed_us.size();
-  ctx.note("writing a 20000-byte control frame (over the 16 KiB limit)");
-  (void)ctx.streamer().write_raw_to_vehicle(oversized_frame(20000));
-  ctx.run_for(milliseconds(20));
-  const CraftedRun run = send_crafted(ctx, 10, milliseconds(10), milliseconds(300),
+  if (!connected(context, outcome)) return outcome;
+  context.run_for(milliseconds(200));
+  context.streamer().set_control_output_paused(true);
+  const std::size_t closes_before = Observations::from(context.entries()).closed_us.size();
+  context.note("writing a 20000-byte control frame (over the 16 KiB limit)");
+  (void)context.streamer().write_raw_to_vehicle(oversized_frame(20000));
+  context.run_for(milliseconds(20));
+  const CraftedRun run = send_crafted(context, 10, milliseconds(10), milliseconds(300),
                                       [](std::size_t i) { return CraftedControl{crafted_pair(41, i)}; });
   if (run.closes_before > closes_before) {
-    const Observations obs = Observations::from(ctx.entries());
-    return failed("the connection closed after the oversized frame: " + last_close(obs));
+    const Observations observed = Observations::from(context.entries());
+    return failed("the connection closed after the oversized frame: " + last_close(observed));
   }
-  return grade_crafted(ctx, run, "after a skipped 20000-byte frame");
+  return grade_crafted(context, run, "after a skipped 20000-byte frame");
 }
 
-Outcome responds_while_paused(CaseContext& ctx) {
+Outcome responds_while_paused(CaseContext& context) {
   Outcome outcome;
-  if (!connected(ctx, outcome)) return outcome;
-  ctx.run_for(milliseconds(300));
-  const std::size_t closes_before = Observations::from(ctx.entries()).closed_us.size();
-  ctx.streamer().set_control_output_paused(true);
-  const std::int64_t paused_at = ctx.now_us();
-  ctx.note("control output paused for 1.8 s");
-  ctx.run_for(milliseconds(1800));
-  const std::int64_t resumed_at = ctx.now_us();
-  ctx.streamer().set_control_output_paused(false);
-  ctx.run_for(milliseconds(200));
-  const Observations obs = Observations::from(ctx.entries());
+  if (!connected(context, outcome)) return outcome;
+  context.run_for(milliseconds(300));
+  const std::size_t closes_before = Observations::from(context.entries()).closed_us.size();
+  context.streamer().set_control_output_paused(true);
+  const std::int64_t paused_at = context.now_us();
+  context.note("control output paused for 1.8 s");
+  context.run_for(milliseconds(1800));
+  const std::int64_t resumed_at = context.now_us();
+  context.streamer().set_control_output_paused(false);
+  context.run_for(milliseconds(200));
+  const Observations observed = Observations::from(context.entries());
   std::int64_t last = paused_at, max_gap = 0;
   std::size_t during = 0;
-  for (const Response& r : obs.all_responses) {   // any response keeps the connection alive
-    if (r.time_us < paused_at || r.time_us > resumed_at) continue;
+  for (const Response& response : observed.all_responses) {   // any response keeps the connection alive
+    if (response.time_us < paused_at || response.time_us > resumed_at) continue;
     ++during;
-    max_gap = std::max(max_gap, r.time_us - last);
-    last = r.time_us;
+    max_gap = std::max(max_gap, response.time_us - last);
+    last = response.time_us;
   }
   max_gap = std::max(max_gap, resumed_at - last);
   const std::string counts = fmt::format("{} responses during a 1.8 s pause of control; longest silence {:.0f} ms", during,
                                          static_cast<double>(max_gap) / 1000.0);
-  if (obs.closed_us.size() > closes_before) return failed(counts + "; the connection closed: " + last_close(obs));
+  if (observed.closed_us.size() > closes_before) return failed(counts + "; the connection closed: " + last_close(observed));
   if (max_gap >= 1'000'000) return failed(counts + " (≥ 1 s: half the Streamer's 2 s read timeout is gone; a longer pause closes the connection)");
   return ok(counts);
 }

@@ -20,16 +20,16 @@ pre{white-space:pre-wrap;word-break:break-all;margin:0;font-size:12px}
 section{border-top:1px solid #aaa;margin-top:2em}
 )";
 
-std::string wire_rows(const CaseResult& r) {
+std::string wire_rows(const CaseResult& result) {
   std::string rows;
-  const std::size_t n = r.wire_log.size();
-  const std::int64_t origin = n == 0 ? 0 : r.wire_log.front().time_us;
+  const std::size_t n = result.wire_log.size();
+  const std::int64_t origin = n == 0 ? 0 : result.wire_log.front().time_us;
   for (std::size_t i = 0; i < n; ++i) {
     if (i >= wire_log_head && i + wire_log_tail < n) {
       if (i == wire_log_head) rows += fmt::format("<tr><td colspan=5>… {} entries elided …</td></tr>\n", n - wire_log_head - wire_log_tail);
       continue;
     }
-    const WireLogEntry& e = r.wire_log[i];
+    const WireLogEntry& e = result.wire_log[i];
     const std::string kind(wire_entry_kind_name(e.kind));
     const std::string length = (e.kind == WireEntryKind::out || e.kind == WireEntryKind::in)
                                    ? fmt::format("{}{}", e.length_prefix, e.drained ? " (drained)" : "")
@@ -45,32 +45,32 @@ std::string wire_rows(const CaseResult& r) {
 
 }  // namespace
 
-std::string html_report(const ReportContext& c) {
-  const RunSummary& s = *c.summary;
+std::string html_report(const ReportContext& report) {
+  const RunSummary& summary = *report.summary;
   std::string html = fmt::format("<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>OCP conformance: {}</title><style>{}</style></head><body>\n",
-                                 c.suite, style);
-  html += fmt::format("<h1>OCP conformance — {} side</h1>\n<p>Client: <code>{}</code><br>{} cases in {:.1f} s; exit code {}</p>\n",
-                      c.suite, markup_escape(c.client), s.results.size(), s.duration_ms / 1000.0,
-                      s.harness_error.empty() ? exit_code(s.results, nullptr) : 2);
-  if (!s.harness_error.empty()) html += "<p class=\"failed\">Harness error: " + markup_escape(s.harness_error) + "</p>\n";
+                                 report.suite, style);
+  html += fmt::format("<h1>OCP conformance — {} side</h1>\n<p>Client: <code>{}</code><br>{} cases in {:.1f} summary; exit code {}</p>\n",
+                      report.suite, markup_escape(report.client), summary.results.size(), summary.duration_ms / 1000.0,
+                      summary.harness_error.empty() ? exit_code(summary.results, nullptr) : 2);
+  if (!summary.harness_error.empty()) html += "<p class=\"failed\">Harness error: " + markup_escape(summary.harness_error) + "</p>\n";
   html += "<table><tr><th>case</th><th>tier</th><th>verdict</th><th>ms</th><th>title</th></tr>\n";
-  for (const CaseResult& r : s.results) {
+  for (const CaseResult& result : summary.results) {
     html += fmt::format("<tr class=\"{}\"><td><a href=\"#{}\">{}</a></td><td>{}</td><td>{}</td><td>{:.0f}</td><td>{}</td></tr>\n",
-                        verdict_slug(r.verdict), markup_escape(r.info.id), markup_escape(r.info.id), tier_name(r.info.tier),
-                        verdict_name(r.verdict), r.duration_ms, markup_escape(r.info.title));
+                        verdict_slug(result.verdict), markup_escape(result.info.id), markup_escape(result.info.id), tier_name(result.info.tier),
+                        verdict_name(result.verdict), result.duration_ms, markup_escape(result.info.title));
   }
   html += "</table>\n";
-  for (const CaseResult& r : s.results) {
-    html += fmt::format("<section id=\"{}\"><h2 class=\"{}\">{} — {} ({})</h2>\n", markup_escape(r.info.id), verdict_slug(r.verdict),
-                        markup_escape(r.info.id), verdict_name(r.verdict), tier_name(r.info.tier));
-    html += "<p><b>" + markup_escape(r.info.title) + "</b></p>\n";
-    html += "<p><b>Requirement</b> (" + markup_escape(r.info.source) + "): " + markup_escape(r.info.requirement) + "</p>\n<p><b>Expected</b></p><ul>";
-    for (const std::string& e : r.info.expected) html += "<li>" + markup_escape(e) + "</li>";
-    html += "</ul>\n<p><b>Actual</b>: " + markup_escape(r.actual) + fmt::format(" ({:.0f} ms)</p>\n", r.duration_ms);
-    if (!r.wire_log.empty()) {
+  for (const CaseResult& result : summary.results) {
+    html += fmt::format("<section id=\"{}\"><h2 class=\"{}\">{} — {} ({})</h2>\n", markup_escape(result.info.id), verdict_slug(result.verdict),
+                        markup_escape(result.info.id), verdict_name(result.verdict), tier_name(result.info.tier));
+    html += "<p><b>" + markup_escape(result.info.title) + "</b></p>\n";
+    html += "<p><b>Requirement</b> (" + markup_escape(result.info.source) + "): " + markup_escape(result.info.requirement) + "</p>\n<p><b>Expected</b></p><ul>";
+    for (const std::string& e : result.info.expected) html += "<li>" + markup_escape(e) + "</li>";
+    html += "</ul>\n<p><b>Actual</b>: " + markup_escape(result.actual) + fmt::format(" ({:.0f} ms)</p>\n", result.duration_ms);
+    if (!result.wire_log.empty()) {
       html += fmt::format("<details{}><summary>Wire log ({} entries)</summary><table class=\"wire\"><tr><th>ms</th><th>dir</th><th>length prefix</th><th>ack_time / mac</th><th>payload</th></tr>\n",
-                          r.verdict == Verdict::failed ? " open" : "", r.wire_log.size());
-      html += wire_rows(r) + "</table></details>\n";
+                          result.verdict == Verdict::failed ? " open" : "", result.wire_log.size());
+      html += wire_rows(result) + "</table></details>\n";
     }
     html += "</section>\n";
   }

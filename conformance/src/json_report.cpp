@@ -23,24 +23,24 @@ std::string entry_json(const WireLogEntry& e, std::int64_t origin_us) {
 
 }  // namespace
 
-std::string index_json(const ReportContext& c) {
-  const RunSummary& s = *c.summary;
+std::string index_json(const ReportContext& report) {
+  const RunSummary& summary = *report.summary;
   std::string out = fmt::format(R"({{"suite":"{}","client":"{}","duration_ms":{:.1f},"exit_code":{},"harness_error":"{}","cases":[)",
-                                c.suite, json_escape(c.client), s.duration_ms,
-                                s.harness_error.empty() ? exit_code(s.results, nullptr) : 2, json_escape(s.harness_error));
+                                report.suite, json_escape(report.client), summary.duration_ms,
+                                summary.harness_error.empty() ? exit_code(summary.results, nullptr) : 2, json_escape(summary.harness_error));
   bool first = true;
-  for (const CaseResult& r : s.results) {
+  for (const CaseResult& result : summary.results) {
     out += first ? "\n" : ",\n";
     first = false;
     out += fmt::format(R"({{"id":"{}","title":"{}","tier":"{}","verdict":"{}","duration_ms":{:.1f},"source":"{}","requirement":"{}","expected":[)",
-                       json_escape(r.info.id), json_escape(r.info.title), tier_name(r.info.tier), verdict_name(r.verdict),
-                       r.duration_ms, json_escape(r.info.source), json_escape(r.info.requirement));
-    for (std::size_t i = 0; i < r.info.expected.size(); ++i) {
-      out += i ? "," : ""; out += fmt::format(R"("{}")", json_escape(r.info.expected[i]));
+                       json_escape(result.info.id), json_escape(result.info.title), tier_name(result.info.tier), verdict_name(result.verdict),
+                       result.duration_ms, json_escape(result.info.source), json_escape(result.info.requirement));
+    for (std::size_t i = 0; i < result.info.expected.size(); ++i) {
+      out += i ? "," : ""; out += fmt::format(R"("{}")", json_escape(result.info.expected[i]));
     }
-    out += fmt::format(R"(],"actual":"{}","client_log":"{}","wire_log":[)", json_escape(r.actual), json_escape(r.client_log_path));
-    const std::int64_t origin = r.wire_log.empty() ? 0 : r.wire_log.front().time_us;
-    const std::size_t n = r.wire_log.size();
+    out += fmt::format(R"(],"actual":"{}","client_log":"{}","wire_log":[)", json_escape(result.actual), json_escape(result.client_log_path));
+    const std::int64_t origin = result.wire_log.empty() ? 0 : result.wire_log.front().time_us;
+    const std::size_t n = result.wire_log.size();
     bool any = false;
     for (std::size_t i = 0; i < n; ++i) {
       if (i >= wire_log_head && i + wire_log_tail < n) {
@@ -50,7 +50,7 @@ std::string index_json(const ReportContext& c) {
         }
         continue;
       }
-      out += any ? "," : ""; out += entry_json(r.wire_log[i], origin);
+      out += any ? "," : ""; out += entry_json(result.wire_log[i], origin);
       any = true;
     }
     out += "]}";

@@ -5,28 +5,28 @@
 
 namespace ocp::conformance {
 
-std::string junit_xml(const ReportContext& c) {
-  const RunSummary& s = *c.summary;
+std::string junit_xml(const ReportContext& report) {
+  const RunSummary& summary = *report.summary;
   std::size_t failures = 0;
-  for (const CaseResult& r : s.results) failures += r.verdict == Verdict::failed;
+  for (const CaseResult& result : summary.results) failures += result.verdict == Verdict::failed;
   std::string xml = fmt::format("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites><testsuite name=\"ocp_conformance.{}\" tests=\"{}\" failures=\"{}\" errors=\"{}\" time=\"{:.3f}\">\n",
-                                c.suite, s.results.size(), failures, s.harness_error.empty() ? 0 : 1, s.duration_ms / 1000.0);
-  for (const CaseResult& r : s.results) {
-    xml += fmt::format("  <testcase classname=\"{}.{}\" name=\"{}\" time=\"{:.3f}\">\n", c.suite, tier_name(r.info.tier),
-                       report::markup_escape(r.info.id), r.duration_ms / 1000.0);
-    std::string detail = "Requirement: " + r.info.requirement + "\n";
-    for (const auto& e : r.info.expected) detail += "Expected: " + e + "\n";
-    detail += "Actual: " + r.actual;
-    if (r.verdict == Verdict::failed) {
-      xml += fmt::format("    <failure message=\"{}\">{}</failure>\n", report::markup_escape(r.actual), report::markup_escape(detail));
+                                report.suite, summary.results.size(), failures, summary.harness_error.empty() ? 0 : 1, summary.duration_ms / 1000.0);
+  for (const CaseResult& result : summary.results) {
+    xml += fmt::format("  <testcase classname=\"{}.{}\" name=\"{}\" time=\"{:.3f}\">\n", report.suite, tier_name(result.info.tier),
+                       report::markup_escape(result.info.id), result.duration_ms / 1000.0);
+    std::string detail = "Requirement: " + result.info.requirement + "\n";
+    for (const auto& e : result.info.expected) detail += "Expected: " + e + "\n";
+    detail += "Actual: " + result.actual;
+    if (result.verdict == Verdict::failed) {
+      xml += fmt::format("    <failure message=\"{}\">{}</failure>\n", report::markup_escape(result.actual), report::markup_escape(detail));
     } else {
-      xml += fmt::format("    <system-out>{}: {}</system-out>\n", verdict_name(r.verdict), report::markup_escape(detail));
+      xml += fmt::format("    <system-out>{}: {}</system-out>\n", verdict_name(result.verdict), report::markup_escape(detail));
     }
     xml += "  </testcase>\n";
   }
-  if (!s.harness_error.empty()) {
-    xml += fmt::format("  <testcase classname=\"{}\" name=\"harness\"><error message=\"{}\"/></testcase>\n", c.suite,
-                       report::markup_escape(s.harness_error));
+  if (!summary.harness_error.empty()) {
+    xml += fmt::format("  <testcase classname=\"{}\" name=\"harness\"><error message=\"{}\"/></testcase>\n", report.suite,
+                       report::markup_escape(summary.harness_error));
   }
   xml += "</testsuite></testsuites>\n";
   return xml;
@@ -50,7 +50,7 @@ std::string case_list(const std::vector<CaseInfo>& cases, bool markdown) {
     for (std::size_t i = 0; i < c.expected.size(); ++i) {
       expected += i ? "<br>" : ""; expected += cell(c.expected[i]);
     }
-    out += fmt::format("| `{}` | {} | {} | {} ({}) | {} | {} s | {} |\n", c.id, tier_name(c.tier), cell(c.title),
+    out += fmt::format("| `{}` | {} | {} | {} ({}) | {} | {} summary | {} |\n", c.id, tier_name(c.tier), cell(c.title),
                        cell(c.requirement), cell(c.source), expected, c.timeout.count() / 1000, cell(c.broken_by));
   }
   return out;

@@ -10,39 +10,39 @@ namespace {
 
 using namespace detail;
 
-Outcome crafted_case(CaseContext& ctx, std::uint64_t salt, const std::string& what,
+Outcome crafted_case(CaseContext& context, std::uint64_t salt, const std::string& what,
                      const std::function<void(CraftedControl&)>& shape) {
   Outcome outcome;
-  if (!connected(ctx, outcome)) return outcome;
-  ctx.run_for(milliseconds(200));
-  const CraftedRun run = send_crafted(ctx, 30, milliseconds(10), milliseconds(300), [&](std::size_t i) {
+  if (!connected(context, outcome)) return outcome;
+  context.run_for(milliseconds(200));
+  const CraftedRun run = send_crafted(context, 30, milliseconds(10), milliseconds(300), [&](std::size_t i) {
     CraftedControl control{crafted_pair(salt, i)};
     shape(control);
     return control;
   });
-  return grade_crafted(ctx, run, what);
+  return grade_crafted(context, run, what);
 }
 
-Outcome controller_null(CaseContext& ctx) {
-  return crafted_case(ctx, 51, "with \"controller\": null",
+Outcome controller_null(CaseContext& context) {
+  return crafted_case(context, 51, "with \"controller\": null",
                       [](CraftedControl& c) { c.controller = CraftedController::null; });
 }
 
-Outcome default_with_fault(CaseContext& ctx) {
-  return crafted_case(ctx, 52, "with the default controller, telemetry.fault true and two fault reasons", [](CraftedControl& c) {
+Outcome default_with_fault(CaseContext& context) {
+  return crafted_case(context, 52, "with the default controller, telemetry.fault true and two fault reasons", [](CraftedControl& c) {
     c.controller = CraftedController::safe_default;
     c.fault = true;
     c.fault_reason = "High Latency, Latency Loop Not Closed";
   });
 }
 
-Outcome nested_client_user_data(CaseContext& ctx) {
-  return crafted_case(ctx, 53, "with client_user_data nested 16 levels deep",
+Outcome nested_client_user_data(CaseContext& context) {
+  return crafted_case(context, 53, "with client_user_data nested 16 levels deep",
                       [](CraftedControl& c) { c.client_user_data = conformance::nested_user_data(16); });
 }
 
-Outcome unknown_fields(CaseContext& ctx) {
-  return crafted_case(ctx, 54, "with unknown fields at top level, in telemetry and in controller",
+Outcome unknown_fields(CaseContext& context) {
+  return crafted_case(context, 54, "with unknown fields at top level, in telemetry and in controller",
                       [](CraftedControl& c) { c.unknown_fields = true; });
 }
 
@@ -72,26 +72,26 @@ std::string check_user_data(std::string_view payload, bool& user_data_not_object
   return "";
 }
 
-Outcome user_data_schema(CaseContext& ctx) {
+Outcome user_data_schema(CaseContext& context) {
   Outcome outcome;
-  if (!connected(ctx, outcome)) return outcome;
-  ctx.run_for(milliseconds(1000));
-  const Observations obs = Observations::from(ctx.entries());
+  if (!connected(context, outcome)) return outcome;
+  context.run_for(milliseconds(1000));
+  const Observations observed = Observations::from(context.entries());
   std::size_t checked = 0, with_data = 0, not_object = 0;
   std::string first_problem;
-  for (const Response& r : obs.all_responses) {   // the schema holds for every response
-    if (r.drained) continue;
+  for (const Response& response : observed.all_responses) {   // the schema holds for every response
+    if (response.drained) continue;
     ++checked;
     bool odd = false, has = false;
-    const std::string problem = check_user_data(r.payload, odd, has);
+    const std::string problem = check_user_data(response.payload, odd, has);
     with_data += has;
     not_object += odd;
-    if (!problem.empty() && first_problem.empty()) first_problem = problem + " in " + std::string(r.payload.substr(0, 200));
+    if (!problem.empty() && first_problem.empty()) first_problem = problem + " in " + std::string(response.payload.substr(0, 200));
   }
   const std::string counts = fmt::format("{} responses, {} with vehicle_user_data, {} with a non-object user_data",
                                          checked, with_data, not_object);
   if (!first_problem.empty()) return failed(counts + "; " + first_problem);
-  if (obs.closed_by_peer_error()) return failed(counts + "; the Streamer closed the connection: " + last_close(obs));
+  if (observed.closed_by_peer_error()) return failed(counts + "; the Streamer closed the connection: " + last_close(observed));
   if (checked == 0) return failed("no response to check");
   if (not_object > 0) return non_strict(counts);
   return ok(counts);

@@ -40,34 +40,34 @@ std::vector<bool> in_window(const std::vector<WireLogEntry>& entries) {
 }  // namespace
 
 Observations Observations::from(const std::vector<WireLogEntry>& entries, std::int64_t since_us) {
-  Observations o;
+  Observations observed;
   const std::vector<bool> windowed = in_window(entries);
   for (std::size_t i = 0; i < entries.size(); ++i) {
     const WireLogEntry& e = entries[i];
     if (e.time_us < since_us) continue;
     switch (e.kind) {
       case WireEntryKind::out:
-        if (e.ack) o.sent.push_back(SentPair{e.time_us, *e.ack});
+        if (e.ack) observed.sent.push_back(SentPair{e.time_us, *e.ack});
         break;
       case WireEntryKind::in: {
         const Response response{e.time_us, e.ack, e.drained, e.length_prefix, e.text};
-        o.all_responses.push_back(response);
-        (windowed[i] ? o.responses : o.before_control).push_back(response);
+        observed.all_responses.push_back(response);
+        (windowed[i] ? observed.responses : observed.before_control).push_back(response);
         break;
       }
       case WireEntryKind::opened:
-        o.opened_us.push_back(e.time_us);
+        observed.opened_us.push_back(e.time_us);
         break;
       case WireEntryKind::closed:
-        o.close_codes.push_back(e.close_code);
-        o.closed_us.push_back(e.time_us);
+        observed.close_codes.push_back(e.close_code);
+        observed.closed_us.push_back(e.time_us);
         break;
       case WireEntryKind::refused:
       case WireEntryKind::note:
         break;
     }
   }
-  return o;
+  return observed;
 }
 
 std::int64_t Observations::find_sent(const AckPair& ack) const {
@@ -86,7 +86,7 @@ std::int64_t Observations::latest_sent_before(std::int64_t time_us) const {
 
 std::size_t Observations::responses_with_pair() const {
   return static_cast<std::size_t>(std::count_if(responses.begin(), responses.end(),
-                                                [](const Response& r) { return r.ack.has_value(); }));
+                                                [](const Response& response) { return response.ack.has_value(); }));
 }
 
 bool Observations::closed_by_peer_error() const {

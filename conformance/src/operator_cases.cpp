@@ -15,45 +15,45 @@ namespace {
 
 using namespace detail;
 
-Outcome valid_frames(CaseContext& ctx) {
+Outcome valid_frames(CaseContext& context) {
   Outcome outcome;
-  if (!connected(ctx, outcome)) return outcome;
-  ctx.run_for(milliseconds(1500));
-  const OperatorObservations o = OperatorObservations::from(ctx.entries());
-  const std::string counts = fmt::format("{} frames from the client, {} oversized (drained)", o.client_frames_us.size(), o.drained);
-  if (o.closed_by_peer_error()) return failed(counts + "; the Player closed the connection: " + o.close_codes.back());
-  if (o.drained > 0) return failed(counts);
-  if (o.client_frames_us.empty()) return failed(counts + "; nothing sent in 1.5 s");
+  if (!connected(context, outcome)) return outcome;
+  context.run_for(milliseconds(1500));
+  const OperatorObservations observed = OperatorObservations::from(context.entries());
+  const std::string counts = fmt::format("{} frames from the client, {} oversized (drained)", observed.client_frames_us.size(), observed.drained);
+  if (observed.closed_by_peer_error()) return failed(counts + "; the Player closed the connection: " + observed.close_codes.back());
+  if (observed.drained > 0) return failed(counts);
+  if (observed.client_frames_us.empty()) return failed(counts + "; nothing sent in 1.5 s");
   return ok(counts);
 }
 
-Outcome grade_pairs(const PairReturns& r, const std::string& vehicle, std::size_t at_least) {
-  const std::string counts = r.describe(vehicle);
-  if (!r.altered.empty()) return failed(counts + "; never published for it: " + list_pairs(r.altered));
-  if (r.count < at_least) return failed(fmt::format("{}; fewer than {} returned pairs", counts, at_least));
-  if (static_cast<double>(r.stale) > 0.05 * static_cast<double>(r.count)) return failed(counts);
+Outcome grade_pairs(const PairReturns& returns, const std::string& vehicle, std::size_t at_least) {
+  const std::string counts = returns.describe(vehicle);
+  if (!returns.altered.empty()) return failed(counts + "; never published for it: " + list_pairs(returns.altered));
+  if (returns.count < at_least) return failed(fmt::format("{}; fewer than {} returned pairs", counts, at_least));
+  if (static_cast<double>(returns.stale) > 0.05 * static_cast<double>(returns.count)) return failed(counts);
   return ok(counts);
 }
 
-Outcome returns_latest_pair(CaseContext& ctx) {
+Outcome returns_latest_pair(CaseContext& context) {
   Outcome outcome;
-  if (!connected(ctx, outcome)) return outcome;
-  ctx.run_for(milliseconds(1500));
-  const OperatorObservations o = OperatorObservations::from(ctx.entries());
-  return grade_pairs(pair_returns(o, host_vehicle_name), host_vehicle_name, 10);
+  if (!connected(context, outcome)) return outcome;
+  context.run_for(milliseconds(1500));
+  const OperatorObservations observed = OperatorObservations::from(context.entries());
+  return grade_pairs(pair_returns(observed, host_vehicle_name), host_vehicle_name, 10);
 }
 
 // Once the client's data locked the tcp source the Player echoes nothing itself (SPEC §4.3):
 // a vehicle whose pair the client leaves out has a broken latency loop.
-Outcome returns_every_vehicle_pair(CaseContext& ctx) {
+Outcome returns_every_vehicle_pair(CaseContext& context) {
   Outcome outcome;
-  if (!connected(ctx, outcome)) return outcome;
-  ctx.run_for(milliseconds(1500));
-  const OperatorObservations o = OperatorObservations::from(ctx.entries());
+  if (!connected(context, outcome)) return outcome;
+  context.run_for(milliseconds(1500));
+  const OperatorObservations observed = OperatorObservations::from(context.entries());
   std::string actual;
-  for (const HostedVehicle& vehicle : ctx.host().vehicles()) {
+  for (const HostedVehicle& vehicle : context.host().vehicles()) {
     if (vehicle.monitor) continue;
-    const Outcome one = grade_pairs(pair_returns(o, vehicle.name), vehicle.name, 10);
+    const Outcome one = grade_pairs(pair_returns(observed, vehicle.name), vehicle.name, 10);
     if (one.verdict == Verdict::failed) return one;
     actual += (actual.empty() ? "" : "; ") + one.actual;
   }
@@ -61,15 +61,15 @@ Outcome returns_every_vehicle_pair(CaseContext& ctx) {
 }
 
 // INFO: how long after the Player first published a pair the client first returned it.
-Outcome return_delay(CaseContext& ctx) {
-  if (!ctx.wait_connected()) return {Verdict::informational, "the client did not connect within 10 s: nothing measured"};
-  ctx.run_for(milliseconds(1500));
-  const OperatorObservations o = OperatorObservations::from(ctx.entries());
-  const auto published = o.published.find(host_vehicle_name);
-  const auto returned = o.returned.find(host_vehicle_name);
+Outcome return_delay(CaseContext& context) {
+  if (!context.wait_connected()) return {Verdict::informational, "the client did not connect within 10 s: nothing measured"};
+  context.run_for(milliseconds(1500));
+  const OperatorObservations observed = OperatorObservations::from(context.entries());
+  const auto published = observed.published.find(host_vehicle_name);
+  const auto returned = observed.returned.find(host_vehicle_name);
   std::vector<double> delays_ms;
   std::size_t pairs = 0;
-  if (published != o.published.end() && returned != o.returned.end()) {
+  if (published != observed.published.end() && returned != observed.returned.end()) {
     std::vector<AckPair> seen;
     for (const SentPair& p : published->second) {
       if (std::find(seen.begin(), seen.end(), p.ack) != seen.end()) continue;

@@ -12,70 +12,70 @@ using namespace detail;
 
 constexpr milliseconds silence_ms{2300};   // longer than the Player's 2 s read timeout
 
-Outcome keeps_connection_alive(CaseContext& ctx) {
+Outcome keeps_connection_alive(CaseContext& context) {
   Outcome outcome;
-  if (!connected(ctx, outcome)) return outcome;
-  ctx.run_for(milliseconds(300));
-  const std::int64_t from = ctx.now_us();
-  ctx.note("Player output paused: no VehicleOcpShared for 2.3 s");
-  ctx.host().player().set_client_output_paused(true);
-  ctx.run_for(silence_ms);
-  ctx.host().player().set_client_output_paused(false);
-  ctx.note("Player output resumed");
-  const OperatorObservations o = OperatorObservations::from(ctx.entries(), from);
+  if (!connected(context, outcome)) return outcome;
+  context.run_for(milliseconds(300));
+  const std::int64_t from = context.now_us();
+  context.note("Player output paused: no VehicleOcpShared for 2.3 s");
+  context.host().player().set_client_output_paused(true);
+  context.run_for(silence_ms);
+  context.host().player().set_client_output_paused(false);
+  context.note("Player output resumed");
+  const OperatorObservations observed = OperatorObservations::from(context.entries(), from);
   std::int64_t longest = 0, last = from;
-  for (std::int64_t t : o.client_frames_us) {
-    if (!o.closed_us.empty() && t > o.closed_us.front()) break;
+  for (std::int64_t t : observed.client_frames_us) {
+    if (!observed.closed_us.empty() && t > observed.closed_us.front()) break;
     longest = std::max(longest, t - last);
     last = t;
   }
   // A closed connection's silence ends at the close.
-  longest = std::max(longest, (o.closed_us.empty() ? ctx.now_us() : o.closed_us.front()) - last);
+  longest = std::max(longest, (observed.closed_us.empty() ? context.now_us() : observed.closed_us.front()) - last);
   const std::string counts = fmt::format("{} frames from the client during the 2.3 s pause; longest silence {} ms",
-                                         o.client_frames_us.size(), longest / 1000);
-  if (!o.closed_us.empty()) return failed(counts + "; the connection closed: " + o.close_codes.front());
+                                         observed.client_frames_us.size(), longest / 1000);
+  if (!observed.closed_us.empty()) return failed(counts + "; the connection closed: " + observed.close_codes.front());
   if (longest >= 2'000'000) return failed(counts);
   return ok(counts + "; connection kept");
 }
 
 // Closes (or restarts the Player), then grades the new connection: reconnected, and every pair
 // it returns was published on the new connection (none remembered from before).
-Outcome reconnects(CaseContext& ctx, const std::function<void()>& cut, const std::string& what) {
+Outcome reconnects(CaseContext& context, const std::function<void()>& cut, const std::string& what) {
   Outcome outcome;
-  if (!connected(ctx, outcome)) return outcome;
-  ctx.run_for(milliseconds(500));
-  const std::int64_t cut_us = ctx.now_us();
+  if (!connected(context, outcome)) return outcome;
+  context.run_for(milliseconds(500));
+  const std::int64_t cut_us = context.now_us();
   cut();
   std::int64_t reopened_us = -1;
   const auto reopened = [&] {
-    for (const WireLogEntry& e : ctx.entries()) {
+    for (const WireLogEntry& e : context.entries()) {
       if (e.kind == WireEntryKind::opened && e.time_us >= cut_us && reopened_us < 0) reopened_us = e.time_us;
     }
     return reopened_us >= 0;
   };
-  if (!ctx.wait_until(reopened, milliseconds(5000))) return failed("no reconnect within 5 s after " + what);
-  ctx.run_for(milliseconds(800));
-  const OperatorObservations after = OperatorObservations::from(ctx.entries(), reopened_us);
-  const PairReturns r = pair_returns(after, host_vehicle_name);
+  if (!context.wait_until(reopened, milliseconds(5000))) return failed("no reconnect within 5 s after " + what);
+  context.run_for(milliseconds(800));
+  const OperatorObservations after = OperatorObservations::from(context.entries(), reopened_us);
+  const PairReturns returns = pair_returns(after, host_vehicle_name);
   const std::string counts = fmt::format("reconnected {} ms after {}; then {}", (reopened_us - cut_us) / 1000, what,
-                                         r.describe(host_vehicle_name));
-  if (!r.altered.empty()) return failed(counts + "; pairs not published on the new connection: " + list_pairs(r.altered));
-  if (r.count < 5) return failed(counts + "; fewer than 5 returned pairs in 0.8 s after the reconnect");
+                                         returns.describe(host_vehicle_name));
+  if (!returns.altered.empty()) return failed(counts + "; pairs not published on the new connection: " + list_pairs(returns.altered));
+  if (returns.count < 5) return failed(counts + "; fewer than 5 returned pairs in 0.8 s after the reconnect");
   return ok(counts);
 }
 
 // One connection at a time (SPEC §4.2): a second one is refused, so an application that opens
 // two (a dashboard next to the control connection) has two would-be sources, one of them cut off.
-Outcome single_connection(CaseContext& ctx) {
+Outcome single_connection(CaseContext& context) {
   Outcome outcome;
-  if (!connected(ctx, outcome)) return outcome;
-  ctx.run_for(milliseconds(1000));
-  const OperatorObservations o = OperatorObservations::from(ctx.entries());
+  if (!connected(context, outcome)) return outcome;
+  context.run_for(milliseconds(1000));
+  const OperatorObservations observed = OperatorObservations::from(context.entries());
   bool locked = false;
-  for (const WireLogEntry& e : ctx.entries()) locked = locked || (e.kind == WireEntryKind::note && e.text.find("source locked: tcp") != std::string::npos);
+  for (const WireLogEntry& e : context.entries()) locked = locked || (e.kind == WireEntryKind::note && e.text.find("source locked: tcp") != std::string::npos);
   const std::string lock = locked ? "its client data locked the tcp source" : "it sent no client data (keep-alives only: no lock)";
-  if (o.refused > 0) {
-    return failed(fmt::format("{} more connection(s) opened while one was up, refused by the Player; {}", o.refused, lock));
+  if (observed.refused > 0) {
+    return failed(fmt::format("{} more connection(s) opened while one was up, refused by the Player; {}", observed.refused, lock));
   }
   return ok("one connection; " + lock);
 }
@@ -102,8 +102,8 @@ void add_operator_connection_cases(std::vector<VehicleCase>& cases) {
                      {"OK: reconnects within 5 s, then returns ≥ 5 pairs in 0.8 s, each published on the new connection (none "
                       "remembered from the old one)"},
                      "broken_client.py op-no-reconnect (or op-sticky)"},
-                    [](CaseContext& ctx) {
-                      return reconnects(ctx, [&] { ctx.host().player().close_client_connection(); }, "the Player closed the connection");
+                    [](CaseContext& context) {
+                      return reconnects(context, [&] { context.host().player().close_client_connection(); }, "the Player closed the connection");
                     }},
                    op});
   cases.push_back({{{"operator/4.2/4", "reconnects after a Player restart (new Streamer keys); no stale pair", "SPEC §4.2, §5, seed 000",
@@ -113,8 +113,8 @@ void add_operator_connection_cases(std::vector<VehicleCase>& cases) {
                      {"OK: reconnects to the restarted Player within 5 s, then returns ≥ 5 pairs in 0.8 s, each published after the "
                       "restart"},
                      "broken_client.py op-sticky (or op-no-reconnect)"},
-                    [op](CaseContext& ctx) {
-                      return reconnects(ctx, [&] { ctx.restart_streamer(op); }, "the Player restarted");
+                    [op](CaseContext& context) {
+                      return reconnects(context, [&] { context.restart_streamer(op); }, "the Player restarted");
                     }},
                    op});
   cases.push_back({{{"operator/4.3/1", "one connection at a time: a single client-data source", "SPEC §4.2, §4.3, seed 002",

@@ -18,26 +18,26 @@ using namespace detail;
 // Control frames take a Player frame, the link and a Streamer tick to reach the vehicle.
 constexpr std::int64_t settle_us = 100'000;
 
-Outcome user_data_reaches_vehicle(CaseContext& ctx) {
+Outcome user_data_reaches_vehicle(CaseContext& context) {
   Outcome outcome;
-  if (!connected(ctx, outcome)) return outcome;
-  const VehicleWireWatch watch(ctx.host());
-  ctx.run_for(milliseconds(1000));
-  const OperatorObservations o = OperatorObservations::from(ctx.entries());
-  if (o.user_data.empty()) {
+  if (!connected(context, outcome)) return outcome;
+  const VehicleWireWatch watch(context.host());
+  context.run_for(milliseconds(1000));
+  const OperatorObservations observed = OperatorObservations::from(context.entries());
+  if (observed.user_data.empty()) {
     return {Verdict::informational, "the client sent no user_data in 1 s: nothing to check"};
   }
   std::map<std::string, std::set<std::string>> sent;   // per vehicle: every value sent
-  for (const auto& u : o.user_data) {
-    if (!o.linked.contains(u.vehicle)) {
+  for (const auto& u : observed.user_data) {
+    if (!observed.linked.contains(u.vehicle)) {
       return failed(fmt::format("user_data sent for '{}', which is not a linked vehicle (the Player links: {}): it reaches no vehicle",
-                                u.vehicle, fmt::join(o.linked, ", ")));
+                                u.vehicle, fmt::join(observed.linked, ", ")));
     }
     sent[u.vehicle].insert(u.value);
   }
   std::string actual;
   for (const auto& [vehicle, values] : sent) {
-    if (o.monitors.contains(vehicle)) continue;   // a monitor link is sent no control at all
+    if (observed.monitors.contains(vehicle)) continue;   // a monitor link is sent no control at all
     std::size_t carried = 0, matching = 0;
     for (const ControlSeen& c : watch.seen(vehicle)) {
       if (!c.user_data) continue;
@@ -55,16 +55,16 @@ Outcome user_data_reaches_vehicle(CaseContext& ctx) {
   return ok(actual + "; every one unchanged");
 }
 
-Outcome disable_gamepad(CaseContext& ctx) {
+Outcome disable_gamepad(CaseContext& context) {
   Outcome outcome;
-  if (!connected(ctx, outcome)) return outcome;
-  const VehicleWireWatch watch(ctx.host());
-  ctx.run_for(milliseconds(1000));
-  const OperatorObservations o = OperatorObservations::from(ctx.entries());
+  if (!connected(context, outcome)) return outcome;
+  const VehicleWireWatch watch(context.host());
+  context.run_for(milliseconds(1000));
+  const OperatorObservations observed = OperatorObservations::from(context.entries());
   const std::string vehicle = host_vehicle_name;
   std::optional<std::int64_t> disabled_at, enabled_at;   // first true; first explicit false after it
   std::size_t entries = 0, omitted = 0;
-  for (const auto& g : o.gamepad) {
+  for (const auto& g : observed.gamepad) {
     if (g.vehicle != vehicle) continue;
     if (!disabled_at) {
       if (g.disable == true) disabled_at = g.time_us;
@@ -90,25 +90,25 @@ Outcome disable_gamepad(CaseContext& ctx) {
   return ok(counts);
 }
 
-Outcome selects_active_vehicle(CaseContext& ctx) {
+Outcome selects_active_vehicle(CaseContext& context) {
   Outcome outcome;
-  if (!connected(ctx, outcome)) return outcome;
-  ctx.run_for(milliseconds(1000));
-  const OperatorObservations o = OperatorObservations::from(ctx.entries());
-  const std::size_t control = o.linked.size() - o.monitors.size();
-  const std::string linked = fmt::format("{} vehicles linked ({} control, monitor: {})", o.linked.size(), control, fmt::join(o.monitors, ", "));
-  if (o.active_vehicle.empty()) {
+  if (!connected(context, outcome)) return outcome;
+  context.run_for(milliseconds(1000));
+  const OperatorObservations observed = OperatorObservations::from(context.entries());
+  const std::size_t control = observed.linked.size() - observed.monitors.size();
+  const std::string linked = fmt::format("{} vehicles linked ({} control, monitor: {})", observed.linked.size(), control, fmt::join(observed.monitors, ", "));
+  if (observed.active_vehicle.empty()) {
     return failed(fmt::format("{}; no active_vehicle in {} client frames: no vehicle receives gamepad input, every one raises "
-                              "VehicleControlInactive", linked, o.client_frames_us.size()));
+                              "VehicleControlInactive", linked, observed.client_frames_us.size()));
   }
   std::set<std::string> chosen;
-  for (const auto& a : o.active_vehicle) {
-    if (o.monitors.contains(a.value)) return failed(fmt::format("{}; active_vehicle '{}' is a monitor link (watch-only, sent no control)", linked, a.value));
-    if (!o.linked.contains(a.value)) return failed(fmt::format("{}; active_vehicle '{}' is not a linked vehicle", linked, a.value));
+  for (const auto& a : observed.active_vehicle) {
+    if (observed.monitors.contains(a.value)) return failed(fmt::format("{}; active_vehicle '{}' is a monitor link (watch-only, sent no control)", linked, a.value));
+    if (!observed.linked.contains(a.value)) return failed(fmt::format("{}; active_vehicle '{}' is not a linked vehicle", linked, a.value));
     chosen.insert(a.value);
   }
-  return ok(fmt::format("{}; active_vehicle {} in {} of {} client frames", linked, fmt::join(chosen, ", "), o.active_vehicle.size(),
-                        o.client_frames_us.size()));
+  return ok(fmt::format("{}; active_vehicle {} in {} of {} client frames", linked, fmt::join(chosen, ", "), observed.active_vehicle.size(),
+                        observed.client_frames_us.size()));
 }
 
 }  // namespace

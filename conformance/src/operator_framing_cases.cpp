@@ -15,8 +15,8 @@ using namespace detail;
 
 // The Player's latest VehicleOcpShared with the hosted vehicle's pair replaced by `pair`: a
 // frame the client cannot tell from a real one, but whose return is unmistakable.
-std::string shared_frame(CaseContext& ctx, const AckPair& pair) {
-  VehicleOcpShared shared = ctx.host().player().last_shared();
+std::string shared_frame(CaseContext& context, const AckPair& pair) {
+  VehicleOcpShared shared = context.host().player().last_shared();
   shared.vehicle_feedback[host_vehicle_name].ack = pair;
   std::string json;
   encode_vehicle_ocp_shared(shared, json);
@@ -24,19 +24,19 @@ std::string shared_frame(CaseContext& ctx, const AckPair& pair) {
 }
 
 // Connected, settled, and the Player's own output paused; false (and `outcome` set) if not.
-bool ready(CaseContext& ctx, Outcome& outcome) {
-  if (!connected(ctx, outcome)) return false;
-  ctx.run_for(milliseconds(300));
-  ctx.host().player().set_client_output_paused(true);
-  ctx.run_for(milliseconds(20));   // answers to the last real frames arrive
-  if (ctx.host().player().client_connected()) return true;
+bool ready(CaseContext& context, Outcome& outcome) {
+  if (!connected(context, outcome)) return false;
+  context.run_for(milliseconds(300));
+  context.host().player().set_client_output_paused(true);
+  context.run_for(milliseconds(20));   // answers to the last real frames arrive
+  if (context.host().player().client_connected()) return true;
   outcome = failed("the connection closed before the hand-made frames were sent");
   return false;
 }
 
-bool returned_since(const OperatorObservations& o, const AckPair& pair, std::int64_t since_us) {
-  const auto found = o.returned.find(host_vehicle_name);
-  if (found == o.returned.end()) return false;
+bool returned_since(const OperatorObservations& observed, const AckPair& pair, std::int64_t since_us) {
+  const auto found = observed.returned.find(host_vehicle_name);
+  if (found == observed.returned.end()) return false;
   for (const SentPair& back : found->second) {
     if (back.time_us >= since_us && back.ack == pair) return true;
   }
@@ -45,45 +45,45 @@ bool returned_since(const OperatorObservations& o, const AckPair& pair, std::int
 
 // Writes `bytes` cut at `cuts`, pieces `gap` apart, and waits (bounded) until the last piece is
 // out, so the next write can never land between the pieces on a slow machine.
-void write_in_pieces(CaseContext& ctx, const std::string& bytes, const std::vector<std::size_t>& cuts, milliseconds gap) {
-  PlayerCore& player = ctx.host().player();
+void write_in_pieces(CaseContext& context, const std::string& bytes, const std::vector<std::size_t>& cuts, milliseconds gap) {
+  PlayerCore& player = context.host().player();
   const std::uint64_t target = player.stats().client_bytes_out + bytes.size();
   if (!player.write_raw_to_client(bytes, cuts, gap)) return;
-  ctx.wait_until([&] { return !player.client_connected() || player.stats().client_bytes_out >= target; }, milliseconds(5000));
+  context.wait_until([&] { return !player.client_connected() || player.stats().client_bytes_out >= target; }, milliseconds(5000));
 }
 
 // The common verdict: connection kept since `start_us`, every pair in `required` returned,
 // no pair returned that the Player never published.
-Outcome grade(CaseContext& ctx, std::int64_t start_us, const std::vector<AckPair>& sent,
+Outcome grade(CaseContext& context, std::int64_t start_us, const std::vector<AckPair>& sent,
               const std::vector<AckPair>& required, const std::string& what) {
-  const OperatorObservations o = OperatorObservations::from(ctx.entries());
+  const OperatorObservations observed = OperatorObservations::from(context.entries());
   std::size_t returned = 0;
-  for (const AckPair& p : sent) returned += returned_since(o, p, start_us);
+  for (const AckPair& p : sent) returned += returned_since(observed, p, start_us);
   const std::string counts = fmt::format("{}; {} of their {} pairs returned", what, returned, sent.size());
-  for (std::size_t i = 0; i < o.closed_us.size(); ++i) {
-    if (o.closed_us[i] >= start_us) return failed(counts + "; the connection closed: " + o.close_codes[i]);
+  for (std::size_t i = 0; i < observed.closed_us.size(); ++i) {
+    if (observed.closed_us[i] >= start_us) return failed(counts + "; the connection closed: " + observed.close_codes[i]);
   }
-  const PairReturns r = pair_returns(o, host_vehicle_name);
-  if (!r.altered.empty()) return failed(counts + "; returned pairs never published: " + list_pairs(r.altered));
+  const PairReturns returns = pair_returns(observed, host_vehicle_name);
+  if (!returns.altered.empty()) return failed(counts + "; returned pairs never published: " + list_pairs(returns.altered));
   for (const AckPair& p : required) {
-    if (!returned_since(o, p, start_us)) return failed(counts + "; never returned: " + describe(p));
+    if (!returned_since(observed, p, start_us)) return failed(counts + "; never returned: " + describe(p));
   }
   return ok(counts + "; connection kept");
 }
 
-Outcome split_frames(CaseContext& ctx) {
+Outcome split_frames(CaseContext& context) {
   Outcome outcome;
-  if (!ready(ctx, outcome)) return outcome;
-  PlayerCore& player = ctx.host().player();
-  const std::int64_t start = ctx.now_us();
+  if (!ready(context, outcome)) return outcome;
+  PlayerCore& player = context.host().player();
+  const std::int64_t start = context.now_us();
   std::vector<AckPair> sent;
   // One frame dribbled byte by byte, 1 ms apart.
   sent.push_back(crafted_pair(51, 0));
-  const std::string whole = shared_frame(ctx, sent.back());
+  const std::string whole = shared_frame(context, sent.back());
   std::vector<std::size_t> every;
   for (std::size_t k = 1; k < whole.size(); ++k) every.push_back(k);
-  write_in_pieces(ctx, whole, every, milliseconds(1));
-  ctx.run_for(milliseconds(50));   // time to answer it, even on a 10 ms timer
+  write_in_pieces(context, whole, every, milliseconds(1));
+  context.run_for(milliseconds(50));   // time to answer it, even on a 10 ms timer
   // Frames cut inside the length prefix, at its end, inside the payload and before the last
   // byte (one frame at all of them), the pieces 5 ms apart.
   const std::size_t n = whole.size();
@@ -91,52 +91,52 @@ Outcome split_frames(CaseContext& ctx) {
   for (const auto& at : cuts) {
     if (!player.client_connected()) break;
     sent.push_back(crafted_pair(52, sent.size()));
-    write_in_pieces(ctx, shared_frame(ctx, sent.back()), at, milliseconds(5));
-    ctx.run_for(milliseconds(20));
+    write_in_pieces(context, shared_frame(context, sent.back()), at, milliseconds(5));
+    context.run_for(milliseconds(20));
   }
-  ctx.run_for(milliseconds(200));
-  return grade(ctx, start, sent, {sent.front(), sent.back()},
+  context.run_for(milliseconds(200));
+  return grade(context, start, sent, {sent.front(), sent.back()},
                fmt::format("a {}-byte frame sent byte by byte, then {} frames cut at chosen offsets", n, sent.size() - 1));
 }
 
-Outcome coalesced_frames(CaseContext& ctx) {
+Outcome coalesced_frames(CaseContext& context) {
   Outcome outcome;
-  if (!ready(ctx, outcome)) return outcome;
-  PlayerCore& player = ctx.host().player();
-  const std::int64_t start = ctx.now_us();
+  if (!ready(context, outcome)) return outcome;
+  PlayerCore& player = context.host().player();
+  const std::int64_t start = context.now_us();
   std::vector<AckPair> sent, lasts;
   for (std::size_t write = 0; write < 3 && player.client_connected(); ++write) {
     std::string segment;
     for (std::size_t i = 0; i < 20; ++i) {
       sent.push_back(crafted_pair(61 + write, i));
-      segment += shared_frame(ctx, sent.back());
+      segment += shared_frame(context, sent.back());
     }
     lasts.push_back(sent.back());
     (void)player.write_raw_to_client(segment);
-    ctx.run_for(milliseconds(150));
+    context.run_for(milliseconds(150));
   }
-  ctx.run_for(milliseconds(150));
-  return grade(ctx, start, sent, lasts, "3 writes of 20 frames each (the last pair of each must be returned)");
+  context.run_for(milliseconds(150));
+  return grade(context, start, sent, lasts, "3 writes of 20 frames each (the last pair of each must be returned)");
 }
 
-Outcome oversized_frame_skipped(CaseContext& ctx) {
+Outcome oversized_frame_skipped(CaseContext& context) {
   Outcome outcome;
-  if (!ready(ctx, outcome)) return outcome;
-  PlayerCore& player = ctx.host().player();
-  const std::int64_t start = ctx.now_us();
-  ctx.note("writing a 20000-byte VehicleOcpShared frame (over the 16 KiB limit)");
+  if (!ready(context, outcome)) return outcome;
+  PlayerCore& player = context.host().player();
+  const std::int64_t start = context.now_us();
+  context.note("writing a 20000-byte VehicleOcpShared frame (over the 16 KiB limit)");
   (void)player.write_raw_to_client(oversized_frame(20000));
-  ctx.run_for(milliseconds(20));
+  context.run_for(milliseconds(20));
   std::vector<AckPair> sent;
   for (std::size_t i = 0; i < 10 && player.client_connected(); ++i) {
     sent.push_back(crafted_pair(71, i));
-    (void)player.write_raw_to_client(shared_frame(ctx, sent.back()));
-    ctx.run_for(milliseconds(10));
+    (void)player.write_raw_to_client(shared_frame(context, sent.back()));
+    context.run_for(milliseconds(10));
   }
-  ctx.run_for(milliseconds(300));
+  context.run_for(milliseconds(300));
   // Nothing sent when the client dropped the connection at once: grade() reports the close.
   const std::vector<AckPair> last = sent.empty() ? std::vector<AckPair>{} : std::vector<AckPair>{sent.back()};
-  return grade(ctx, start, sent, last, fmt::format("a 20000-byte frame, then {} frames", sent.size()));
+  return grade(context, start, sent, last, fmt::format("a 20000-byte frame, then {} frames", sent.size()));
 }
 
 }  // namespace

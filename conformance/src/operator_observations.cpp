@@ -14,44 +14,44 @@
 namespace ocp::conformance::detail {
 
 OperatorObservations OperatorObservations::from(const std::vector<WireLogEntry>& entries, std::int64_t since_us) {
-  OperatorObservations o;
+  OperatorObservations observed;
   for (const WireLogEntry& e : entries) {
     if (e.time_us < since_us) continue;
     switch (e.kind) {
       case WireEntryKind::out:
         if (auto shared = decode_vehicle_ocp_shared(e.text)) {
           for (const auto& [name, feedback] : shared->vehicle_feedback) {
-            o.linked.insert(name);
-            if (feedback.is_monitor) o.monitors.insert(name);
-            o.published[name].push_back({e.time_us, feedback.ack});
+            observed.linked.insert(name);
+            if (feedback.is_monitor) observed.monitors.insert(name);
+            observed.published[name].push_back({e.time_us, feedback.ack});
           }
         }
         break;
       case WireEntryKind::in: {
-        o.client_frames_us.push_back(e.time_us);
-        o.drained += e.drained;
+        observed.client_frames_us.push_back(e.time_us);
+        observed.drained += e.drained;
         auto data = decode_client_ocp_shared(e.text);
         if (!data) break;
-        if (data->active_vehicle) o.active_vehicle.push_back({e.time_us, "", *data->active_vehicle});
+        if (data->active_vehicle) observed.active_vehicle.push_back({e.time_us, "", *data->active_vehicle});
         for (const auto& [name, entry] : data->client_user_data) {
           if (entry.ack_time_returned && entry.ack_time_mac_returned) {
-            o.returned[name].push_back({e.time_us, AckPair{*entry.ack_time_returned, *entry.ack_time_mac_returned}});
+            observed.returned[name].push_back({e.time_us, AckPair{*entry.ack_time_returned, *entry.ack_time_mac_returned}});
           }
-          if (entry.user_data) o.user_data.push_back({e.time_us, name, compact_json(entry.user_data->text)});
-          o.gamepad.push_back({e.time_us, name, entry.ocp_disable_gamepad});
+          if (entry.user_data) observed.user_data.push_back({e.time_us, name, compact_json(entry.user_data->text)});
+          observed.gamepad.push_back({e.time_us, name, entry.ocp_disable_gamepad});
         }
         break;
       }
-      case WireEntryKind::opened: o.opened_us.push_back(e.time_us); break;
+      case WireEntryKind::opened: observed.opened_us.push_back(e.time_us); break;
       case WireEntryKind::closed:
-        o.closed_us.push_back(e.time_us);
-        o.close_codes.push_back(e.close_code);
+        observed.closed_us.push_back(e.time_us);
+        observed.close_codes.push_back(e.close_code);
         break;
-      case WireEntryKind::refused: ++o.refused; break;
+      case WireEntryKind::refused: ++observed.refused; break;
       case WireEntryKind::note: break;
     }
   }
-  return o;
+  return observed;
 }
 
 std::int64_t OperatorObservations::find_published(const std::string& vehicle, const AckPair& pair) const {
@@ -68,29 +68,29 @@ bool OperatorObservations::closed_by_peer_error() const {
                      [](const std::string& code) { return code.rfind("peer.", 0) == 0; });
 }
 
-PairReturns pair_returns(const OperatorObservations& o, const std::string& vehicle) {
-  PairReturns r;
-  const auto returned = o.returned.find(vehicle);
-  if (returned == o.returned.end()) return r;
+PairReturns pair_returns(const OperatorObservations& observed, const std::string& vehicle) {
+  PairReturns returns;
+  const auto returned = observed.returned.find(vehicle);
+  if (returned == observed.returned.end()) return returns;
   static const std::vector<SentPair> never;
-  const auto found = o.published.find(vehicle);
-  const std::vector<SentPair>& published = found == o.published.end() ? never : found->second;
+  const auto found = observed.published.find(vehicle);
+  const std::vector<SentPair>& published = found == observed.published.end() ? never : found->second;
   for (const SentPair& back : returned->second) {
-    ++r.count;
-    const std::int64_t index = o.find_published(vehicle, back.ack);
+    ++returns.count;
+    const std::int64_t index = observed.find_published(vehicle, back.ack);
     if (index < 0) {
-      r.altered.push_back(back.ack);
+      returns.altered.push_back(back.ack);
       continue;
     }
     // Behind = how long before this return a newer pair had already been published.
     for (std::size_t i = static_cast<std::size_t>(index) + 1; i < published.size() && published[i].time_us <= back.time_us; ++i) {
       if (!(published[i].ack == back.ack)) {
-        if (back.time_us - published[i].time_us > 500'000) ++r.stale;
+        if (back.time_us - published[i].time_us > 500'000) ++returns.stale;
         break;
       }
     }
   }
-  return r;
+  return returns;
 }
 
 std::string PairReturns::describe(const std::string& vehicle) const {

@@ -51,7 +51,7 @@ struct PairReturns {
   std::vector<AckPair> altered;
   std::string describe(const std::string& vehicle) const;
 };
-PairReturns pair_returns(const OperatorObservations& o, const std::string& vehicle);
+PairReturns pair_returns(const OperatorObservations& observed, const std::string& vehicle);
 
 // The setups operator cases run in: the Player with one vehicle (host_vehicle_name), or a
 // fleet of two control vehicles and a monitor link, sorted first on purpose (a client that

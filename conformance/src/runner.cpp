@@ -49,23 +49,23 @@ std::string log_path(const RunOptions& options, const std::string& name) {
   return options.client_log_dir + "/" + file + ".log";
 }
 
-CaseResult run_one(Shared& shared, StreamerHost& host, const VehicleCase& vc, std::unique_ptr<ClientProcess>& client,
+CaseResult run_one(Shared& shared, StreamerHost& host, const VehicleCase& test_case, std::unique_ptr<ClientProcess>& client,
                    std::string& client_log, unsigned worker) {
   const RunOptions& options = shared.options;
   CaseResult result;
-  result.info = vc.body.info;
+  result.info = test_case.body.info;
   const auto start = Clock::now();
   WireLog log;
-  if (auto status = host.start_streamer(vc.setup); !status) {
+  if (auto status = host.start_streamer(test_case.setup); !status) {
     throw std::runtime_error("cannot start the Streamer: " + status.error().message());
   }
-  log.attach(host.client_events(), vc.setup.operator_side ? Wire::operator_ : Wire::vehicle);
+  log.attach(host.client_events(), test_case.setup.operator_side ? Wire::operator_ : Wire::vehicle);
   const bool launching = !options.command.empty();
   if (launching && (options.restart_per_case || !client || !client->running())) {
     // A shared client that died is relaunched: the next cases still get graded.
     if (client && !options.restart_per_case) log.note(host.now_us(), "the client had exited: relaunched");
     client.reset();
-    const std::string path = log_path(options, options.restart_per_case ? vc.body.info.id : fmt::format("worker-{}", worker));
+    const std::string path = log_path(options, options.restart_per_case ? test_case.body.info.id : fmt::format("worker-{}", worker));
     auto launched = ClientProcess::launch(options.command, host.port(), path);
     if (!launched) throw std::runtime_error(launched.error().message());
     client = std::move(*launched);
@@ -73,15 +73,15 @@ CaseResult run_one(Shared& shared, StreamerHost& host, const VehicleCase& vc, st
   }
   result.client_log_path = launching ? client_log : std::string();
   const auto timeout = std::chrono::duration_cast<Clock::duration>(
-      std::chrono::duration<double, std::milli>(static_cast<double>(vc.body.info.timeout.count()) * options.timeout_scale));
-  CaseContext ctx(host, log, start + timeout, options.timeout_scale);
+      std::chrono::duration<double, std::milli>(static_cast<double>(test_case.body.info.timeout.count()) * options.timeout_scale));
+  CaseContext context(host, log, start + timeout, options.timeout_scale);
   try {
-    const Outcome outcome = vc.body.run(ctx);
+    const Outcome outcome = test_case.body.run(context);
     result.verdict = outcome.verdict;
     result.actual = outcome.actual;
   } catch (const CaseTimeout&) {
     // An INFO case only observes: running out of time is its observation, never a failure.
-    result.verdict = vc.body.info.tier == Tier::info ? Verdict::informational : Verdict::failed;
+    result.verdict = test_case.body.info.tier == Tier::info ? Verdict::informational : Verdict::failed;
     result.actual = fmt::format("the case did not finish within its {:.1f} s timeout",
                                 std::chrono::duration<double>(timeout).count());
   }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "ocp/invariant.hpp"
+
 namespace ocp {
 namespace {
 
@@ -142,6 +144,7 @@ bool VirtualExecutor::step() {
   Bucket& front = buckets_[bucket_heap_.front()];
   const Item item = front.items[front.head++];
   --queued_items_;
+  OCP_INVARIANT(front.deadline >= now_, "virtual time never goes back: call_at clamps past deadlines to now");
   now_ = front.deadline;
   if (front.head == front.items.size()) {
     release_front_bucket();

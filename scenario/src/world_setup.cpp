@@ -17,7 +17,7 @@ void apply_gamepad(Gamepad& gamepad, const GamepadScriptSetting& setting, SimTim
     case GamepadScriptSetting::Kind::idle: gamepad.set_idle(); return;
     case GamepadScriptSetting::Kind::drive:
       // sim_app's built-in script: start press, then throttle and steering, looped.
-      gamepad.set_recording(sim::drive_recording(), start, true);
+      gamepad.set_recording(sim_app::drive_recording(), start, true);
       return;
     case GamepadScriptSetting::Kind::constant: gamepad.set_constant(setting.constant); return;
     case GamepadScriptSetting::Kind::waveform: gamepad.set_waveform(setting.waveform, start); return;

@@ -1,5 +1,7 @@
 #include "control_inbox.hpp"
 
+#include "ocp/invariant.hpp"
+
 namespace ocp::streamer {
 
 bool ControlInbox::push(OperatorControl&& message, SimTime now) {
@@ -9,6 +11,7 @@ bool ControlInbox::push(OperatorControl&& message, SimTime now) {
     kept_all = false;
   }
   queue_.push_back(QueuedControl{std::move(message), now});
+  OCP_INVARIANT(queue_.size() <= hard_limit_items, "the control inbox is bounded: the oldest message makes room");
   return kept_all;
 }
 

@@ -1,5 +1,7 @@
 #include "latency_loop.hpp"
 
+#include "ocp/invariant.hpp"
+
 namespace ocp::streamer {
 
 LatencyLoop::LatencyLoop(const MacKey& key, std::uint64_t ack_time_offset)
@@ -9,6 +11,10 @@ AckPair LatencyLoop::issue(SimTime now) {
   const auto elapsed_us = static_cast<std::uint64_t>((now - start_time_).count());
   // Unsigned wrap-around is intended: the offset is opaque, subtraction undoes it exactly.
   const std::uint64_t ack_time = elapsed_us + ack_time_offset_;
+  // Pairs are told apart, and the newest valid one found, by their issue time alone.
+  OCP_INVARIANT(!last_issued_elapsed_us_ || elapsed_us > *last_issued_elapsed_us_,
+                "ack pairs are issued in strictly increasing order (one per control tick)");
+  last_issued_elapsed_us_ = elapsed_us;
   return AckPair{ack_time, mac_.compute(ack_time)};
 }
 

@@ -37,6 +37,7 @@ class LatencyLoop {
   // Elapsed µs since start at which the newest valid returned pair was issued. Kept as u64
   // arithmetic on ack_time (never a double): offsets ≥ 2^53 stay exact.
   std::optional<std::uint64_t> newest_valid_elapsed_us_;
+  std::optional<std::uint64_t> last_issued_elapsed_us_;   // for the issue-order invariant
   SimTime newest_valid_arrived_at_{};
 };
 

@@ -8,7 +8,7 @@
 #include "sim_app/exit_codes.hpp"
 #include "sim_app/gamepad_script.hpp"
 
-namespace ocp::sim {
+namespace ocp::sim_app {
 namespace {
 
 struct Parsed {
@@ -129,4 +129,4 @@ TEST(GamepadScript, IdleIsNeutralAndAMissingFileIsAnError) {
 }
 
 }  // namespace
-}  // namespace ocp::sim
+}  // namespace ocp::sim_app

@@ -10,7 +10,7 @@
 #include "endpoint_fixture.hpp"
 #include "sim_app/common_options.hpp"
 #include "streamer_app/streamer_simulation.hpp"
-#include "vehicle_client/tcp_runner.hpp"
+#include "vehicle_app/tcp_runner.hpp"
 #include "vehicle_client/vehicle_client.hpp"
 
 namespace ocp {
@@ -56,7 +56,7 @@ TEST_F(NewUser, StatusLineShowsLatencyRangeWhileConnectedAndNoLoopAfterTheVehicl
 
 TEST_F(NewUser, AckTimeOffsetHighBreaksAClientThatPassesAckTimeThroughADouble) {
   StreamerSimOptions options;
-  options.ack_time_offset = sim::high_ack_time_offset;
+  options.ack_time_offset = sim_app::high_ack_time_offset;
   start(options);
   VehicleClientConfig config;
   config.misbehave.ack_through_double = true;
@@ -81,7 +81,7 @@ TEST_F(NewUser, AckTimeOffsetHighBreaksAClientThatPassesAckTimeThroughADouble) {
 
 TEST_F(NewUser, AckTimeOffsetHighIsFineForAnExactClient) {
   StreamerSimOptions options;
-  options.ack_time_offset = sim::high_ack_time_offset;
+  options.ack_time_offset = sim_app::high_ack_time_offset;
   start(options);
   EchoingVehicle vehicle(io_);
   ASSERT_TRUE(vehicle.connect(simulation_->port()));

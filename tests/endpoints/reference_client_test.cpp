@@ -7,7 +7,7 @@
 
 #include "endpoint_fixture.hpp"
 #include "streamer_app/streamer_simulation.hpp"
-#include "vehicle_client/tcp_runner.hpp"
+#include "vehicle_app/tcp_runner.hpp"
 
 namespace ocp {
 namespace {

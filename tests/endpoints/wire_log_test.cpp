@@ -39,7 +39,7 @@ TEST(WireLog, WritesEveryFrameInBothDirectionsAsJsonLines) {
   const std::string path = temp_path("ocp_wire_log_");
   VirtualExecutor executor;
   World world(executor, one_vehicle(), make_null_sink());
-  auto log = sim::WireLog::open(path, world.events(), Logger(executor, "test", make_null_sink()));
+  auto log = sim_app::WireLog::open(path, world.events(), Logger(executor, "test", make_null_sink()));
   ASSERT_TRUE(log) << log.error().detail;
   ASSERT_TRUE(world.start());
   executor.run_for(Millis{100});
@@ -73,7 +73,7 @@ TEST(WireLog, StopsAtItsLimitAndSaysSo) {
   const std::string path = temp_path("ocp_wire_log_cap_");
   VirtualExecutor executor;
   World world(executor, one_vehicle(), make_null_sink());
-  auto log = sim::WireLog::open(path, world.events(), Logger(executor, "test", make_null_sink()),
+  auto log = sim_app::WireLog::open(path, world.events(), Logger(executor, "test", make_null_sink()),
                                 /*max_bytes=*/4096);
   ASSERT_TRUE(log);
   ASSERT_TRUE(world.start());
@@ -91,7 +91,7 @@ TEST(WireLog, StopsAtItsLimitAndSaysSo) {
 TEST(WireLog, AnUnwritablePathIsAClearError) {
   VirtualExecutor executor;
   World world(executor, one_vehicle(), make_null_sink());
-  auto log = sim::WireLog::open("/nonexistent-dir/wire.jsonl", world.events(),
+  auto log = sim_app::WireLog::open("/nonexistent-dir/wire.jsonl", world.events(),
                                 Logger(executor, "test", make_null_sink()));
   ASSERT_FALSE(log);
   EXPECT_NE(log.error().detail.find("cannot write '/nonexistent-dir/wire.jsonl'"), std::string::npos)

@@ -7,7 +7,7 @@
 
 #include "ocp/asio_executor.hpp"
 #include "scenario_test_support.hpp"
-#include "vehicle_client/tcp_runner.hpp"
+#include "vehicle_app/tcp_runner.hpp"
 
 namespace ocp::scenario {
 namespace {

@@ -1,7 +1,7 @@
 // The real-time TCP side over loopback, against a minimal framed server in the test (a TcpTestServer
 // of StreamerPeers on an ephemeral port). Bounds are generous: nothing here may flake on a
 // loaded 2-core machine; time limits are only upper bounds for "it eventually happened".
-#include "vehicle_client/tcp_runner.hpp"
+#include "vehicle_app/tcp_runner.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // End-to-end test of the web view in a real browser (Debian's chromium, driven by
 // playwright-core; no browser download). Run by ctest:
-//   node web/tests/browser_test.mjs --player-sim build/player_sim/app/player_sim --artifacts build/artifacts
+//   node web/tests/browser_test.mjs --player-sim build/bin/player_sim --artifacts build/artifacts
 // 1. player_sim with a fleet (truck-1 on an external vehicle TCP port, truck-2 in-process) and
 //    a fake vehicle on truck-1's port; the dashboard shows latency, selects truck-1, sends
 //    on-screen commands that arrive at the vehicle as client_user_data; screenshot.

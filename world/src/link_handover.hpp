@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "ocp/invariant.hpp"
 #include "ocp/link_messages.hpp"
 #include "world/world.hpp"
 
@@ -48,6 +49,7 @@ class LinkHandover {
         return;
       }
       queue_.push_back(std::move(handed));
+      OCP_INVARIANT(queue_.size() <= max_queued_, "a hand-over queue never holds more than max_queued messages");
       wake = !posted_;
       posted_ = true;
     }

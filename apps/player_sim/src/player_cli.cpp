@@ -1,0 +1,72 @@
+#include "player_app/player_cli.hpp"
+
+#include <iostream>
+#include <set>
+
+#include "ocp/cli_checks.hpp"
+#include "player_app/vehicle_tcp_option.hpp"
+#include "sim_app/exit_codes.hpp"
+
+namespace ocp {
+
+PlayerSimOptions PlayerCli::simulation_options() const {
+  PlayerSimOptions options;
+  options.vehicles = vehicles;
+  options.plugin_params = common.plugin_params;
+  options.cameras = common.cameras;
+  options.link = common.link_impairments();
+  options.seed = common.seed;
+  options.gamepad = common.gamepad;
+  options.frame_rate_hz = frame_rate_hz;
+  options.ack_time_offset = common.ack_time_offset;
+  options.vehicle_tcp_ports = vehicle_tcp_ports;
+  if (!no_webview) {
+    WebviewOptions webview;   // allow_remote follows ocp_tcp_allow_remote (PlayerSimulation)
+    webview.port = static_cast<std::uint16_t>(webview_port);
+    webview.root = webview_root;
+    options.webview = webview;
+  }
+  return options;
+}
+
+std::optional<int> parse_player_cli(int argc, const char* const* argv, PlayerCli& cli) {
+  CLI::App app{
+      "OCP Player simulator: serves the operator-side TCP API (SPEC §4) on 127.0.0.1:4001,\n"
+      "linked through fake com channels to simulated vehicles (Streamer + reference vehicle\n"
+      "client, in-process). Connect your operator-side client to it.",
+      "player_sim"};
+  sim_app::add_common_options(app, cli.common);
+  app.add_option("--vehicle", cli.vehicles, "simulated vehicle name (repeatable; several form a fleet; default: vehicle)")
+      ->group("Player");
+  app.add_option("--frame-rate-hz", cli.frame_rate_hz, "Player frame rate (capped at 100)")
+      ->capture_default_str()->check(cli::real(1.0, 100.0))->group("Player");
+  app.add_option("--vehicle-tcp", cli.vehicle_tcp_texts,
+                 "NAME=PORT: that vehicle's Streamer serves the vehicle TCP API on 127.0.0.1:PORT for an external "
+                 "vehicle client instead of the in-process one (repeatable; PORT 0 = a free port)")
+      ->group("Player");
+  cli.webview_root = OCP_WEBVIEW_DEFAULT_ROOT;
+  app.add_option("--webview-port", cli.webview_port, "web view HTTP + WebSocket port (0 = a free port, logged)")
+      ->capture_default_str()->check(CLI::Range(0, 65535))->group("Web view");
+  app.add_option("--webview-root", cli.webview_root, "folder of the web view's static files (default: the built-in dashboard)")
+      ->capture_default_str()->check(CLI::ExistingDirectory)->group("Web view");
+  app.add_flag("--no-webview", cli.no_webview, "do not serve the web view")->group("Web view");
+  if (auto exit_code = sim_app::parse_command_line(app, argc, argv, cli.common)) return exit_code;
+
+  if (cli.vehicles.empty()) cli.vehicles.push_back("vehicle");
+  std::set<std::string> unique;
+  for (const auto& name : cli.vehicles) {
+    if (name.empty() || !unique.insert(name).second) {
+      std::cerr << "player_sim: --vehicle '" << name << "': names must be non-empty and unique\n";
+      return sim_app::exit_usage_error;
+    }
+  }
+  const auto vehicle_tcp_ports = parse_vehicle_tcp(cli.vehicle_tcp_texts, cli.vehicles);
+  if (!vehicle_tcp_ports) {
+    std::cerr << "player_sim: " << vehicle_tcp_ports.error().detail << "\n";
+    return sim_app::exit_usage_error;
+  }
+  cli.vehicle_tcp_ports = *vehicle_tcp_ports;
+  return std::nullopt;
+}
+
+}  // namespace ocp

@@ -1,0 +1,73 @@
+#pragma once
+// What `streamer_sim` runs: a Streamer whose vehicle API is a real TCP port, and an in-process
+// simulated operator — a PlayerCore with a scripted gamepad and self-echo — behind a fake com
+// channel (World with one vehicle and no in-process vehicle client). Real time on an
+// AsioExecutor. Tests build it directly; the executable adds the command line and signals.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "ocp/asio_executor.hpp"
+#include "ocp/com_channel.hpp"
+#include "ocp/latency_window.hpp"
+#include "ocp/log.hpp"
+#include "ocp/plugin_params.hpp"
+#include "world/world.hpp"
+#include "sim_app/gamepad_script.hpp"
+#include "sim_app/tcp_front.hpp"
+
+namespace ocp {
+
+struct StreamerSimOptions {
+  std::string vehicle = "vehicle";
+  PluginParams plugin_params;            // tcp_port, ocp_tcp_allow_remote, latency_limit
+  std::vector<CameraConfig> cameras;     // empty: the StreamerConfig default (front, 30 fps)
+  Impairments link;                      // both directions of the fake com channel
+  std::uint64_t seed = 1;
+  sim_app::GamepadScript gamepad;            // the simulated operator's gamepad (default: drive)
+  double operator_frame_rate_hz = 100.0;
+  std::uint64_t ack_time_offset = 0;     // added to every ack_time (SPEC §5)
+  Micros operator_phase{0};              // the operator's frames this long after the control ticks
+};
+
+class StreamerSimulation {
+ public:
+  StreamerSimulation(AsioExecutor& executor, StreamerSimOptions options, LogSink sink);
+  ~StreamerSimulation();
+  StreamerSimulation(const StreamerSimulation&) = delete;
+  StreamerSimulation& operator=(const StreamerSimulation&) = delete;
+
+  // Listens, then starts the world (so a busy port fails before anything runs). Errors: the
+  // port in use (TcpServer::listen), or a configuration error from World::start.
+  [[nodiscard]] Status start();
+  void stop();
+
+  std::uint16_t port() const { return front_->port(); }
+  std::string address() const { return front_->address(); }
+  World& world() { return world_; }
+  StreamerCore& streamer() { return world_.streamer(options_.vehicle); }
+  PlayerCore& player() { return world_.player(); }
+  sim_app::TcpFront& front() { return *front_; }
+
+  // The once-per-second status line; rates are per second since the previous call, latency
+  // min/avg/max over the samples since then (every control tick while a vehicle is connected).
+  std::string status_line();
+
+ private:
+  AsioExecutor& executor_;
+  StreamerSimOptions options_;
+  Logger logger_;
+  World world_;
+  std::unique_ptr<sim_app::TcpFront> front_;
+  PeriodicTimer latency_sampler_;
+  LatencyWindow latency_window_;
+  struct Previous {
+    SimTime time{0};
+    std::uint64_t control_frames_sent = 0;
+    std::uint64_t vehicle_responses_received = 0;
+    std::uint64_t operator_messages_received = 0;
+  } previous_;
+};
+
+}  // namespace ocp

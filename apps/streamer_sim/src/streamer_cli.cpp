@@ -1,0 +1,41 @@
+#include "streamer_app/streamer_cli.hpp"
+
+#include <iostream>
+
+#include "ocp/cli_checks.hpp"
+#include "sim_app/exit_codes.hpp"
+
+namespace ocp {
+
+StreamerSimOptions StreamerCli::simulation_options() const {
+  StreamerSimOptions options;
+  options.vehicle = vehicle;
+  options.plugin_params = common.plugin_params;
+  options.cameras = common.cameras;
+  options.link = common.link_impairments();
+  options.seed = common.seed;
+  options.gamepad = common.gamepad;
+  options.operator_frame_rate_hz = operator_rate_hz;
+  options.ack_time_offset = common.ack_time_offset;
+  return options;
+}
+
+std::optional<int> parse_streamer_cli(int argc, const char* const* argv, StreamerCli& cli) {
+  CLI::App app{
+      "OCP Streamer simulator: serves the vehicle-side TCP API (SPEC §3) on 127.0.0.1:4000 and\n"
+      "drives it from a simulated operator (scripted gamepad, self-echo) behind a fake com\n"
+      "channel. Connect your vehicle client (or the reference `vehicle_client`) to it.",
+      "streamer_sim"};
+  sim_app::add_common_options(app, cli.common);
+  app.add_option("--vehicle", cli.vehicle, "vehicle (Streamer) name")->capture_default_str()->group("Streamer");
+  app.add_option("--operator-rate-hz", cli.operator_rate_hz, "operator control message rate (capped at 100)")
+      ->capture_default_str()->check(cli::real(1.0, 100.0))->group("Simulated operator");
+  if (auto exit_code = sim_app::parse_command_line(app, argc, argv, cli.common)) return exit_code;
+  if (cli.vehicle.empty()) {
+    std::cerr << "streamer_sim: --vehicle must not be empty\n";
+    return sim_app::exit_usage_error;
+  }
+  return std::nullopt;
+}
+
+}  // namespace ocp
