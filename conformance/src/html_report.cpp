@@ -49,7 +49,7 @@ std::string html_report(const ReportContext& report) {
   const RunSummary& summary = *report.summary;
   std::string html = fmt::format("<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>OCP conformance: {}</title><style>{}</style></head><body>\n",
                                  report.suite, style);
-  html += fmt::format("<h1>OCP conformance — {} side</h1>\n<p>Client: <code>{}</code><br>{} cases in {:.1f} summary; exit code {}</p>\n",
+  html += fmt::format("<h1>OCP conformance — {} side</h1>\n<p>Client: <code>{}</code><br>{} cases in {:.1f} s; exit code {}</p>\n",
                       report.suite, markup_escape(report.client), summary.results.size(), summary.duration_ms / 1000.0,
                       summary.harness_error.empty() ? exit_code(summary.results, nullptr) : 2);
   if (!summary.harness_error.empty()) html += "<p class=\"failed\">Harness error: " + markup_escape(summary.harness_error) + "</p>\n";

@@ -56,7 +56,7 @@ std::string index_json(const ReportContext& report) {
     out += "]}";
   }
   out += "\n]";
-  if (c.baseline != nullptr) {
+  if (report.baseline != nullptr) {
     auto list = [](const std::vector<std::string>& ids) {
       std::string text = "[";
       for (std::size_t i = 0; i < ids.size(); ++i) {
@@ -64,8 +64,8 @@ std::string index_json(const ReportContext& report) {
     }
       return text + "]";
     };
-    out += fmt::format(R"(,"baseline":{{"new_failures":{},"still_failing":{},"fixed":{}}})", list(c.baseline->new_failures),
-                       list(c.baseline->still_failing), list(c.baseline->fixed));
+    out += fmt::format(R"(,"baseline":{{"new_failures":{},"still_failing":{},"fixed":{}}})", list(report.baseline->new_failures),
+                       list(report.baseline->still_failing), list(report.baseline->fixed));
   }
   out += "}\n";
   return out;

@@ -50,7 +50,7 @@ std::string case_list(const std::vector<CaseInfo>& cases, bool markdown) {
     for (std::size_t i = 0; i < c.expected.size(); ++i) {
       expected += i ? "<br>" : ""; expected += cell(c.expected[i]);
     }
-    out += fmt::format("| `{}` | {} | {} | {} ({}) | {} | {} summary | {} |\n", c.id, tier_name(c.tier), cell(c.title),
+    out += fmt::format("| `{}` | {} | {} | {} ({}) | {} | {} s | {} |\n", c.id, tier_name(c.tier), cell(c.title),
                        cell(c.requirement), cell(c.source), expected, c.timeout.count() / 1000, cell(c.broken_by));
   }
   return out;

@@ -17,6 +17,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// How long a freshly launched client may take to start and connect before its case begins.
+constexpr std::chrono::milliseconds launch_connect_limit{10'000};
+
 double ms_since(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
@@ -61,7 +64,9 @@ CaseResult run_one(Shared& shared, StreamerHost& host, const VehicleCase& test_c
   }
   log.attach(host.client_events(), test_case.setup.operator_side ? Wire::operator_ : Wire::vehicle);
   const bool launching = !options.command.empty();
+  bool client_was_launched = false;
   if (launching && (options.restart_per_case || !client || !client->running())) {
+    client_was_launched = true;
     // A shared client that died is relaunched: the next cases still get graded.
     if (client && !options.restart_per_case) log.note(host.now_us(), "the client had exited: relaunched");
     client.reset();
@@ -72,9 +77,21 @@ CaseResult run_one(Shared& shared, StreamerHost& host, const VehicleCase& test_c
     client_log = path;
   }
   result.client_log_path = launching ? client_log : std::string();
+  // A client just launched (a new process, or one relaunched after it died) is given its own
+  // bounded time to start and connect before the case's clock starts: on a loaded machine a
+  // Python client can take seconds to start, and that is no part of what the case grades.
+  // A client that exits or never connects gets no such grace: its case starts at the launch
+  // and fails on its own connection wait.
+  Clock::time_point case_start = start;
+  if (client_was_launched) {
+    const auto connect_limit = std::chrono::duration_cast<std::chrono::milliseconds>(
+        std::chrono::duration<double, std::milli>(static_cast<double>(launch_connect_limit.count()) * options.timeout_scale));
+    (void)host.run_until([&] { return host.client_connected() || !client->running(); }, connect_limit);
+    if (host.client_connected()) case_start = Clock::now();
+  }
   const auto timeout = std::chrono::duration_cast<Clock::duration>(
       std::chrono::duration<double, std::milli>(static_cast<double>(test_case.body.info.timeout.count()) * options.timeout_scale));
-  CaseContext context(host, log, start + timeout, options.timeout_scale);
+  CaseContext context(host, log, case_start + timeout, options.timeout_scale);
   try {
     const Outcome outcome = test_case.body.run(context);
     result.verdict = outcome.verdict;

@@ -27,8 +27,8 @@ void print_summary(std::ostream& out, const ReportContext& report) {
   out << fmt::format("\n{} cases in {:.1f} s: {} OK, {} NON-STRICT, {} INFORMATIONAL, {} FAILED ({} of them MUST)\n",
                      summary.results.size(), summary.duration_ms / 1000.0, counts[Verdict::ok], counts[Verdict::non_strict],
                      counts[Verdict::informational], counts[Verdict::failed], must_failed);
-  if (c.baseline != nullptr) {
-    const BaselineDiff& d = *c.baseline;
+  if (report.baseline != nullptr) {
+    const BaselineDiff& d = *report.baseline;
     auto list = [](const std::vector<std::string>& ids) {
       std::string text;
       for (const auto& id : ids) {
