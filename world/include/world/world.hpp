@@ -145,6 +145,18 @@ class World {
  private:
   struct Vehicle;
   Vehicle& find(std::string_view vehicle) const;
+  // start(), step by step.
+  [[nodiscard]] Status check_vehicle_specs() const;
+  [[nodiscard]] Status check_streamer_threads() const;
+  [[nodiscard]] Status build_vehicles();
+  std::unique_ptr<Vehicle> build_vehicle(const VehicleSpec& spec);
+  std::unique_ptr<ComChannel> build_link(const VehicleSpec& spec, Executor& streamer_executor);
+  std::unique_ptr<StreamerCore> build_streamer(const VehicleSpec& spec, Executor& streamer_executor,
+                                               LinkDirection& to_player);
+  void build_in_process_client(Vehicle& vehicle);
+  void create_link_handovers();
+  void wire_link_receivers(Vehicle& vehicle);
+  void start_parts();
   void connect_in_process_client(Vehicle& vehicle);
   void schedule_reconnect(Vehicle& vehicle);
   ControlTicker& ticker_for(Executor& executor, Micros period);
