@@ -52,14 +52,16 @@ Error configuration_error(std::string detail) {
 
 }  // namespace
 
+// A start that fails leaves the World not started: the caller may remove the cause (the
+// Streamer threads are the part it can change) and start again.
 Status World::start() {
   if (started_) {
     return configuration_error("world already started");
   }
-  started_ = true;
   if (Status valid = check_vehicle_specs(); !valid) return valid;
   if (Status valid = check_streamer_threads(); !valid) return valid;
   if (Status built = build_vehicles(); !built) return built;
+  started_ = true;
   if (!streamer_threads_.empty()) create_link_handovers();
   for (auto& vehicle : vehicles_) wire_link_receivers(*vehicle);
   start_parts();

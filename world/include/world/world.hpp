@@ -99,7 +99,9 @@ class World {
 
   // Builds links, cores and in-process clients and starts them. Configuration errors (empty
   // or duplicate vehicle names, two vehicles without PlayerConfig::fleet, no vehicle, bad
-  // client config) → error, and nothing is left running. Calling start() twice is an error.
+  // client config, bad Streamer threads) → error, and nothing is left running: once the
+  // cause is removed (set_streamer_threads again) start() may be called again. Calling
+  // start() after a successful start is an error.
   [[nodiscard]] Status start();
   // Real time on several threads, before start(): vehicle i's Streamer, its vehicle
   // connection and its link's to_player direction live on threads[i % size]; the Player and
