@@ -52,8 +52,9 @@ Error configuration_error(std::string detail) {
 
 }  // namespace
 
-// A start that fails leaves the World not started: the caller may remove the cause (the
-// Streamer threads are the part it can change) and start again.
+// A start that fails leaves the World as it found it (nothing running, nothing built, the
+// Player without links) and not started: the caller may remove the cause (the Streamer
+// threads are the part it can change) and start again.
 Status World::start() {
   if (started_) {
     return configuration_error("world already started");
@@ -114,8 +115,7 @@ Status World::build_vehicles() {
     std::unique_ptr<Vehicle> vehicle = build_vehicle(spec);
     Status linked = player_->add_vehicle(spec.name, &vehicle->link->to_streamer(), spec.monitor);
     if (!linked) {
-      vehicles_.clear();
-      by_name_.clear();
+      discard_vehicles();
       return linked;
     }
     if (spec.in_process_client) build_in_process_client(*vehicle);
@@ -171,6 +171,17 @@ void World::build_in_process_client(Vehicle& vehicle) {
   if (config_.tap_vehicle_streams) {
     vehicle.tap = std::make_unique<StreamTap>(executor_);
   }
+}
+
+// The Player holds a raw pointer to each link it was given: take the links back before the
+// parts they belong to are destroyed, or its frame loop would send on freed links.
+void World::discard_vehicles() {
+  for (const auto& vehicle : vehicles_) {
+    // The World starts the Player only after this, and every vehicle kept here was linked.
+    (void)player_->remove_vehicle(vehicle->spec.name);
+  }
+  by_name_.clear();
+  vehicles_.clear();
 }
 
 // One hand-over per Streamer thread and one to the World's thread; messages still in flight
