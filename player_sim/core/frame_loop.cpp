@@ -77,8 +77,9 @@ void PlayerCore::Impl::refresh_shared(SimTime now) {
   auto& entries = last_shared.vehicle_feedback;
   auto entry = entries.begin();
   for (const auto& [name, link] : vehicles) {
-    // Both maps are in name order and vehicles are only ever added: walk them together and
-    // insert the entry of a vehicle linked since the last frame where it belongs.
+    // Both maps are in name order and, while running, vehicles are only ever added (one
+    // unlinked while stopped takes its entry with it): walk them together and insert the
+    // entry of a vehicle linked since the last frame where it belongs.
     if (entry == entries.end() || entry->first != name) entry = entries.emplace_hint(entry, name, VehicleFeedback{});
     refresh_vehicle_feedback(entry->second, link, now, measured_since(link));
     ++entry;

@@ -89,6 +89,19 @@ Status PlayerCore::add_vehicle(const std::string& name, LinkDirection* to_stream
   return Ok{};
 }
 
+Status PlayerCore::remove_vehicle(const std::string& name) {
+  Impl& self = *impl_;
+  auto configuration_error = [](std::string detail) {
+    return Error{std::make_error_code(std::errc::invalid_argument), std::move(detail)};
+  };
+  if (self.running) return configuration_error("cannot unlink vehicle '" + name + "' while the Player runs");
+  if (self.vehicles.erase(name) == 0) return configuration_error("vehicle '" + name + "' is not linked");
+  // A Player started and stopped before has an entry for it: refresh_shared walks both in step.
+  self.last_shared.vehicle_feedback.erase(name);
+  self.logger.info("unlinked vehicle '{}'", name);
+  return Ok{};
+}
+
 void PlayerCore::handle_link_message(const std::string& vehicle, LinkMessage&& message) {
   Impl& self = *impl_;
   const auto found = self.vehicles.find(vehicle);

@@ -33,7 +33,10 @@ class FakeJoystickDevice {
   FakeJoystickDevice() {
     char pattern[] = "/tmp/ocp-js-XXXXXX";
     const char* directory = mkdtemp(pattern);
-    EXPECT_NE(directory, nullptr);
+    if (directory == nullptr) {
+      ADD_FAILURE() << "mkdtemp " << pattern << " failed";   // no device: the test's reader finds none
+      return;
+    }
     directory_ = directory;
     path_ = directory_ + "/js0";
     EXPECT_EQ(mkfifo(path_.c_str(), 0600), 0);

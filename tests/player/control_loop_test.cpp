@@ -211,6 +211,37 @@ TEST(Player, SecondVehicleWithoutFleetIsAConfigurationError) {
   EXPECT_EQ(harness.player.vehicles(), std::vector<std::string>{"truck-1"});
 }
 
+TEST(Player, VehicleUnlinkedWhileStoppedIsGoneFromLaterFrames) {
+  PlayerConfig config;
+  config.fleet = true;
+  PlayerHarness harness(config);
+  ASSERT_TRUE(harness.add_vehicle("truck-1").ok());
+  ASSERT_TRUE(harness.add_vehicle("truck-2").ok());
+  harness.player.start();
+  harness.run_until(at_ms(20));
+  const Status while_running = harness.player.remove_vehicle("truck-1");
+  ASSERT_FALSE(while_running.ok());
+  EXPECT_EQ(while_running.error().detail, "cannot unlink vehicle 'truck-1' while the Player runs");
+  harness.player.stop();
+
+  ASSERT_TRUE(harness.player.remove_vehicle("truck-1").ok());
+  const Status unknown = harness.player.remove_vehicle("truck-1");
+  ASSERT_FALSE(unknown.ok());
+  EXPECT_EQ(unknown.error().detail, "vehicle 'truck-1' is not linked");
+  EXPECT_EQ(harness.player.vehicles(), std::vector<std::string>{"truck-2"});
+  const std::size_t truck_1_controls = harness.controls("truck-1").size();
+  const std::size_t truck_2_controls = harness.controls("truck-2").size();
+  ASSERT_GT(truck_1_controls, 0u);
+
+  harness.player.start();
+  harness.run_until(at_ms(60));
+  EXPECT_EQ(harness.controls("truck-1").size(), truck_1_controls);
+  EXPECT_GT(harness.controls("truck-2").size(), truck_2_controls);
+  const VehicleOcpShared& shared = harness.player.last_shared();
+  EXPECT_EQ(shared.vehicle_feedback.count("truck-1"), 0u) << "the unlinked vehicle's entry from the first run stayed";
+  EXPECT_EQ(shared.vehicle_feedback.count("truck-2"), 1u);
+}
+
 TEST(Player, DuplicateVehicleNameIsRejected) {
   PlayerConfig config;
   config.fleet = true;

@@ -37,8 +37,10 @@ class WorldBadInput : public ::testing::Test {
 
   // The connection is closed (by the Streamer, with a reason naming the problem), and a new
   // well-behaved connection afterwards gets control frames every 10 ms exactly.
-  // `detail_part`: what the detail must name (the field), beside the typed code.
+  // `detail_part`: what the detail must say (the field, or where the JSON broke), beside the
+  // typed code.
   void expect_closed_then_next_connection_is_served(PeerError code, const std::string& detail_part) {
+    ASSERT_FALSE(detail_part.empty()) << "an empty part is found in any detail";
     sim.run_for(Millis{10});
     EXPECT_TRUE(peer->closed_by_peer());
     EXPECT_FALSE(streamer().vehicle_connected());
@@ -61,12 +63,12 @@ class WorldBadInput : public ::testing::Test {
 
 TEST_F(WorldBadInput, MalformedJsonClosesTheConnection) {
   peer->send_payload(R"({"ack_time": 1, "ack_time_mac": )");
-  expect_closed_then_next_connection_is_served(PeerError::malformed_json, "");
+  expect_closed_then_next_connection_is_served(PeerError::malformed_json, "Invalid value. (offset 32)");
 }
 
 TEST_F(WorldBadInput, NonObjectJsonClosesTheConnection) {
   peer->send_payload("[1, 2, 3]");
-  expect_closed_then_next_connection_is_served(PeerError::not_an_object, "");
+  expect_closed_then_next_connection_is_served(PeerError::not_an_object, "top-level value is not an object");
 }
 
 TEST_F(WorldBadInput, MissingRequiredFieldClosesTheConnection) {
@@ -92,7 +94,7 @@ TEST_F(WorldBadInput, DeeplyNestedUserDataClosesTheConnection) {
   peer->send_payload(nested);
   sim.run_for(Millis{10});
   EXPECT_TRUE(peer->closed_by_peer());
-  expect_closed_then_next_connection_is_served(PeerError::too_deep, "");
+  expect_closed_then_next_connection_is_served(PeerError::too_deep, "nesting deeper than 64 levels at offset 133");
 }
 
 TEST_F(WorldBadInput, StreamEndingInsideAFrameIsATruncatedFrame) {

@@ -52,11 +52,24 @@ Error configuration_error(std::string detail) {
 
 }  // namespace
 
+// A start that fails leaves the World as it found it (nothing running, nothing built, the
+// Player without links) and not started: the caller may remove the cause (the Streamer
+// threads are the part it can change) and start again.
 Status World::start() {
   if (started_) {
     return configuration_error("world already started");
   }
+  if (Status valid = check_vehicle_specs(); !valid) return valid;
+  if (Status valid = check_streamer_threads(); !valid) return valid;
+  if (Status built = build_vehicles(); !built) return built;
   started_ = true;
+  if (!streamer_threads_.empty()) create_link_handovers();
+  for (auto& vehicle : vehicles_) wire_link_receivers(*vehicle);
+  start_parts();
+  return Ok{};
+}
+
+Status World::check_vehicle_specs() const {
   if (config_.vehicles.empty()) {
     return configuration_error("a world needs at least one vehicle");
   }
@@ -77,118 +90,161 @@ Status World::start() {
       }
     }
   }
+  return Ok{};
+}
 
-  if (!streamer_threads_.empty()) {
-    for (const StreamerThread& thread : streamer_threads_) {
-      if (thread.executor == nullptr || !thread.post) return configuration_error("a Streamer thread without an executor or a poster");
-    }
-    if (!post_to_world_) return configuration_error("Streamer threads without a poster to the World's thread");
-    for (const VehicleSpec& spec : config_.vehicles) {
-      if (spec.in_process_client) {
-        return configuration_error("vehicle '" + spec.name + "': no in-process client with Streamer threads");
-      }
+Status World::check_streamer_threads() const {
+  if (streamer_threads_.empty()) return Ok{};
+  for (const StreamerThread& thread : streamer_threads_) {
+    if (thread.executor == nullptr || !thread.post) return configuration_error("a Streamer thread without an executor or a poster");
+  }
+  if (!post_to_world_) return configuration_error("Streamer threads without a poster to the World's thread");
+  for (const VehicleSpec& spec : config_.vehicles) {
+    // The in-process client and its pipe run on the World's executor, its Streamer would not.
+    if (spec.in_process_client) {
+      return configuration_error("vehicle '" + spec.name + "': no in-process client with Streamer threads");
     }
   }
+  return Ok{};
+}
 
-  // Build every part before starting any, so a configuration error leaves nothing running.
+// Every part is built before any starts, so an error the Player finds (it alone knows its
+// fleet rule) leaves nothing running.
+Status World::build_vehicles() {
   for (const VehicleSpec& spec : config_.vehicles) {
-    auto vehicle = std::make_unique<Vehicle>();
-    vehicle->spec = spec;
-    if (!streamer_threads_.empty()) {
-      vehicle->thread = &streamer_threads_[vehicles_.size() % streamer_threads_.size()];
-    }
-    Executor& streamer_executor = vehicle->thread ? *vehicle->thread->executor : executor_;
-    StreamerConfig streamer_config = spec.streamer;
-    streamer_config.name = spec.name;
-    if (config_.deterministic_keys && !streamer_config.mac_key) {
-      streamer_config.mac_key = derive_mac_key(config_.seed, spec.name);
-    }
-    vehicle->link = std::make_unique<ComChannel>(
-        executor_, streamer_executor, derive_seed(config_.seed, "link:" + spec.name), spec.name);
-    vehicle->link->events().set_parent(&events_);
-    vehicle->link->to_streamer().set_impairments(spec.to_streamer);
-    vehicle->link->to_player().set_impairments(spec.to_player);
-    vehicle->streamer = std::make_unique<StreamerCore>(
-        streamer_executor, streamer_config, Logger(streamer_executor, "streamer:" + spec.name, sink_));
-    vehicle->streamer->set_link(&vehicle->link->to_player());
-    if (config_.control_tick_slots > 0 && streamer_config.control_period > Micros{0}) {
-      vehicle->streamer->use_control_ticker(&ticker_for(streamer_executor, streamer_config.control_period));
-    }
-    vehicle->streamer->events().set_parent(&events_);
-
+    std::unique_ptr<Vehicle> vehicle = build_vehicle(spec);
     Status linked = player_->add_vehicle(spec.name, &vehicle->link->to_streamer(), spec.monitor);
     if (!linked) {
-      vehicles_.clear();
-      by_name_.clear();
+      discard_vehicles();
       return linked;
     }
-    if (spec.in_process_client) {
-      vehicle->client = std::make_unique<VehicleClient>(
-          executor_, spec.client, Logger(executor_, "vehicle-client:" + spec.name, sink_));
-      if (config_.tap_vehicle_streams) {
-        vehicle->tap = std::make_unique<StreamTap>(executor_);
-      }
-    }
+    if (spec.in_process_client) build_in_process_client(*vehicle);
     by_name_.emplace(spec.name, vehicle.get());
     vehicles_.push_back(std::move(vehicle));
   }
+  return Ok{};
+}
 
-  // Wire the link receivers. Messages still in flight after stop() are dropped here.
+std::unique_ptr<World::Vehicle> World::build_vehicle(const VehicleSpec& spec) {
+  auto vehicle = std::make_unique<Vehicle>();
+  vehicle->spec = spec;
   if (!streamer_threads_.empty()) {
-    auto deliver = [this](HandedMessage&& handed) {
-      if (!running_) return;
-      if (handed.streamer != nullptr) {
-        handed.streamer->handle_link_message(std::move(handed.message));
+    // Round robin in configuration order: vehicles_ holds the ones built before this one.
+    vehicle->thread = &streamer_threads_[vehicles_.size() % streamer_threads_.size()];
+  }
+  Executor& streamer_executor = vehicle->thread ? *vehicle->thread->executor : executor_;
+  vehicle->link = build_link(spec, streamer_executor);
+  vehicle->streamer = build_streamer(spec, streamer_executor, vehicle->link->to_player());
+  return vehicle;
+}
+
+std::unique_ptr<ComChannel> World::build_link(const VehicleSpec& spec, Executor& streamer_executor) {
+  // Seeded by the vehicle's name alone, so adding a vehicle never changes another's draws.
+  auto link = std::make_unique<ComChannel>(
+      executor_, streamer_executor, derive_seed(config_.seed, "link:" + spec.name), spec.name);
+  link->events().set_parent(&events_);
+  link->to_streamer().set_impairments(spec.to_streamer);
+  link->to_player().set_impairments(spec.to_player);
+  return link;
+}
+
+std::unique_ptr<StreamerCore> World::build_streamer(const VehicleSpec& spec, Executor& streamer_executor,
+                                                    LinkDirection& to_player) {
+  StreamerConfig streamer_config = spec.streamer;
+  streamer_config.name = spec.name;
+  if (config_.deterministic_keys && !streamer_config.mac_key) {
+    streamer_config.mac_key = derive_mac_key(config_.seed, spec.name);
+  }
+  auto streamer = std::make_unique<StreamerCore>(
+      streamer_executor, streamer_config, Logger(streamer_executor, "streamer:" + spec.name, sink_));
+  streamer->set_link(&to_player);
+  if (config_.control_tick_slots > 0 && streamer_config.control_period > Micros{0}) {
+    streamer->use_control_ticker(&ticker_for(streamer_executor, streamer_config.control_period));
+  }
+  streamer->events().set_parent(&events_);
+  return streamer;
+}
+
+void World::build_in_process_client(Vehicle& vehicle) {
+  vehicle.client = std::make_unique<VehicleClient>(
+      executor_, vehicle.spec.client, Logger(executor_, "vehicle-client:" + vehicle.spec.name, sink_));
+  if (config_.tap_vehicle_streams) {
+    vehicle.tap = std::make_unique<StreamTap>(executor_);
+  }
+}
+
+// The Player holds a raw pointer to each link it was given: take the links back before the
+// parts they belong to are destroyed, or its frame loop would send on freed links.
+void World::discard_vehicles() {
+  for (const auto& vehicle : vehicles_) {
+    // The World starts the Player only after this, and every vehicle kept here was linked.
+    (void)player_->remove_vehicle(vehicle->spec.name);
+  }
+  by_name_.clear();
+  vehicles_.clear();
+}
+
+// One hand-over per Streamer thread and one to the World's thread; messages still in flight
+// after stop() are dropped on delivery.
+void World::create_link_handovers() {
+  auto deliver = [this](HandedMessage&& handed) {
+    if (!running_) return;
+    if (handed.streamer != nullptr) {
+      handed.streamer->handle_link_message(std::move(handed.message));
+    } else {
+      player_->handle_link_message(*handed.vehicle, std::move(handed.message));
+    }
+  };
+  auto overflow = [this](std::string where) {
+    return [this, where](std::uint64_t dropped) {
+      if (dropped == 0) {
+        logger_.warn("link hand-over to {} full ({} messages queued): dropping link messages", where,
+                     LinkHandover::default_max_queued);
       } else {
-        player_->handle_link_message(*handed.vehicle, std::move(handed.message));
+        logger_.warn("link hand-over to {}: {} link messages dropped while it was full", where, dropped);
       }
     };
-    auto overflow = [this](std::string where) {
-      return [this, where](std::uint64_t dropped) {
-        if (dropped == 0) {
-          logger_.warn("link hand-over to {} full ({} messages queued): dropping link messages", where,
-                       LinkHandover::default_max_queued);
-        } else {
-          logger_.warn("link hand-over to {}: {} link messages dropped while it was full", where, dropped);
-        }
-      };
-    };
-    for (std::size_t index = 0; index < streamer_threads_.size(); ++index) {
-      handovers_.push_back(std::make_unique<LinkHandover>(streamer_threads_[index].post, deliver,
-                                                          overflow(fmt::format("Streamer thread {}", index))));
-    }
-    to_world_ = std::make_unique<LinkHandover>(post_to_world_, deliver, overflow("the Player"));
+  };
+  for (std::size_t index = 0; index < streamer_threads_.size(); ++index) {
+    handovers_.push_back(std::make_unique<LinkHandover>(streamer_threads_[index].post, deliver,
+                                                        overflow(fmt::format("Streamer thread {}", index))));
   }
-  for (auto& vehicle : vehicles_) {
-    StreamerCore* streamer = vehicle->streamer.get();
-    const std::string* name = &vehicle->spec.name;
-    if (const StreamerThread* thread = vehicle->thread) {
-      // Delivered on the sender's thread, handed over to the receiver's.
-      LinkHandover* to_streamer = handovers_[static_cast<std::size_t>(thread - streamer_threads_.data())].get();
-      vehicle->link->to_streamer().set_receiver([to_streamer, streamer](LinkMessage&& message) {
-        to_streamer->push(HandedMessage{streamer, nullptr, std::move(message)});
-      });
-      vehicle->link->to_player().set_receiver([this, name](LinkMessage&& message) {
-        to_world_->push(HandedMessage{nullptr, name, std::move(message)});
-      });
-      continue;
-    }
-    vehicle->link->to_streamer().set_receiver([this, streamer](LinkMessage&& message) {
-      if (running_) streamer->handle_link_message(std::move(message));
-    });
-    vehicle->link->to_player().set_receiver([this, name](LinkMessage&& message) {
-      if (running_) player_->handle_link_message(*name, std::move(message));
-    });
-    if (vehicle->client) {
-      Vehicle* raw = vehicle.get();
-      vehicle->client->set_on_disconnected([this, raw](const std::string& reason) {
-        logger_.info("{}: in-process vehicle client disconnected ({}); reconnecting in {} ms",
-                     raw->spec.name, reason, to_whole_ms(config_.reconnect_backoff));
-        schedule_reconnect(*raw);
-      });
-    }
-  }
+  to_world_ = std::make_unique<LinkHandover>(post_to_world_, deliver, overflow("the Player"));
+}
 
+// Messages still in flight after stop() are dropped here.
+void World::wire_link_receivers(Vehicle& vehicle) {
+  StreamerCore* streamer = vehicle.streamer.get();
+  const std::string* name = &vehicle.spec.name;
+  if (const StreamerThread* thread = vehicle.thread) {
+    // Delivered on the sender's thread, handed over to the receiver's.
+    LinkHandover* to_streamer = handovers_[static_cast<std::size_t>(thread - streamer_threads_.data())].get();
+    vehicle.link->to_streamer().set_receiver([to_streamer, streamer](LinkMessage&& message) {
+      to_streamer->push(HandedMessage{streamer, nullptr, std::move(message)});
+    });
+    vehicle.link->to_player().set_receiver([this, name](LinkMessage&& message) {
+      to_world_->push(HandedMessage{nullptr, name, std::move(message)});
+    });
+    return;
+  }
+  vehicle.link->to_streamer().set_receiver([this, streamer](LinkMessage&& message) {
+    if (running_) streamer->handle_link_message(std::move(message));
+  });
+  vehicle.link->to_player().set_receiver([this, name](LinkMessage&& message) {
+    if (running_) player_->handle_link_message(*name, std::move(message));
+  });
+  if (vehicle.client) {
+    Vehicle* raw = &vehicle;
+    vehicle.client->set_on_disconnected([this, raw](const std::string& reason) {
+      logger_.info("{}: in-process vehicle client disconnected ({}); reconnecting in {} ms",
+                   raw->spec.name, reason, to_whole_ms(config_.reconnect_backoff));
+      schedule_reconnect(*raw);
+    });
+  }
+}
+
+// The Streamers first, so that with player_phase 0 the Player's frames fall on their ticks.
+void World::start_parts() {
   running_ = true;
   for (auto& vehicle : vehicles_) vehicle->streamer->start();
   if (config_.player_phase > Micros{0}) {
@@ -203,7 +259,6 @@ Status World::start() {
     if (vehicle->client) connect_in_process_client(*vehicle);
   }
   logger_.info("started: {} vehicle(s), seed {}", vehicles_.size(), config_.seed);
-  return Ok{};
 }
 
 void World::stop() {

@@ -111,6 +111,10 @@ class PlayerCore {
   // vehicle is a configuration error; duplicate names are errors too.
   [[nodiscard]] Status add_vehicle(const std::string& name, LinkDirection* to_streamer,
                                    bool monitor = false);
+  // Unlinks a vehicle while the Player is stopped, so that a caller taking back the link it
+  // gave (a World whose start failed part-way) leaves no pointer to it behind. Error while
+  // running (the frame loop relies on vehicles only being added then) or for an unknown name.
+  [[nodiscard]] Status remove_vehicle(const std::string& name);
   // Everything arriving from that vehicle's Streamer (feedback, video frames, pongs).
   void handle_link_message(const std::string& vehicle, LinkMessage&& message);
 

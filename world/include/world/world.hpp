@@ -99,7 +99,9 @@ class World {
 
   // Builds links, cores and in-process clients and starts them. Configuration errors (empty
   // or duplicate vehicle names, two vehicles without PlayerConfig::fleet, no vehicle, bad
-  // client config) → error, and nothing is left running. Calling start() twice is an error.
+  // client config, bad Streamer threads) → error, nothing is left running and nothing stays
+  // built: once the cause is removed (set_streamer_threads again) start() may be called
+  // again. Calling start() after a successful start is an error.
   [[nodiscard]] Status start();
   // Real time on several threads, before start(): vehicle i's Streamer, its vehicle
   // connection and its link's to_player direction live on threads[i % size]; the Player and
@@ -145,6 +147,19 @@ class World {
  private:
   struct Vehicle;
   Vehicle& find(std::string_view vehicle) const;
+  // start(), step by step.
+  [[nodiscard]] Status check_vehicle_specs() const;
+  [[nodiscard]] Status check_streamer_threads() const;
+  [[nodiscard]] Status build_vehicles();
+  std::unique_ptr<Vehicle> build_vehicle(const VehicleSpec& spec);
+  std::unique_ptr<ComChannel> build_link(const VehicleSpec& spec, Executor& streamer_executor);
+  std::unique_ptr<StreamerCore> build_streamer(const VehicleSpec& spec, Executor& streamer_executor,
+                                               LinkDirection& to_player);
+  void build_in_process_client(Vehicle& vehicle);
+  void discard_vehicles();
+  void create_link_handovers();
+  void wire_link_receivers(Vehicle& vehicle);
+  void start_parts();
   void connect_in_process_client(Vehicle& vehicle);
   void schedule_reconnect(Vehicle& vehicle);
   ControlTicker& ticker_for(Executor& executor, Micros period);
