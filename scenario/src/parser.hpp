@@ -36,6 +36,16 @@ class Parser {
   Direction direction_of(const YAML::Node& node);
   void timeline(const YAML::Node& node);
   void action(const YAML::Node& item, TimelineEvent& event);
+  void check_one_action(const YAML::Node& item);
+  // The actions: each reads its node, names the event (`event.label`) and returns the action.
+  SetImpairments impair_action(const YAML::Node& n, const YAML::Node& ramp, TimelineEvent& event);
+  LinkOutage outage_action(const YAML::Node& n, TimelineEvent& event);
+  CameraStall camera_stall_action(const YAML::Node& item, TimelineEvent& event);
+  std::string camera_of(const YAML::Node& n, const VehicleSpec& spec);
+  DisconnectVehicle disconnect_action(const YAML::Node& n, TimelineEvent& event);
+  SetMisbehaviour misbehave_action(const YAML::Node& n, TimelineEvent& event);
+  GamepadAction gamepad_action(const YAML::Node& n, TimelineEvent& event);
+  SelectVehicle select_vehicle_action(const YAML::Node& n, TimelineEvent& event);
   ClientDataAction client_data(const YAML::Node& n, TimelineEvent& event);
   void expectations(const YAML::Node& node);
   // `after`: an event name or a time.
