@@ -51,6 +51,12 @@ class Parser {
   // `after`: an event name or a time.
   std::pair<SimTime, std::string> anchor(const YAML::Node& node);
   void fault_expectation(const YAML::Node& node);
+  // The three kinds of fault expectation, once fault_expectation has told which one a node is.
+  void fault_never_expectation(const YAML::Node& node, FaultId fault, const std::optional<std::string>& vehicle);
+  void fault_edge_expectations(const YAML::Node& node, FaultId fault, std::optional<std::string> vehicle);
+  std::string edge_window(const YAML::Node& within, FaultEdgeExpectation& expectation);
+  void fault_state_expectation(const YAML::Node& node, FaultId fault);
+  std::vector<std::string> vehicle_names(const YAML::Node& list, std::string_view key);
   void delivery_expectation(const YAML::Node& node);
   void threshold_expectations(const YAML::Node& key, const YAML::Node& list);
 
