@@ -83,177 +83,242 @@ bool write_file(const std::string& path, const std::string& text) {
   return static_cast<bool>(file);
 }
 
-}  // namespace
+// --compare: the references run beside the client under test, on the same machine at the same
+// time, so ratios are fair on a busy machine. Phases: nothing else the bench does is scheduled
+// at the moment the client's round trip runs (it used to be: the reference Streamer's tick
+// wrote its control frame right after the one under test and woke the timer client's thread in
+// the middle of its round trip, doubling the measured echo delay). Within each 10 ms period,
+// 1.25 ms apart: the Streamer under test ticks at 0 (its operator's frame at 1.25 ms), the floor
+// sends at 2.5 ms, the bare client's Streamer ticks at 3.75 ms (operator 5 ms), the timer
+// client's at 6.25 ms (operator 7.5 ms), housekeeping runs at 8.75 ms. The timer client answers
+// at a phase that sweeps the whole period (by design), so it meets each of them briefly.
+constexpr Micros floor_phase{2'500};
+constexpr Micros bare_streamer_phase{3'750};
+constexpr Micros timer_streamer_phase{6'250};
+constexpr Micros housekeeping_phase{8'750};
 
-int run_loop(const LoopOptions& options) {
-  namespace asio = boost::asio;
-  // As the simulators do: no 50 µs default timer slack on the control tick's thread.
-  prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
-  const bool launch = !options.command.empty();
-  const std::uint16_t port = options.port.value_or(launch ? 0 : 4000);
+// A reference client's own Streamer, started at its phase; its recorder exists once started.
+struct Reference {
+  std::unique_ptr<StreamerSimulation> simulation;
+  std::unique_ptr<LoopRecorder> recorder;
+};
 
-  asio::io_context io;
-  AsioExecutor executor(io);
-  const LogSink quiet_sink{};   // the simulators' log lines would bury the progress line
-  StreamerSimulation simulation(executor, streamer_options(port, "vehicle"), quiet_sink);
-  if (auto status = simulation.start(); !status) {
-    std::cerr << "ocp_bench loop: cannot start the Streamer: " << status.error().detail << "\n";
-    return 1;
-  }
-  // The Streamer's control tick (and its simulated operator's frame) falls on start + k·10 ms.
-  const SimTime start = executor.now();
-  LoopRecorder recorder(simulation.streamer().events(), start);
+// One `ocp_bench loop` run, its steps in the order run_loop calls them. The members are
+// declared in the order the run creates them, so that they go in the reverse order: the
+// housekeeping and the child before the references, the recorders before their Streamers.
+class LoopRun {
+ public:
+  explicit LoopRun(const LoopOptions& options)
+      : options_(options),
+        launch_(!options.command.empty()),
+        executor_(io_),
+        simulation_(executor_, streamer_options(options.port.value_or(launch_ ? 0 : 4000), "vehicle"), quiet_sink_) {}
 
-  // --compare: the references run beside the client under test, on the same machine at the same
-  // time, so ratios are fair on a busy machine. Phases: nothing else the bench does is scheduled
-  // at the moment the client's round trip runs (it used to be: the reference Streamer's tick
-  // wrote its control frame right after the one under test and woke the timer client's thread in
-  // the middle of its round trip, doubling the measured echo delay). Within each 10 ms period,
-  // 1.25 ms apart: the Streamer under test ticks at 0 (its operator's frame at 1.25 ms), the floor
-  // sends at 2.5 ms, the bare client's Streamer ticks at 3.75 ms (operator 5 ms), the timer
-  // client's at 6.25 ms (operator 7.5 ms), housekeeping runs at 8.75 ms. The timer client answers
-  // at a phase that sweeps the whole period (by design), so it meets each of them briefly.
-  constexpr Micros floor_phase{2'500};
-  constexpr Micros bare_streamer_phase{3'750};
-  constexpr Micros timer_streamer_phase{6'250};
-  constexpr Micros housekeeping_phase{8'750};
-  // A reference client's own Streamer, started at its phase; its recorder exists once started.
-  struct Reference {
-    std::unique_ptr<StreamerSimulation> simulation;
-    std::unique_ptr<LoopRecorder> recorder;
-  };
-  Reference bare, timer;
-  std::unique_ptr<BareClient> bare_client;
-  std::unique_ptr<TimerClient> timer_client;
-  std::unique_ptr<FloorEcho> floor;
-  if (options.compare) {
-    bare.simulation = std::make_unique<StreamerSimulation>(executor, streamer_options(0, "bare_vehicle"), quiet_sink);
-    timer.simulation = std::make_unique<StreamerSimulation>(executor, streamer_options(0, "timer_vehicle"), quiet_sink);
-  }
-
-  ChildProcess child;
-  if (launch) {
-    std::string error;
-    if (!child.start(options.command, simulation.port(), error)) {
-      std::cerr << "ocp_bench loop: cannot launch the client: " << error << "\n";
-      return 1;
+  // The Streamer under test (its control tick, and its simulated operator's frame, fall on
+  // start + k·10 ms from now on) and, with --compare, the references' Streamers, not started yet.
+  bool start_streamer() {
+    if (auto status = simulation_.start(); !status) {
+      std::cerr << "ocp_bench loop: cannot start the Streamer: " << status.error().detail << "\n";
+      return false;
     }
-  } else {
-    std::cerr << "ocp_bench loop: waiting for a vehicle client on 127.0.0.1:" << simulation.port() << "\n";
+    start_ = executor_.now();
+    recorder_.emplace(simulation_.streamer().events(), start_);
+    if (options_.compare) {
+      bare_.simulation = std::make_unique<StreamerSimulation>(executor_, streamer_options(0, "bare_vehicle"), quiet_sink_);
+      timer_.simulation = std::make_unique<StreamerSimulation>(executor_, streamer_options(0, "timer_vehicle"), quiet_sink_);
+    }
+    return true;
   }
 
-  int exit_code = 0;
-  std::optional<SimTime> measure_start;
-  std::optional<SimTime> measure_end;
-  bool stopped = false;
-  auto finish = [&](int code) {
-    if (stopped) return;
-    stopped = true;
-    exit_code = code;
-    measure_end = executor.now();
-    io.stop();
-  };
-  for (auto [reference, phase] : {std::pair{&bare, bare_streamer_phase}, std::pair{&timer, timer_streamer_phase}}) {
-    if (!reference->simulation) continue;
-    executor.call_at(start + phase, [&, reference] {
-      if (auto status = reference->simulation->start(); !status) {
-        std::cerr << "ocp_bench loop: cannot start a reference Streamer: " << status.error().detail << "\n";
-        finish(1);
-        return;
-      }
-      reference->recorder = std::make_unique<LoopRecorder>(reference->simulation->streamer().events(), start);
+  // Launches the client command, or says where the Streamer waits for one.
+  bool launch_client() {
+    if (!launch_) {
+      std::cerr << "ocp_bench loop: waiting for a vehicle client on 127.0.0.1:" << simulation_.port() << "\n";
+      return true;
+    }
+    std::string error;
+    if (!child_.start(options_.command, simulation_.port(), error)) {
+      std::cerr << "ocp_bench loop: cannot launch the client: " << error << "\n";
+      return false;
+    }
+    return true;
+  }
+
+  // Each reference Streamer starts at its own phase of the 10 ms period (see the phases above).
+  void start_references_at_their_phases() {
+    for (auto [reference, phase] : {std::pair{&bare_, bare_streamer_phase}, std::pair{&timer_, timer_streamer_phase}}) {
+      if (!reference->simulation) continue;
+      executor_.call_at(start_ + phase, [this, reference] {
+        if (auto status = reference->simulation->start(); !status) {
+          std::cerr << "ocp_bench loop: cannot start a reference Streamer: " << status.error().detail << "\n";
+          finish(1);
+          return;
+        }
+        reference->recorder = std::make_unique<LoopRecorder>(reference->simulation->streamer().events(), start_);
+      });
+    }
+  }
+
+  // Ctrl-C ends the measurement early: a success once a client was measured at all.
+  void stop_on_signal() {
+    signals_.emplace(io_, SIGINT, SIGTERM);
+    signals_->async_wait([this](const boost::system::error_code& error, int) {
+      if (!error) finish(measure_start_ ? 0 : 1);
     });
   }
-  asio::signal_set signals(io, SIGINT, SIGTERM);
-  signals.async_wait([&](const boost::system::error_code& error, int) {
-    if (!error) finish(measure_start ? 0 : 1);
-  });
 
-  const bool tty = isatty(STDERR_FILENO) == 1;
-  const Micros duration{static_cast<std::int64_t>(options.duration_s * 1e6)};
-  const Micros connect_timeout{static_cast<std::int64_t>(options.connect_timeout_s * 1e6)};
-  SimTime last_progress = start;
-  // 10 Hz housekeeping: starts the window at the first connection, watches the child, prints progress.
-  PeriodicTimer housekeeping(executor, Micros{100'000}, [&](SimTime now) {
-    if (launch && child.poll()) {
-      std::cerr << "\nocp_bench loop: the client exited with status " << *child.poll() << "\n";
+  // Runs until finish(): the duration has passed, the client exited, no client came, a
+  // reference failed or a signal came.
+  void measure() {
+    last_progress_ = start_;
+    housekeeping_.emplace(executor_, Micros{100'000}, [this](SimTime now) { housekeeping(now); });
+    housekeeping_->start(start_ + Micros{100'000} + housekeeping_phase);
+    io_.run();
+    if (tty_ && !options_.quiet) std::cerr << "\n";
+    housekeeping_->stop();
+  }
+
+  // Every path ends the child and the references before the figures are read.
+  LoopResult take_result() {
+    LoopResult result;
+    result.child_exit = launch_ ? child_.poll() : std::nullopt;
+    child_.stop();
+    if (bare_client_) bare_client_->stop();
+    if (timer_client_) timer_client_->stop();
+    if (floor_) floor_->stop();
+
+    result.command = join(options_.command);
+    result.port = simulation_.port();
+    const SimTime window_start = measure_start_.value_or(start_);
+    result.duration_s = static_cast<double>((measure_end_.value_or(executor_.now()) - window_start).count()) / 1e6;
+    const double since_start_s = static_cast<double>((measure_end_.value_or(executor_.now()) - start_).count()) / 1e6;
+    result.client = figures_from("client", *recorder_, since_start_s);
+    if (bare_.recorder) {
+      result.bare_client = figures_from("bare_client (blocking read, answers at once)", *bare_.recorder, since_start_s);
+    }
+    if (timer_.recorder) result.timer_client = figures_from("timer_client (answers every 10 ms)", *timer_.recorder, since_start_s);
+    if (floor_) {
+      result.floor_echo_delays_us = floor_->round_trips_us();
+      result.floor_echo_us = summarize(result.floor_echo_delays_us);
+    }
+    simulation_.stop();
+    for (Reference* reference : {&bare_, &timer_}) {
+      if (reference->simulation) reference->simulation->stop();
+    }
+    return result;
+  }
+
+  // The table, the gates (a failed one fails the run), and the --json and --html files.
+  int report(LoopResult& result) {
+    int exit_code = exit_code_;
+    result.gates = evaluate_gates(options_, result);
+    print_table(std::cout, result);
+    if (exit_code == 0 && !all_passed(result.gates)) exit_code = 1;
+    if (!options_.json_path.empty() && !write_file(options_.json_path, to_json(result))) {
+      std::cerr << "ocp_bench loop: cannot write " << options_.json_path << "\n";
+      exit_code = 1;
+    }
+    if (!options_.html_path.empty() && !write_file(options_.html_path, to_html(result))) {
+      std::cerr << "ocp_bench loop: cannot write " << options_.html_path << "\n";
+      exit_code = 1;
+    }
+    return exit_code;
+  }
+
+ private:
+  // Ends the run (the first call decides the exit code).
+  void finish(int code) {
+    if (stopped_) return;
+    stopped_ = true;
+    exit_code_ = code;
+    measure_end_ = executor_.now();
+    io_.stop();
+  }
+
+  // 10 Hz: starts the window at the first connection, watches the child, prints progress.
+  void housekeeping(SimTime now) {
+    if (launch_ && child_.poll()) {
+      std::cerr << "\nocp_bench loop: the client exited with status " << *child_.poll() << "\n";
       finish(1);
       return;
     }
-    if (!measure_start) {
-      if (recorder.connected_once()) {
-        measure_start = now;
-        if (options.compare) {
-          bare_client = std::make_unique<BareClient>(bare.simulation->port());
-          timer_client = std::make_unique<TimerClient>(timer.simulation->port());
-          // The floor's grid: floor_phase after a tick of the Streamer under test, ≥ 10 ms ahead.
-          const SimTime first_send = now + Micros{10'000} - (now - start) % Micros{10'000} + floor_phase;
-          floor = std::make_unique<FloorEcho>(executor.to_steady(first_send));
-        }
-      } else if (now - start > connect_timeout) {
-        std::cerr << "ocp_bench loop: no vehicle client connected within " << options.connect_timeout_s << " s\n";
-        finish(1);
-      }
+    if (!measure_start_) {
+      await_client(now);
       return;
     }
-    if (now - *measure_start >= duration) {
+    if (now - *measure_start_ >= duration_) {
       finish(0);
       return;
     }
-    if (!options.quiet && now - last_progress >= Micros{1'000'000}) {
-      last_progress = now;
-      const double elapsed_s = static_cast<double>((now - *measure_start).count()) / 1e6;
-      std::cerr << (tty ? "\r" : "")
-                << fmt::format("ocp_bench loop: {:.0f}/{:.0f} s, {} responses, {} echoes, {} faults", elapsed_s,
-                               options.duration_s, recorder.response_times_s().size(),
-                               recorder.echo_delays_us().size(), recorder.faults().size())
-                << (tty ? "" : "\n") << std::flush;
+    if (!options_.quiet && now - last_progress_ >= Micros{1'000'000}) print_progress(now);
+  }
+
+  // The measurement window opens at the client's first connection; with --compare the
+  // reference clients and the floor start then too, so that all of them share the window.
+  void await_client(SimTime now) {
+    if (recorder_->connected_once()) {
+      measure_start_ = now;
+      if (options_.compare) {
+        bare_client_ = std::make_unique<BareClient>(bare_.simulation->port());
+        timer_client_ = std::make_unique<TimerClient>(timer_.simulation->port());
+        // The floor's grid: floor_phase after a tick of the Streamer under test, ≥ 10 ms ahead.
+        const SimTime first_send = now + Micros{10'000} - (now - start_) % Micros{10'000} + floor_phase;
+        floor_ = std::make_unique<FloorEcho>(executor_.to_steady(first_send));
+      }
+    } else if (now - start_ > connect_timeout_) {
+      std::cerr << "ocp_bench loop: no vehicle client connected within " << options_.connect_timeout_s << " s\n";
+      finish(1);
     }
-  });
-  housekeeping.start(start + Micros{100'000} + housekeeping_phase);
-  io.run();
-  if (tty && !options.quiet) std::cerr << "\n";
-  housekeeping.stop();
-
-  // Every path ends the child and the references before the figures are read.
-  LoopResult result;
-  result.child_exit = launch ? child.poll() : std::nullopt;
-  child.stop();
-  if (bare_client) bare_client->stop();
-  if (timer_client) timer_client->stop();
-  if (floor) floor->stop();
-
-  result.command = join(options.command);
-  result.port = simulation.port();
-  const SimTime window_start = measure_start.value_or(start);
-  result.duration_s = static_cast<double>((measure_end.value_or(executor.now()) - window_start).count()) / 1e6;
-  const double since_start_s = static_cast<double>((measure_end.value_or(executor.now()) - start).count()) / 1e6;
-  result.client = figures_from("client", recorder, since_start_s);
-  if (bare.recorder) {
-    result.bare_client = figures_from("bare_client (blocking read, answers at once)", *bare.recorder, since_start_s);
-  }
-  if (timer.recorder) result.timer_client = figures_from("timer_client (answers every 10 ms)", *timer.recorder, since_start_s);
-  if (floor) {
-    result.floor_echo_delays_us = floor->round_trips_us();
-    result.floor_echo_us = summarize(result.floor_echo_delays_us);
-  }
-  simulation.stop();
-  for (Reference* reference : {&bare, &timer}) {
-    if (reference->simulation) reference->simulation->stop();
   }
 
-  result.gates = evaluate_gates(options, result);
-  print_table(std::cout, result);
-  if (exit_code == 0 && !all_passed(result.gates)) exit_code = 1;
-  if (!options.json_path.empty() && !write_file(options.json_path, to_json(result))) {
-    std::cerr << "ocp_bench loop: cannot write " << options.json_path << "\n";
-    exit_code = 1;
+  // Once a second; on a terminal the line overwrites itself.
+  void print_progress(SimTime now) {
+    last_progress_ = now;
+    const double elapsed_s = static_cast<double>((now - *measure_start_).count()) / 1e6;
+    std::cerr << (tty_ ? "\r" : "")
+              << fmt::format("ocp_bench loop: {:.0f}/{:.0f} s, {} responses, {} echoes, {} faults", elapsed_s,
+                             options_.duration_s, recorder_->response_times_s().size(),
+                             recorder_->echo_delays_us().size(), recorder_->faults().size())
+              << (tty_ ? "" : "\n") << std::flush;
   }
-  if (!options.html_path.empty() && !write_file(options.html_path, to_html(result))) {
-    std::cerr << "ocp_bench loop: cannot write " << options.html_path << "\n";
-    exit_code = 1;
-  }
-  return exit_code;
+
+  const LoopOptions& options_;
+  const bool launch_;
+  const bool tty_ = isatty(STDERR_FILENO) == 1;
+  const Micros duration_{static_cast<std::int64_t>(options_.duration_s * 1e6)};
+  const Micros connect_timeout_{static_cast<std::int64_t>(options_.connect_timeout_s * 1e6)};
+  boost::asio::io_context io_;
+  AsioExecutor executor_;
+  const LogSink quiet_sink_{};   // the simulators' log lines would bury the progress line
+  StreamerSimulation simulation_;
+  SimTime start_{0};
+  std::optional<LoopRecorder> recorder_;
+  Reference bare_, timer_;
+  std::unique_ptr<BareClient> bare_client_;
+  std::unique_ptr<TimerClient> timer_client_;
+  std::unique_ptr<FloorEcho> floor_;
+  ChildProcess child_;
+  int exit_code_ = 0;
+  std::optional<SimTime> measure_start_;
+  std::optional<SimTime> measure_end_;
+  bool stopped_ = false;
+  std::optional<boost::asio::signal_set> signals_;
+  SimTime last_progress_{0};
+  std::optional<PeriodicTimer> housekeeping_;
+};
+
+}  // namespace
+
+int run_loop(const LoopOptions& options) {
+  // As the simulators do: no 50 µs default timer slack on the control tick's thread.
+  prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
+  LoopRun run(options);
+  if (!run.start_streamer() || !run.launch_client()) return 1;
+  run.start_references_at_their_phases();
+  run.stop_on_signal();
+  run.measure();
+  LoopResult result = run.take_result();
+  return run.report(result);
 }
 
 }  // namespace ocp::bench

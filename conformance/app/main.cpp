@@ -33,6 +33,83 @@ bool write_file(const std::string& path, const std::string& text) {
   return static_cast<bool>(out);
 }
 
+// The command line of either suite.
+struct SuiteCommandLine {
+  RunOptions options;
+  int port = -1;
+  bool list = false, markdown = false;
+  std::string include, exclude, out_dir, junit, baseline_path, write_baseline;
+  std::vector<std::string> command;
+};
+
+// Both suites take the same options (CLI11 binds each subcommand's copy to one variable).
+void add_suite_options(CLI::App& suite, bool is_vehicle, SuiteCommandLine& line) {
+  RunOptions& options = line.options;
+  suite.add_option("--port", line.port, is_vehicle ? "Port to listen on (default: 4000 waiting for an external client; ephemeral when launching one)"
+                                                   : "Port to listen on (default: 4001 waiting for an external client; ephemeral when launching one)")
+      ->check(CLI::Range(0, 65535));
+  suite.add_flag("--restart-per-case", options.restart_per_case, "Launch a fresh client for every case");
+  suite.add_option("--jobs,-j", options.jobs, "Cases run concurrently (launched clients only; one client and port per job)")
+      ->check(CLI::Range(1, 16));
+  suite.add_flag("--list", line.list, "List the cases and exit");
+  suite.add_flag("--markdown", line.markdown, "With --list: the Markdown table of docs/conformance.md");
+  suite.add_option("--cases", line.include, "Only these cases: comma-separated ids, prefixes or globs (vehicle/2,vehicle/3.3/*)");
+  suite.add_option("--exclude", line.exclude, "Skip these cases (same syntax)");
+  suite.add_option("--timeout-scale", options.timeout_scale, "Multiply every timeout (slow machines, sanitizers)")
+      ->check(ocp::cli::real(0.1, 100.0));
+  suite.add_option("--out", line.out_dir, "Write index.json, report.html and client logs into this directory");
+  suite.add_option("--junit", line.junit, "Write JUnit XML to this file");
+  suite.add_option("--baseline", line.baseline_path, "Expected failures (one case id per line); the run is judged against it");
+  suite.add_option("--write-baseline", line.write_baseline, "Write this run's failures as a baseline file");
+  suite.add_option("command", line.command, "-- CMD ARGS…: launch the client; OCP_PORT and {port} carry the port");
+}
+
+void print_case_list(const std::vector<VehicleCase>& cases, bool markdown) {
+  std::vector<CaseInfo> infos;
+  for (const auto& c : cases) infos.push_back(c.body.info);
+  std::cout << case_list(infos, markdown);
+}
+
+// The rest of the run options: the port (well-known when waiting for an external client, any
+// free one when launching it) and the client logs' folder under --out. False: --out cannot be made.
+bool complete_run_options(SuiteCommandLine& line, bool operator_suite) {
+  RunOptions& options = line.options;
+  options.command = line.command;
+  options.port = static_cast<std::uint16_t>(line.port >= 0 ? line.port : (line.command.empty() ? (operator_suite ? 4001 : 4000) : 0));
+  if (line.out_dir.empty()) return true;
+  std::error_code error;
+  std::filesystem::create_directories(line.out_dir + "/clients", error);
+  if (error) {
+    std::cerr << "ocp_conformance: cannot create " << line.out_dir << ": " << error.message() << "\n";
+    return false;
+  }
+  options.client_log_dir = line.out_dir + "/clients";
+  return true;
+}
+
+// The launched command, or where an external client is expected.
+std::string client_description(const SuiteCommandLine& line) {
+  std::string client = "external client on 127.0.0.1:" + std::to_string(line.options.port);
+  if (!line.command.empty()) {
+    client.clear();
+    for (const auto& word : line.command) client += (client.empty() ? "" : " ") + word;
+  }
+  return client;
+}
+
+// --out's index.json and report.html, --junit and --write-baseline; false when one failed
+// (each is still tried).
+bool write_reports(const SuiteCommandLine& line, const ReportContext& context, const RunSummary& summary) {
+  bool wrote = true;
+  if (!line.out_dir.empty()) {
+    wrote = write_file(line.out_dir + "/index.json", index_json(context)) && write_file(line.out_dir + "/report.html", html_report(context));
+    std::cout << "Reports: " << line.out_dir << "/index.json, " << line.out_dir << "/report.html\n";
+  }
+  if (!line.junit.empty()) wrote = write_file(line.junit, junit_xml(context)) && wrote;
+  if (!line.write_baseline.empty()) wrote = write_file(line.write_baseline, baseline_text(summary.results)) && wrote;
+  return wrote;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -41,42 +118,15 @@ int main(int argc, char** argv) {
   CLI::App* vehicle = app.add_subcommand("vehicle", "Play the Streamer (vehicle-side API, SPEC §2/§3/§5) against a vehicle client");
   CLI::App* operator_side = app.add_subcommand(
       "operator", "Play the Player (operator-side :4001 API, SPEC §4) against an operator client; a real Streamer and the reference vehicle client run behind it");
-
-  RunOptions options;
-  int port = -1;
-  bool list = false, markdown = false;
-  std::string include, exclude, out_dir, junit, baseline_path, write_baseline;
-  std::vector<std::string> command;
-  // Both suites take the same options (CLI11 binds each subcommand's copy to one variable).
-  for (CLI::App* suite : {vehicle, operator_side}) {
-    const bool is_vehicle = suite == vehicle;
-    suite->add_option("--port", port, is_vehicle ? "Port to listen on (default: 4000 waiting for an external client; ephemeral when launching one)"
-                                                 : "Port to listen on (default: 4001 waiting for an external client; ephemeral when launching one)")
-        ->check(CLI::Range(0, 65535));
-    suite->add_flag("--restart-per-case", options.restart_per_case, "Launch a fresh client for every case");
-    suite->add_option("--jobs,-j", options.jobs, "Cases run concurrently (launched clients only; one client and port per job)")
-        ->check(CLI::Range(1, 16));
-    suite->add_flag("--list", list, "List the cases and exit");
-    suite->add_flag("--markdown", markdown, "With --list: the Markdown table of docs/conformance.md");
-    suite->add_option("--cases", include, "Only these cases: comma-separated ids, prefixes or globs (vehicle/2,vehicle/3.3/*)");
-    suite->add_option("--exclude", exclude, "Skip these cases (same syntax)");
-    suite->add_option("--timeout-scale", options.timeout_scale, "Multiply every timeout (slow machines, sanitizers)")
-        ->check(ocp::cli::real(0.1, 100.0));
-    suite->add_option("--out", out_dir, "Write index.json, report.html and client logs into this directory");
-    suite->add_option("--junit", junit, "Write JUnit XML to this file");
-    suite->add_option("--baseline", baseline_path, "Expected failures (one case id per line); the run is judged against it");
-    suite->add_option("--write-baseline", write_baseline, "Write this run's failures as a baseline file");
-    suite->add_option("command", command, "-- CMD ARGS…: launch the client; OCP_PORT and {port} carry the port");
-  }
+  SuiteCommandLine line;
+  for (CLI::App* suite : {vehicle, operator_side}) add_suite_options(*suite, suite == vehicle, line);
 
   if (auto exit_code = ocp::cli::parse_or_exit_code(app, argc, argv)) return *exit_code;
   const bool operator_suite = operator_side->parsed();
   const std::string suite_name = operator_suite ? "operator" : "vehicle";
-  std::vector<VehicleCase> cases = select_cases(operator_suite ? operator_cases() : vehicle_cases(), include, exclude);
-  if (list) {
-    std::vector<CaseInfo> infos;
-    for (const auto& c : cases) infos.push_back(c.body.info);
-    std::cout << case_list(infos, markdown);
+  std::vector<VehicleCase> cases = select_cases(operator_suite ? operator_cases() : vehicle_cases(), line.include, line.exclude);
+  if (line.list) {
+    print_case_list(cases, line.markdown);
     return 0;
   }
   if (cases.empty()) {
@@ -84,54 +134,33 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::optional<Baseline> baseline;
-  if (!baseline_path.empty()) {
-    auto loaded = load_baseline(baseline_path);
+  if (!line.baseline_path.empty()) {
+    auto loaded = load_baseline(line.baseline_path);
     if (!loaded) {
       std::cerr << "ocp_conformance: " << loaded.error().detail << "\n";
       return 2;
     }
     baseline = *loaded;
   }
-  options.command = command;
-  options.port = static_cast<std::uint16_t>(port >= 0 ? port : (command.empty() ? (operator_suite ? 4001 : 4000) : 0));
-  if (!out_dir.empty()) {
-    std::error_code error;
-    std::filesystem::create_directories(out_dir + "/clients", error);
-    if (error) {
-      std::cerr << "ocp_conformance: cannot create " << out_dir << ": " << error.message() << "\n";
-      return 2;
-    }
-    options.client_log_dir = out_dir + "/clients";
-  }
+  if (!complete_run_options(line, operator_suite)) return 2;
   signal(SIGINT, on_signal);
   signal(SIGTERM, on_signal);
   signal(SIGPIPE, SIG_IGN);
 
-  std::string client = "external client on 127.0.0.1:" + std::to_string(options.port);
-  if (!command.empty()) {
-    client.clear();
-    for (const auto& word : command) client += (client.empty() ? "" : " ") + word;
-  }
+  const std::string client = client_description(line);
   std::cout << "ocp_conformance " << suite_name << ": " << cases.size() << " cases against " << client << "\n";
-  if (command.empty()) std::cout << "waiting for the client to connect to 127.0.0.1:" << options.port << " …\n";
-  options.on_result = [](const CaseResult& r) {
+  if (line.command.empty()) std::cout << "waiting for the client to connect to 127.0.0.1:" << line.options.port << " …\n";
+  line.options.on_result = [](const CaseResult& r) {
     print_case_line(std::cout, r);
     std::cout.flush();
   };
-  const RunSummary summary = run_cases(cases, options);
+  const RunSummary summary = run_cases(cases, line.options);
 
   std::optional<BaselineDiff> diff;
   if (baseline) diff = diff_baseline(*baseline, summary.results);
   ReportContext context{suite_name, client, &summary, diff ? &*diff : nullptr};
   print_summary(std::cout, context);
-  bool wrote = true;
-  if (!out_dir.empty()) {
-    wrote = write_file(out_dir + "/index.json", index_json(context)) && write_file(out_dir + "/report.html", html_report(context));
-    std::cout << "Reports: " << out_dir << "/index.json, " << out_dir << "/report.html\n";
-  }
-  if (!junit.empty()) wrote = write_file(junit, junit_xml(context)) && wrote;
-  if (!write_baseline.empty()) wrote = write_file(write_baseline, baseline_text(summary.results)) && wrote;
-  if (!wrote) {
+  if (!write_reports(line, context, summary)) {
     std::cerr << "ocp_conformance: could not write a report\n";
     return 2;
   }

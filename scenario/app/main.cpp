@@ -48,6 +48,154 @@ bool write_file(const fs::path& path, const std::string& text) {
   return static_cast<bool>(out);
 }
 
+// `ocp_scenario run`'s command line.
+struct ToolOptions {
+  std::vector<std::string> inputs;
+  std::optional<std::uint64_t> seed;
+  unsigned repeat = 1;
+  std::string junit, out_dir = "scenario-results";
+  bool list = false, no_trace = false, trace_payloads = false, realtime = false;
+  std::uint16_t tcp_port = 4000;
+};
+
+void add_run_command(CLI::App& app, ToolOptions& options) {
+  CLI::App* run = app.add_subcommand("run", "run scenario files (or every *.yaml in a folder)");
+  run->add_option("files", options.inputs, "scenario files or folders")->required();
+  run->add_option("--seed", options.seed, "override every file's seed");
+  run->add_option("--repeat", options.repeat, "run each file K times with seeds derived from its seed")->check(CLI::Range(1u, 100000u));
+  run->add_option("--junit", options.junit, "write JUnit XML (one testsuite per run, one testcase per expectation)");
+  run->add_option("--out", options.out_dir, "results folder (trace.jsonl, summary.json, report.html per run)")->capture_default_str();
+  run->add_flag("--list", options.list, "list files and expectations without running");
+  run->add_flag("--no-trace", options.no_trace, "do not write trace.jsonl (faster long runs)");
+  run->add_flag("--trace-payloads", options.trace_payloads, "include every frame's payload in trace.jsonl");
+  run->add_flag("--realtime", options.realtime,
+                "run in real time (not reproducible); vehicles with in_process_client: false wait for "
+                "external vehicle clients over TCP");
+  run->add_option("--tcp-port", options.tcp_port, "--realtime: port of the first external vehicle (the next +1, …; 0: any)")
+      ->capture_default_str();
+}
+
+// Every file is parsed before any runs, so that one bad file is reported without running the
+// others first (and all bad files at once). Empty: nothing to run (the errors are printed).
+std::vector<Scenario> load_every_scenario(const std::vector<std::string>& files) {
+  std::vector<Scenario> scenarios;
+  bool bad = false;
+  for (const std::string& file : files) {
+    try {
+      scenarios.push_back(load_scenario(file));
+    } catch (const ScenarioError& error) {
+      std::cerr << "error: " << error.what() << "\n";
+      bad = true;
+    }
+  }
+  if (bad) return {};
+  if (scenarios.empty()) std::cerr << "error: no scenario files found\n";
+  return scenarios;
+}
+
+void print_expectations(const std::vector<Scenario>& scenarios) {
+  for (const Scenario& scenario : scenarios) {
+    std::cout << scenario.path << "  (seed " << scenario.seed << ", " << scenario.expectations.size() << " expectations)\n";
+    for (const Expectation& expectation : scenario.expectations) {
+      std::cout << "  - " << expectation.title << "  [line " << expectation.mark.line << "]\n";
+    }
+  }
+}
+
+// One run in virtual time, or in real time waiting for the external vehicle clients.
+RunResult run_once(const Scenario& scenario, const ToolOptions& tool, std::uint64_t run_seed) {
+  RunOptions options;
+  options.seed = run_seed;
+  options.trace = !tool.no_trace;
+  options.trace_payloads = tool.trace_payloads;
+  if (!tool.realtime) return run_scenario(scenario, options);
+  RealTimeOptions real_time;
+  real_time.tcp_port = tool.tcp_port;
+  real_time.on_listening = [](const std::string& vehicle, const std::string& address) {
+    std::printf("%s: waiting for a vehicle client on %s\n", vehicle.c_str(), address.c_str());
+    std::fflush(stdout);
+  };
+  return run_scenario_realtime(scenario, options, real_time);
+}
+
+// What the closing line adds up over every run.
+struct Tally {
+  std::size_t passed = 0, failed = 0, runs_failed = 0;
+  double simulated_s = 0;
+};
+
+// A run's headline (speed against the wall clock and the CPU), its verdicts, and how to
+// reproduce it when it failed.
+void print_run(const RunReport& report, std::uint64_t run_seed, Tally& tally) {
+  const RunResult& result = *report.run;
+  const bool ok = all_passed(report.verdicts);
+  const double sim_s = static_cast<double>(result.duration.count()) / 1e6;
+  tally.simulated_s += sim_s;
+  std::printf("\n%s %s  seed %llu  %.1fs simulated in %.3fs wall (%.0f:1), %.3fs CPU (%.0f:1)\n", ok ? "✓" : "✗",
+              report.scenario->path.c_str(), static_cast<unsigned long long>(run_seed), sim_s, result.wall_seconds,
+              result.wall_seconds > 0 ? sim_s / result.wall_seconds : 0.0, result.cpu_seconds,
+              result.cpu_seconds > 0 ? sim_s / result.cpu_seconds : 0.0);
+  std::cout << console_verdicts(report);
+  if (!ok) std::cout << "  reproduce: " << report.reproduce << "\n";
+  for (const Verdict& verdict : report.verdicts) (verdict.passed ? tally.passed : tally.failed)++;
+  tally.runs_failed += ok ? 0 : 1;
+}
+
+// trace.jsonl, summary.json and report.html in OUT/<scenario>[/seed-N] (a folder per seed
+// when a file runs more than once).
+bool write_run_results(const ToolOptions& tool, const RunReport& report, std::uint64_t run_seed) {
+  fs::path dir = fs::path(tool.out_dir) / report.scenario->name;
+  if (tool.repeat > 1) dir /= "seed-" + std::to_string(run_seed);
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  const std::string summary = summary_json(report);
+  const bool written = (tool.no_trace || write_file(dir / "trace.jsonl", report.run->trace_jsonl)) &&
+                       write_file(dir / "summary.json", summary) &&
+                       write_file(dir / "report.html", report_html(report, summary));
+  if (ec || !written) {
+    std::cerr << "error: cannot write results to " << dir << "\n";
+    return false;
+  }
+  return true;
+}
+
+// Each file `repeat` times: the first run with the file's seed (or --seed), the others with
+// seeds derived from it, so that every run can be reproduced alone.
+int run_every_scenario(const std::vector<Scenario>& scenarios, const ToolOptions& tool) {
+  const auto wall_start = std::chrono::steady_clock::now();
+  std::vector<RunResult> runs;
+  runs.reserve(scenarios.size() * tool.repeat);   // RunReport points into it
+  std::vector<RunReport> reports;
+  Tally tally;
+  for (const Scenario& scenario : scenarios) {
+    const std::uint64_t base_seed = tool.seed.value_or(scenario.seed);
+    for (unsigned k = 0; k < tool.repeat; ++k) {
+      const std::uint64_t run_seed = k == 0 ? base_seed : ocp::derive_seed(base_seed, "repeat:" + std::to_string(k));
+      try {
+        runs.push_back(run_once(scenario, tool, run_seed));
+      } catch (const HarnessError& error) {
+        std::cerr << "error: " << scenario.path << ": " << error.what() << "\n";
+        return exit_error;
+      }
+      const RunResult& result = runs.back();
+      RunReport report{&scenario, &result, evaluate(scenario, result),
+                       "ocp_scenario run " + scenario.path + " --seed " + std::to_string(run_seed) +
+                           (tool.realtime ? " --realtime (real time: not reproducible)" : "")};
+      print_run(report, run_seed, tally);
+      if (!write_run_results(tool, report, run_seed)) return exit_error;
+      reports.push_back(std::move(report));
+    }
+  }
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  std::printf("\nchecks: %zu passed, %zu failed; runs: %zu, %zu failed; %.1fs simulated in %.2fs wall; results in %s\n",
+              tally.passed, tally.failed, reports.size(), tally.runs_failed, tally.simulated_s, wall_s, tool.out_dir.c_str());
+  if (!tool.junit.empty() && !write_file(tool.junit, junit_xml(reports))) {
+    std::cerr << "error: cannot write " << tool.junit << "\n";
+    return exit_error;
+  }
+  return tally.failed == 0 ? exit_pass : exit_fail;
+}
+
 }  // namespace
 
 int run_tool(int argc, char** argv);
@@ -65,121 +213,15 @@ int main(int argc, char** argv) {
 int run_tool(int argc, char** argv) {
   CLI::App app{"ocp_scenario: scenario files with verdicts, run in virtual time (docs/scenarios.md)", "ocp_scenario"};
   app.require_subcommand(1);
-  CLI::App* run = app.add_subcommand("run", "run scenario files (or every *.yaml in a folder)");
-  std::vector<std::string> inputs;
-  std::optional<std::uint64_t> seed;
-  unsigned repeat = 1;
-  std::string junit, out_dir = "scenario-results";
-  bool list = false, no_trace = false, trace_payloads = false, realtime = false;
-  std::uint16_t tcp_port = 4000;
-  run->add_option("files", inputs, "scenario files or folders")->required();
-  run->add_option("--seed", seed, "override every file's seed");
-  run->add_option("--repeat", repeat, "run each file K times with seeds derived from its seed")->check(CLI::Range(1u, 100000u));
-  run->add_option("--junit", junit, "write JUnit XML (one testsuite per run, one testcase per expectation)");
-  run->add_option("--out", out_dir, "results folder (trace.jsonl, summary.json, report.html per run)")->capture_default_str();
-  run->add_flag("--list", list, "list files and expectations without running");
-  run->add_flag("--no-trace", no_trace, "do not write trace.jsonl (faster long runs)");
-  run->add_flag("--trace-payloads", trace_payloads, "include every frame's payload in trace.jsonl");
-  run->add_flag("--realtime", realtime,
-                "run in real time (not reproducible); vehicles with in_process_client: false wait for "
-                "external vehicle clients over TCP");
-  run->add_option("--tcp-port", tcp_port, "--realtime: port of the first external vehicle (the next +1, …; 0: any)")
-      ->capture_default_str();
+  ToolOptions options;
+  add_run_command(app, options);
   // --help is exit 0; a bad command line is a harness error like a bad file: 2.
   if (auto exit_code = ocp::cli::parse_or_exit_code(app, argc, argv)) return *exit_code;
-
-  std::vector<Scenario> scenarios;
-  bool bad = false;
-  for (const std::string& file : expand(inputs)) {
-    try {
-      scenarios.push_back(load_scenario(file));
-    } catch (const ScenarioError& error) {
-      std::cerr << "error: " << error.what() << "\n";
-      bad = true;
-    }
-  }
-  if (bad) return exit_error;
-  if (scenarios.empty()) {
-    std::cerr << "error: no scenario files found\n";
-    return exit_error;
-  }
-  if (list) {
-    for (const Scenario& scenario : scenarios) {
-      std::cout << scenario.path << "  (seed " << scenario.seed << ", " << scenario.expectations.size() << " expectations)\n";
-      for (const Expectation& expectation : scenario.expectations) {
-        std::cout << "  - " << expectation.title << "  [line " << expectation.mark.line << "]\n";
-      }
-    }
+  const std::vector<Scenario> scenarios = load_every_scenario(expand(options.inputs));
+  if (scenarios.empty()) return exit_error;
+  if (options.list) {
+    print_expectations(scenarios);
     return exit_pass;
   }
-
-  const auto wall_start = std::chrono::steady_clock::now();
-  std::vector<RunResult> runs;
-  runs.reserve(scenarios.size() * repeat);   // RunReport points into it
-  std::vector<RunReport> reports;
-  std::size_t passed = 0, failed = 0, runs_failed = 0;
-  double simulated_s = 0;
-  for (const Scenario& scenario : scenarios) {
-    const std::uint64_t base_seed = seed.value_or(scenario.seed);
-    for (unsigned k = 0; k < repeat; ++k) {
-      const std::uint64_t run_seed = k == 0 ? base_seed : ocp::derive_seed(base_seed, "repeat:" + std::to_string(k));
-      RunOptions options;
-      options.seed = run_seed;
-      options.trace = !no_trace;
-      options.trace_payloads = trace_payloads;
-      try {
-        if (realtime) {
-          RealTimeOptions real_time;
-          real_time.tcp_port = tcp_port;
-          real_time.on_listening = [](const std::string& vehicle, const std::string& address) {
-            std::printf("%s: waiting for a vehicle client on %s\n", vehicle.c_str(), address.c_str());
-            std::fflush(stdout);
-          };
-          runs.push_back(run_scenario_realtime(scenario, options, real_time));
-        } else {
-          runs.push_back(run_scenario(scenario, options));
-        }
-      } catch (const HarnessError& error) {
-        std::cerr << "error: " << scenario.path << ": " << error.what() << "\n";
-        return exit_error;
-      }
-      const RunResult& result = runs.back();
-      RunReport report{&scenario, &result, evaluate(scenario, result),
-                       "ocp_scenario run " + scenario.path + " --seed " + std::to_string(run_seed) +
-                           (realtime ? " --realtime (real time: not reproducible)" : "")};
-      const bool ok = all_passed(report.verdicts);
-      const double sim_s = static_cast<double>(result.duration.count()) / 1e6;
-      simulated_s += sim_s;
-      std::printf("\n%s %s  seed %llu  %.1fs simulated in %.3fs wall (%.0f:1), %.3fs CPU (%.0f:1)\n", ok ? "✓" : "✗",
-                  scenario.path.c_str(), static_cast<unsigned long long>(run_seed), sim_s, result.wall_seconds,
-                  result.wall_seconds > 0 ? sim_s / result.wall_seconds : 0.0, result.cpu_seconds,
-                  result.cpu_seconds > 0 ? sim_s / result.cpu_seconds : 0.0);
-      std::cout << console_verdicts(report);
-      if (!ok) std::cout << "  reproduce: " << report.reproduce << "\n";
-      for (const Verdict& verdict : report.verdicts) (verdict.passed ? passed : failed)++;
-      runs_failed += ok ? 0 : 1;
-
-      fs::path dir = fs::path(out_dir) / scenario.name;
-      if (repeat > 1) dir /= "seed-" + std::to_string(run_seed);
-      std::error_code ec;
-      fs::create_directories(dir, ec);
-      const std::string summary = summary_json(report);
-      const bool written = (no_trace || write_file(dir / "trace.jsonl", result.trace_jsonl)) &&
-                           write_file(dir / "summary.json", summary) &&
-                           write_file(dir / "report.html", report_html(report, summary));
-      if (ec || !written) {
-        std::cerr << "error: cannot write results to " << dir << "\n";
-        return exit_error;
-      }
-      reports.push_back(std::move(report));
-    }
-  }
-  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  std::printf("\nchecks: %zu passed, %zu failed; runs: %zu, %zu failed; %.1fs simulated in %.2fs wall; results in %s\n",
-              passed, failed, reports.size(), runs_failed, simulated_s, wall_s, out_dir.c_str());
-  if (!junit.empty() && !write_file(junit, junit_xml(reports))) {
-    std::cerr << "error: cannot write " << junit << "\n";
-    return exit_error;
-  }
-  return failed == 0 ? exit_pass : exit_fail;
+  return run_every_scenario(scenarios, options);
 }

@@ -59,111 +59,137 @@ void Observer::on_event(const Event& event) {
     if (sample->latency_ms) {
       state(event.component.name).out->latency_ms.push_back({now, static_cast<double>(*sample->latency_ms)});
     }
-    return;
-  }
-  if (const auto* link = std::get_if<LinkEvent>(&event.body)) {
-    VehicleState& vehicle = state(event.component.name);
-    RouteCounters& counters = link->route == LinkRoute::to_streamer ? vehicle.out->to_streamer : vehicle.out->to_player;
-    switch (link->outcome) {
-      case LinkOutcome::sent: ++counters.sent; break;
-      case LinkOutcome::delivered: ++counters.delivered; break;
-      case LinkOutcome::dropped: ++counters.dropped; break;
-    }
-    if (link->outcome == LinkOutcome::delivered && link->kind == LinkMessageKind::feedback) {
-      if (vehicle.last_feedback) vehicle.out->feedback_gap_ms.push_back({now, to_ms(now - *vehicle.last_feedback)});
-      vehicle.last_feedback = now;
-    }
-    return;
-  }
-  if (const auto* frame = std::get_if<WireFrame>(&event.body)) {
+  } else if (const auto* link = std::get_if<LinkEvent>(&event.body)) {
+    on_link(event.component.name, *link, now);
+  } else if (const auto* frame = std::get_if<WireFrame>(&event.body)) {
+    // Only the Streamer's vehicle wire carries what the series and invariants are about.
     if (frame->wire != Wire::vehicle || event.component.kind != ComponentKind::streamer) return;
+    // Any such frame gives the vehicle its entry in the observations, whatever its kind.
     VehicleState& vehicle = state(event.component.name);
     if (frame->kind == WireMessageKind::control && frame->direction == FrameDirection::out) {
-      if (vehicle.last_control) vehicle.out->control_gap_ms.push_back({now, to_ms(now - *vehicle.last_control)});
-      vehicle.last_control = now;
-      if (frame->ack) {
-        vehicle.pending_pairs.emplace_back(frame->ack->ack_time, now);
-        if (vehicle.pending_pairs.size() > 4096) vehicle.pending_pairs.pop_front();   // never echoed
-        if (vehicle.awaiting_first_pair) {
-          vehicle.connection_first_ack = frame->ack->ack_time;
-          vehicle.awaiting_first_pair = false;
-        }
-      }
-      for (const DeliveryWindow& window : options_.delivery_windows) {
-        if (window.vehicle != event.component.name || now < window.start || now > window.end) continue;
-        if (auto message = decode_control_message(frame->payload)) {
-          Delivery delivery;
-          delivery.time = now;
-          delivery.vehicle = window.vehicle;
-          if (message->controller) {
-            delivery.controller = message->controller->is_safe_default() ? Delivery::Controller::default_
-                                                                         : Delivery::Controller::driving;
-          }
-          if (message->client_user_data) delivery.user_data_json = message->client_user_data->text;
-          observations_.deliveries.push_back(std::move(delivery));
-        }
-        break;   // one record per frame, however many windows overlap
-      }
-      if (options_.check_controllers && !vehicle.control_faults.empty()) {
-        ++vehicle.out->control_frames_checked;
-        auto message = decode_control_message(frame->payload);
-        if (!message) {
-          observations_.controller_violations.push_back({now, std::string(event.component.name), "undecodable control frame"});
-        } else if (message->controller && !message->controller->is_safe_default()) {
-          observations_.controller_violations.push_back(
-              {now, std::string(event.component.name),
-               "non-default controller while " + vehicle.control_faults.fault_reason() + " active"});
-        }
-      }
+      on_control_out(event.component.name, vehicle, *frame, now);
     } else if (frame->kind == WireMessageKind::vehicle_response && frame->direction == FrameDirection::in && frame->ack) {
-      const std::uint64_t ack = frame->ack->ack_time;
-      if (vehicle.connection_first_ack && ack < *vehicle.connection_first_ack) {
-        observations_.stale_pair_violations.push_back(
-            {now, std::string(event.component.name),
-             "pair ack_time " + std::to_string(ack) + " from before the reconnect (first on the new connection: " +
-                 std::to_string(*vehicle.connection_first_ack) + ")"});
-      }
-      auto& pending = vehicle.pending_pairs;
-      while (!pending.empty() && pending.front().first < ack) pending.pop_front();
-      if (!pending.empty() && pending.front().first == ack) {
-        vehicle.out->echo_delay_ms.push_back({now, to_ms(now - pending.front().second)});
-        pending.pop_front();   // a keep-alive repeating the pair is not a second echo
-      }
+      on_response_in(event.component.name, vehicle, *frame, now);
     }
-    return;
-  }
-  if (const auto* fault = std::get_if<FaultEvent>(&event.body)) {
-    auto& intervals = observations_.faults[{std::string(fault->vehicle), fault->id}];
-    if (fault->active) {
-      if (intervals.empty() || intervals.back().end) intervals.push_back({now, std::nullopt});
-    } else if (!intervals.empty() && !intervals.back().end) {
-      intervals.back().end = now;
-    }
-    if (fault->side == FaultSide::vehicle && is_control_path_fault(fault->id)) {
-      state(fault->vehicle).control_faults.set(fault->id, fault->active);
-    }
-    return;
-  }
-  if (const auto* connection = std::get_if<ConnectionEvent>(&event.body)) {
+  } else if (const auto* fault = std::get_if<FaultEvent>(&event.body)) {
+    on_fault(*fault, now);
+  } else if (const auto* connection = std::get_if<ConnectionEvent>(&event.body)) {
     if (connection->wire != Wire::vehicle || event.component.kind != ComponentKind::streamer) return;
-    VehicleState& vehicle = state(event.component.name);
-    if (connection->change == ConnectionChange::opened) {
-      ++vehicle.out->connections_opened;
-      if (vehicle.had_close) {
-        ++observations_.reconnects;
-        vehicle.awaiting_first_pair = true;
-        vehicle.connection_first_ack.reset();
-      }
-      vehicle.pending_pairs.clear();
-    } else if (connection->change == ConnectionChange::closed) {
-      vehicle.had_close = true;
-    }
-    return;
-  }
-  if (const auto* change = std::get_if<ActiveVehicleChange>(&event.body)) {
+    on_vehicle_connection(event.component.name, *connection);
+  } else if (const auto* change = std::get_if<ActiveVehicleChange>(&event.body)) {
     std::optional<std::string> vehicle;
     if (change->vehicle) vehicle = std::string(*change->vehicle);
     observations_.active_vehicle.emplace_back(now, std::move(vehicle));
+  }
+}
+
+// Message counts per route, and the gaps between feedback deliveries at the Player.
+void Observer::on_link(std::string_view name, const LinkEvent& link, SimTime now) {
+  VehicleState& vehicle = state(name);
+  RouteCounters& counters = link.route == LinkRoute::to_streamer ? vehicle.out->to_streamer : vehicle.out->to_player;
+  switch (link.outcome) {
+    case LinkOutcome::sent: ++counters.sent; break;
+    case LinkOutcome::delivered: ++counters.delivered; break;
+    case LinkOutcome::dropped: ++counters.dropped; break;
+  }
+  if (link.outcome == LinkOutcome::delivered && link.kind == LinkMessageKind::feedback) {
+    if (vehicle.last_feedback) vehicle.out->feedback_gap_ms.push_back({now, to_ms(now - *vehicle.last_feedback)});
+    vehicle.last_feedback = now;
+  }
+}
+
+// A control frame the Streamer wrote to its vehicle: the control gap, the pair its echo will
+// be matched against, and — only when asked — the decoded frame.
+void Observer::on_control_out(std::string_view name, VehicleState& vehicle, const WireFrame& frame, SimTime now) {
+  if (vehicle.last_control) vehicle.out->control_gap_ms.push_back({now, to_ms(now - *vehicle.last_control)});
+  vehicle.last_control = now;
+  if (frame.ack) {
+    vehicle.pending_pairs.emplace_back(frame.ack->ack_time, now);
+    if (vehicle.pending_pairs.size() > 4096) vehicle.pending_pairs.pop_front();   // never echoed
+    if (vehicle.awaiting_first_pair) {
+      vehicle.connection_first_ack = frame.ack->ack_time;
+      vehicle.awaiting_first_pair = false;
+    }
+  }
+  record_delivery(name, frame, now);
+  if (options_.check_controllers && !vehicle.control_faults.empty()) check_controller(name, vehicle, frame, now);
+}
+
+// Decodes the frame only inside a delivery window of its vehicle.
+void Observer::record_delivery(std::string_view name, const WireFrame& frame, SimTime now) {
+  for (const DeliveryWindow& window : options_.delivery_windows) {
+    if (window.vehicle != name || now < window.start || now > window.end) continue;
+    if (auto message = decode_control_message(frame.payload)) {
+      Delivery delivery;
+      delivery.time = now;
+      delivery.vehicle = window.vehicle;
+      if (message->controller) {
+        delivery.controller = message->controller->is_safe_default() ? Delivery::Controller::default_
+                                                                     : Delivery::Controller::driving;
+      }
+      if (message->client_user_data) delivery.user_data_json = message->client_user_data->text;
+      observations_.deliveries.push_back(std::move(delivery));
+    }
+    break;   // one record per frame, however many windows overlap
+  }
+}
+
+// The invariant: while a control-path fault is active, only the safe default controller goes out.
+void Observer::check_controller(std::string_view name, VehicleState& vehicle, const WireFrame& frame, SimTime now) {
+  ++vehicle.out->control_frames_checked;
+  auto message = decode_control_message(frame.payload);
+  if (!message) {
+    observations_.controller_violations.push_back({now, std::string(name), "undecodable control frame"});
+  } else if (message->controller && !message->controller->is_safe_default()) {
+    observations_.controller_violations.push_back(
+        {now, std::string(name), "non-default controller while " + vehicle.control_faults.fault_reason() + " active"});
+  }
+}
+
+// A vehicle response echoing a pair: the echo delay, and the invariant that a new connection
+// never echoes a pair from before it.
+void Observer::on_response_in(std::string_view name, VehicleState& vehicle, const WireFrame& frame, SimTime now) {
+  const std::uint64_t ack = frame.ack->ack_time;
+  if (vehicle.connection_first_ack && ack < *vehicle.connection_first_ack) {
+    observations_.stale_pair_violations.push_back(
+        {now, std::string(name),
+         "pair ack_time " + std::to_string(ack) + " from before the reconnect (first on the new connection: " +
+             std::to_string(*vehicle.connection_first_ack) + ")"});
+  }
+  auto& pending = vehicle.pending_pairs;
+  while (!pending.empty() && pending.front().first < ack) pending.pop_front();
+  if (!pending.empty() && pending.front().first == ack) {
+    vehicle.out->echo_delay_ms.push_back({now, to_ms(now - pending.front().second)});
+    pending.pop_front();   // a keep-alive repeating the pair is not a second echo
+  }
+}
+
+// Fault intervals (both sides), and which control-path faults are active on the vehicle side.
+void Observer::on_fault(const FaultEvent& fault, SimTime now) {
+  auto& intervals = observations_.faults[{std::string(fault.vehicle), fault.id}];
+  if (fault.active) {
+    if (intervals.empty() || intervals.back().end) intervals.push_back({now, std::nullopt});
+  } else if (!intervals.empty() && !intervals.back().end) {
+    intervals.back().end = now;
+  }
+  if (fault.side == FaultSide::vehicle && is_control_path_fault(fault.id)) {
+    state(fault.vehicle).control_faults.set(fault.id, fault.active);
+  }
+}
+
+// Counts connections; after a close, the next connection's first pair starts the stale-pair check.
+void Observer::on_vehicle_connection(std::string_view name, const ConnectionEvent& connection) {
+  VehicleState& vehicle = state(name);
+  if (connection.change == ConnectionChange::opened) {
+    ++vehicle.out->connections_opened;
+    if (vehicle.had_close) {
+      ++observations_.reconnects;
+      vehicle.awaiting_first_pair = true;
+      vehicle.connection_first_ack.reset();
+    }
+    vehicle.pending_pairs.clear();
+  } else if (connection.change == ConnectionChange::closed) {
+    vehicle.had_close = true;
   }
 }
 

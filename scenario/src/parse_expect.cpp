@@ -59,7 +59,6 @@ void Parser::fault_expectation(const YAML::Node& node) {
   const YAML::Node fault_node = read_.require(node, "fault", "fault expectation");
   const auto fault = parse_fault_identifier(read_.text(fault_node));
   if (!fault) read_.fail(fault_node, "unknown fault '" + fault_node.Scalar() + "' (SPEC §6 identifiers)");
-  const std::string fault_name(fault_identifier(*fault));
   std::optional<std::string> vehicle;
   if (node["vehicle"]) vehicle = vehicle_of(node, "fault expectation");
   const bool edges = node["raised"] || node["cleared"];
@@ -70,73 +69,89 @@ void Parser::fault_expectation(const YAML::Node& node) {
     read_.fail(node, "a fault expectation needs one of: raised/cleared, never, at (with active_on / inactive_on)");
   }
   if (never) {
-    if (!read_.boolean(node["never"])) read_.fail(node["never"], "never: only true makes sense");
-    FaultNeverExpectation expectation{*fault, vehicle, SimTime{0}};
-    std::string title = fault_name + " never raised" + (vehicle ? " on " + *vehicle : "");
-    if (node["from"]) {
-      std::string label;
-      std::tie(expectation.from, label) = anchor(node["from"]);
-      title += " from " + label;
-    }
-    scenario_.expectations.push_back({title, read_.mark(node), expectation});
-    return;
+    fault_never_expectation(node, *fault, vehicle);
+  } else if (edges) {
+    fault_edge_expectations(node, *fault, vehicle);
+  } else {
+    fault_state_expectation(node, *fault);
   }
-  if (edges) {
-    if (!vehicle) {
-      if (scenario_.world.vehicles.size() != 1) read_.fail(node, "name the vehicle (the world has several)");
-      vehicle = scenario_.world.vehicles.front().name;
-    }
-    for (const char* key : {"raised", "cleared"}) {
-      const YAML::Node edge = node[key];
-      if (!edge) continue;
-      read_.check_keys(edge, key, {"after", "within"});
-      FaultEdgeExpectation expectation;
-      expectation.fault = *fault;
-      expectation.vehicle = *vehicle;
-      expectation.raised = std::string(key) == "raised";
-      std::tie(expectation.after, expectation.after_label) = anchor(read_.require(edge, "after", key));
-      const YAML::Node within = read_.require(edge, "within", key);
-      if (within.IsSequence()) {
-        if (within.size() != 2) read_.fail(within, "within: expected [min, max] or one maximum");
-        expectation.min = read_.duration(within[0]);
-        expectation.max = read_.duration(within[1]);
-        if (expectation.max < expectation.min) read_.fail(within, "within: max < min");
-      } else {
-        expectation.max = read_.duration(within);
-      }
-      const std::string window = expectation.min > Micros{0}
-                                     ? "[" + format_time(expectation.min) + ", " + format_time(expectation.max) + "]"
-                                     : format_time(expectation.max);
-      scenario_.expectations.push_back(
-          {fault_name + " " + key + " within " + window + " after " + expectation.after_label + " on " + *vehicle,
-           read_.mark(edge), expectation});
-    }
-    return;
+}
+
+// `never: true`, from the start or `from` an anchor on.
+void Parser::fault_never_expectation(const YAML::Node& node, FaultId fault, const std::optional<std::string>& vehicle) {
+  if (!read_.boolean(node["never"])) read_.fail(node["never"], "never: only true makes sense");
+  FaultNeverExpectation expectation{fault, vehicle, SimTime{0}};
+  std::string title = std::string(fault_identifier(fault)) + " never raised" + (vehicle ? " on " + *vehicle : "");
+  if (node["from"]) {
+    std::string label;
+    std::tie(expectation.from, label) = anchor(node["from"]);
+    title += " from " + label;
   }
+  scenario_.expectations.push_back({title, read_.mark(node), expectation});
+}
+
+// `raised` and/or `cleared`: one expectation each, on one vehicle (an edge happens somewhere).
+void Parser::fault_edge_expectations(const YAML::Node& node, FaultId fault, std::optional<std::string> vehicle) {
+  if (!vehicle) {
+    if (scenario_.world.vehicles.size() != 1) read_.fail(node, "name the vehicle (the world has several)");
+    vehicle = scenario_.world.vehicles.front().name;
+  }
+  for (const char* key : {"raised", "cleared"}) {
+    const YAML::Node edge = node[key];
+    if (!edge) continue;
+    read_.check_keys(edge, key, {"after", "within"});
+    FaultEdgeExpectation expectation;
+    expectation.fault = fault;
+    expectation.vehicle = *vehicle;
+    expectation.raised = std::string(key) == "raised";
+    std::tie(expectation.after, expectation.after_label) = anchor(read_.require(edge, "after", key));
+    const std::string window = edge_window(read_.require(edge, "within", key), expectation);
+    scenario_.expectations.push_back(
+        {std::string(fault_identifier(fault)) + " " + key + " within " + window + " after " + expectation.after_label +
+             " on " + *vehicle,
+         read_.mark(edge), expectation});
+  }
+}
+
+// `within`: [min, max], or just a maximum; returns the window as the title shows it.
+std::string Parser::edge_window(const YAML::Node& within, FaultEdgeExpectation& expectation) {
+  if (within.IsSequence()) {
+    if (within.size() != 2) read_.fail(within, "within: expected [min, max] or one maximum");
+    expectation.min = read_.duration(within[0]);
+    expectation.max = read_.duration(within[1]);
+    if (expectation.max < expectation.min) read_.fail(within, "within: max < min");
+  } else {
+    expectation.max = read_.duration(within);
+  }
+  if (expectation.min <= Micros{0}) return format_time(expectation.max);
+  // Appended piece by piece: GCC 12 (-O3) reports a false -Wrestrict for "[" + a temporary.
+  std::string text = "[";
+  text += format_time(expectation.min);
+  text += ", ";
+  text += format_time(expectation.max);
+  text += "]";
+  return text;
+}
+
+// `at` a time: active on some vehicles, inactive on others.
+void Parser::fault_state_expectation(const YAML::Node& node, FaultId fault) {
   FaultStateExpectation expectation;
-  expectation.fault = *fault;
+  expectation.fault = fault;
   expectation.at = read_.duration(node["at"]);
   if (expectation.at > scenario_.duration) read_.fail(node["at"], "at is after the end of the run");
-  auto names = [&](const char* key, std::vector<std::string>& out) {
-    const YAML::Node list = node[key];
-    if (!list) return;
-    if (list.IsScalar() && list.Scalar() == "every_vehicle_but_active" && std::string(key) == "active_on") {
+  if (const YAML::Node list = node["active_on"]) {
+    // Which vehicle is active can change during a run: this one the file cannot list by name.
+    if (list.IsScalar() && list.Scalar() == "every_vehicle_but_active") {
       expectation.every_vehicle_but_active = true;
-      return;
+    } else {
+      expectation.active_on = vehicle_names(list, "active_on");
     }
-    if (!list.IsSequence()) read_.fail(list, std::string(key) + ": expected a list of vehicles");
-    for (const auto& item : list) {
-      const std::string name = read_.text(item);
-      if (find_vehicle(name) == nullptr) read_.fail(item, "unknown vehicle '" + name + "'");
-      out.push_back(name);
-    }
-  };
-  names("active_on", expectation.active_on);
-  names("inactive_on", expectation.inactive_on);
+  }
+  if (const YAML::Node list = node["inactive_on"]) expectation.inactive_on = vehicle_names(list, "inactive_on");
   if (!expectation.every_vehicle_but_active && expectation.active_on.empty() && expectation.inactive_on.empty()) {
     read_.fail(node, "at: say on which vehicles (active_on: [...], inactive_on: [...] or active_on: every_vehicle_but_active)");
   }
-  std::string title = fault_name + " at " + format_time(expectation.at) + ": ";
+  std::string title = std::string(fault_identifier(fault)) + " at " + format_time(expectation.at) + ": ";
   if (expectation.every_vehicle_but_active) title += "active on every vehicle but the active one";
   else {
     for (const auto& name : expectation.active_on) title += "active on " + name + " ";
@@ -144,6 +159,18 @@ void Parser::fault_expectation(const YAML::Node& node) {
     title.pop_back();
   }
   scenario_.expectations.push_back({title, read_.mark(node), expectation});
+}
+
+// A list of vehicles, each of which must exist.
+std::vector<std::string> Parser::vehicle_names(const YAML::Node& list, std::string_view key) {
+  if (!list.IsSequence()) read_.fail(list, std::string(key) + ": expected a list of vehicles");
+  std::vector<std::string> names;
+  for (const auto& item : list) {
+    const std::string name = read_.text(item);
+    if (find_vehicle(name) == nullptr) read_.fail(item, "unknown vehicle '" + name + "'");
+    names.push_back(name);
+  }
+  return names;
 }
 
 void Parser::delivery_expectation(const YAML::Node& node) {

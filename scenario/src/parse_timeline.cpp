@@ -61,52 +61,13 @@ void Parser::timeline(const YAML::Node& node) {
 }
 
 void Parser::action(const YAML::Node& item, TimelineEvent& event) {
-  int actions = 0;
-  for (const auto& entry : item) {
-    const std::string key = entry.first.as<std::string>();
-    if (key != "at" && key != "name" && key != "ramp") ++actions;
-  }
-  if (actions != 1) read_.fail(item, "a timeline event needs exactly one action (impair, outage, camera_stall, …)");
-  if (item["ramp"] && !item["impair"]) read_.fail(item["ramp"], "ramp only applies to impair");
-
+  check_one_action(item);
   if (const YAML::Node n = item["impair"]) {
-    SetImpairments set;
-    set.vehicle = vehicle_of(n, "impair");
-    set.direction = direction_of(n);
-    set.patch = impairments(n, true);
-    if (item["ramp"]) set.ramp = read_.duration(item["ramp"]);
-    event.label = "impair " + set.vehicle + " " + std::string(direction_name(set.direction)) +
-                  (set.ramp > Micros{0} ? " (ramp " + format_time(set.ramp) + ")" : "");
-    event.action = set;
+    event.action = impair_action(n, item["ramp"], event);
   } else if (const YAML::Node n = item["outage"]) {
-    read_.check_keys(n, "outage", {"vehicle", "direction", "for"});
-    LinkOutage outage{vehicle_of(n, "outage"), direction_of(n), read_.duration(read_.require(n, "for", "outage"))};
-    event.label = "outage " + outage.vehicle + " " + std::string(direction_name(outage.direction)) + " for " + format_time(outage.duration);
-    event.action = outage;
+    event.action = outage_action(n, event);
   } else if (item["camera_stall"] || item["camera_unstall"]) {
-    const bool stalled = static_cast<bool>(item["camera_stall"]);
-    const YAML::Node n = stalled ? item["camera_stall"] : item["camera_unstall"];
-    read_.check_keys(n, "camera_stall", {"vehicle", "camera", "for"});
-    CameraStall stall;
-    stall.vehicle = vehicle_of(n, "camera_stall");
-    stall.stalled = stalled;
-    const VehicleSpec& spec = *find_vehicle(stall.vehicle);
-    if (n["camera"]) {
-      stall.camera = read_.text(n["camera"]);
-    } else if (spec.streamer.cameras.size() == 1) {
-      stall.camera = spec.streamer.cameras.front().name;
-    } else {
-      read_.fail(n, "name the camera");
-    }
-    const bool known = std::any_of(spec.streamer.cameras.begin(), spec.streamer.cameras.end(),
-                                   [&](const CameraConfig& c) { return c.name == stall.camera; });
-    if (!known) read_.fail(n["camera"], "vehicle '" + stall.vehicle + "' has no camera '" + stall.camera + "'");
-    if (n["for"]) {
-      if (!stalled) read_.fail(n["for"], "camera_unstall takes no 'for'");
-      stall.duration = read_.duration(n["for"]);
-    }
-    event.label = std::string(stalled ? "camera stall " : "camera unstall ") + stall.vehicle + "/" + stall.camera;
-    event.action = stall;
+    event.action = camera_stall_action(item, event);
   } else if (const YAML::Node n = item["frame_loop_stall"]) {
     read_.check_keys(n, "frame_loop_stall", {"vehicle", "for"});
     FrameLoopStall stall{vehicle_of(n, "frame_loop_stall"), read_.duration(read_.require(n, "for", "frame_loop_stall"))};
@@ -118,40 +79,123 @@ void Parser::action(const YAML::Node& item, TimelineEvent& event) {
     event.label = "control thread stall " + stall.vehicle + " " + format_time(stall.duration);
     event.action = stall;
   } else if (const YAML::Node n = item["disconnect"]) {
-    read_.check_keys(n, "disconnect", {"vehicle"});
-    DisconnectVehicle disconnect{vehicle_of(n, "disconnect")};
-    if (!find_vehicle(disconnect.vehicle)->in_process_client) read_.fail(n, "disconnect needs an in-process client");
-    event.label = "disconnect " + disconnect.vehicle;
-    event.action = disconnect;
+    event.action = disconnect_action(n, event);
   } else if (const YAML::Node n = item["misbehave"]) {
-    SetMisbehaviour set{vehicle_of(n, "misbehave"), {}};
-    if (!find_vehicle(set.vehicle)->in_process_client) read_.fail(n, "misbehave needs an in-process client");
-    misbehave(n, set.misbehave, /*targeted=*/true);
-    event.label = "misbehave " + set.vehicle + (set.misbehave.any() ? "" : " (all off)");
-    event.action = set;
+    event.action = misbehave_action(n, event);
   } else if (const YAML::Node n = item["gamepad"]) {
-    GamepadAction pad;
-    if (n.IsScalar() && n.Scalar() == "unplug") {
-      pad.kind = GamepadAction::Kind::unplug;
-    } else if (n.IsScalar() && n.Scalar() == "replug") {
-      pad.kind = GamepadAction::Kind::replug;
-    } else {
-      pad.kind = GamepadAction::Kind::script;
-      pad.script = gamepad_script(n);
-    }
-    event.label = "gamepad " + (n.IsScalar() ? n.Scalar() : std::string("script"));
-    event.action = pad;
+    event.action = gamepad_action(n, event);
   } else if (const YAML::Node n = item["select_vehicle"]) {
-    SelectVehicle select;
-    if (!n.IsNull() && n.Scalar() != "none") {
-      select.vehicle = read_.text(n);
-      if (find_vehicle(*select.vehicle) == nullptr) read_.fail(n, "unknown vehicle '" + *select.vehicle + "'");
-    }
-    event.label = "select vehicle " + select.vehicle.value_or("none");
-    event.action = select;
+    event.action = select_vehicle_action(n, event);
   } else if (const YAML::Node n = item["client_data"]) {
     event.action = client_data(n, event);
   }
+}
+
+// `at` and `name` say when and what to call it; `ramp` is a modifier of impair: anything else
+// is an action, and an event with two would leave the reader guessing which one runs.
+void Parser::check_one_action(const YAML::Node& item) {
+  int actions = 0;
+  for (const auto& entry : item) {
+    const std::string key = entry.first.as<std::string>();
+    if (key != "at" && key != "name" && key != "ramp") ++actions;
+  }
+  if (actions != 1) read_.fail(item, "a timeline event needs exactly one action (impair, outage, camera_stall, …)");
+  if (item["ramp"] && !item["impair"]) read_.fail(item["ramp"], "ramp only applies to impair");
+}
+
+SetImpairments Parser::impair_action(const YAML::Node& n, const YAML::Node& ramp, TimelineEvent& event) {
+  SetImpairments set;
+  set.vehicle = vehicle_of(n, "impair");
+  set.direction = direction_of(n);
+  set.patch = impairments(n, true);
+  if (ramp) set.ramp = read_.duration(ramp);
+  event.label = "impair " + set.vehicle + " " + std::string(direction_name(set.direction)) +
+                (set.ramp > Micros{0} ? " (ramp " + format_time(set.ramp) + ")" : "");
+  return set;
+}
+
+LinkOutage Parser::outage_action(const YAML::Node& n, TimelineEvent& event) {
+  read_.check_keys(n, "outage", {"vehicle", "direction", "for"});
+  LinkOutage outage{vehicle_of(n, "outage"), direction_of(n), read_.duration(read_.require(n, "for", "outage"))};
+  event.label = "outage " + outage.vehicle + " " + std::string(direction_name(outage.direction)) + " for " + format_time(outage.duration);
+  return outage;
+}
+
+// camera_stall and camera_unstall share their keys; only a stall may last (`for`).
+CameraStall Parser::camera_stall_action(const YAML::Node& item, TimelineEvent& event) {
+  const bool stalled = static_cast<bool>(item["camera_stall"]);
+  const YAML::Node n = stalled ? item["camera_stall"] : item["camera_unstall"];
+  read_.check_keys(n, "camera_stall", {"vehicle", "camera", "for"});
+  CameraStall stall;
+  stall.vehicle = vehicle_of(n, "camera_stall");
+  stall.stalled = stalled;
+  stall.camera = camera_of(n, *find_vehicle(stall.vehicle));
+  if (n["for"]) {
+    if (!stalled) read_.fail(n["for"], "camera_unstall takes no 'for'");
+    stall.duration = read_.duration(n["for"]);
+  }
+  event.label = std::string(stalled ? "camera stall " : "camera unstall ") + stall.vehicle + "/" + stall.camera;
+  return stall;
+}
+
+// The `camera` key of a camera action; may be left out when the vehicle has one camera.
+std::string Parser::camera_of(const YAML::Node& n, const VehicleSpec& spec) {
+  std::string camera;
+  if (n["camera"]) {
+    camera = read_.text(n["camera"]);
+  } else if (spec.streamer.cameras.size() == 1) {
+    camera = spec.streamer.cameras.front().name;
+  } else {
+    read_.fail(n, "name the camera");
+  }
+  const bool known = std::any_of(spec.streamer.cameras.begin(), spec.streamer.cameras.end(),
+                                 [&](const CameraConfig& c) { return c.name == camera; });
+  if (!known) read_.fail(n["camera"], "vehicle '" + spec.name + "' has no camera '" + camera + "'");
+  return camera;
+}
+
+// Only an in-process client can be told to drop its connection.
+DisconnectVehicle Parser::disconnect_action(const YAML::Node& n, TimelineEvent& event) {
+  read_.check_keys(n, "disconnect", {"vehicle"});
+  DisconnectVehicle disconnect{vehicle_of(n, "disconnect")};
+  if (!find_vehicle(disconnect.vehicle)->in_process_client) read_.fail(n, "disconnect needs an in-process client");
+  event.label = "disconnect " + disconnect.vehicle;
+  return disconnect;
+}
+
+// Only an in-process client can be told to misbehave.
+SetMisbehaviour Parser::misbehave_action(const YAML::Node& n, TimelineEvent& event) {
+  SetMisbehaviour set{vehicle_of(n, "misbehave"), {}};
+  if (!find_vehicle(set.vehicle)->in_process_client) read_.fail(n, "misbehave needs an in-process client");
+  misbehave(n, set.misbehave, /*targeted=*/true);
+  event.label = "misbehave " + set.vehicle + (set.misbehave.any() ? "" : " (all off)");
+  return set;
+}
+
+// `unplug`, `replug`, or a script for the pad to play.
+GamepadAction Parser::gamepad_action(const YAML::Node& n, TimelineEvent& event) {
+  GamepadAction pad;
+  if (n.IsScalar() && n.Scalar() == "unplug") {
+    pad.kind = GamepadAction::Kind::unplug;
+  } else if (n.IsScalar() && n.Scalar() == "replug") {
+    pad.kind = GamepadAction::Kind::replug;
+  } else {
+    pad.kind = GamepadAction::Kind::script;
+    pad.script = gamepad_script(n);
+  }
+  event.label = "gamepad " + (n.IsScalar() ? n.Scalar() : std::string("script"));
+  return pad;
+}
+
+// A vehicle's name, or null / `none` to deselect.
+SelectVehicle Parser::select_vehicle_action(const YAML::Node& n, TimelineEvent& event) {
+  SelectVehicle select;
+  if (!n.IsNull() && n.Scalar() != "none") {
+    select.vehicle = read_.text(n);
+    if (find_vehicle(*select.vehicle) == nullptr) read_.fail(n, "unknown vehicle '" + *select.vehicle + "'");
+  }
+  event.label = "select vehicle " + select.vehicle.value_or("none");
+  return select;
 }
 
 ClientDataAction Parser::client_data(const YAML::Node& n, TimelineEvent& event) {

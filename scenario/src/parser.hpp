@@ -36,11 +36,27 @@ class Parser {
   Direction direction_of(const YAML::Node& node);
   void timeline(const YAML::Node& node);
   void action(const YAML::Node& item, TimelineEvent& event);
+  void check_one_action(const YAML::Node& item);
+  // The actions: each reads its node, names the event (`event.label`) and returns the action.
+  SetImpairments impair_action(const YAML::Node& n, const YAML::Node& ramp, TimelineEvent& event);
+  LinkOutage outage_action(const YAML::Node& n, TimelineEvent& event);
+  CameraStall camera_stall_action(const YAML::Node& item, TimelineEvent& event);
+  std::string camera_of(const YAML::Node& n, const VehicleSpec& spec);
+  DisconnectVehicle disconnect_action(const YAML::Node& n, TimelineEvent& event);
+  SetMisbehaviour misbehave_action(const YAML::Node& n, TimelineEvent& event);
+  GamepadAction gamepad_action(const YAML::Node& n, TimelineEvent& event);
+  SelectVehicle select_vehicle_action(const YAML::Node& n, TimelineEvent& event);
   ClientDataAction client_data(const YAML::Node& n, TimelineEvent& event);
   void expectations(const YAML::Node& node);
   // `after`: an event name or a time.
   std::pair<SimTime, std::string> anchor(const YAML::Node& node);
   void fault_expectation(const YAML::Node& node);
+  // The three kinds of fault expectation, once fault_expectation has told which one a node is.
+  void fault_never_expectation(const YAML::Node& node, FaultId fault, const std::optional<std::string>& vehicle);
+  void fault_edge_expectations(const YAML::Node& node, FaultId fault, std::optional<std::string> vehicle);
+  std::string edge_window(const YAML::Node& within, FaultEdgeExpectation& expectation);
+  void fault_state_expectation(const YAML::Node& node, FaultId fault);
+  std::vector<std::string> vehicle_names(const YAML::Node& list, std::string_view key);
   void delivery_expectation(const YAML::Node& node);
   void threshold_expectations(const YAML::Node& key, const YAML::Node& list);
 

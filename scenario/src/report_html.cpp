@@ -26,79 +26,97 @@ constexpr double width = 1100, plot_height = 260, left = 190, right = 10, top = 
 // A polyline of at most this many points per vehicle (max per bucket, so spikes survive).
 constexpr std::size_t max_points = 1200;
 
-std::string svg(const RunReport& report) {
-  const Scenario& scenario = *report.scenario;
-  const Observations& obs = report.run->observations;
-  const double duration_us = static_cast<double>(std::max<std::int64_t>(1, report.run->duration.count()));
+// Where a time and a latency fall on the plot.
+struct PlotScale {
+  double duration_us = 1;
+  double y_max = 1;   // ms at the top of the plot
+  double plot_width = width - left - right;
+  double x_of(SimTime t) const { return left + plot_width * static_cast<double>(t.count()) / duration_us; }
+  double y_of(double ms) const { return top + plot_height * (1.0 - ms / y_max); }
+};
+
+// The y axis reaches 10 % above the highest latency_limit or sample, so that every line shows.
+PlotScale plot_scale(const RunReport& report) {
+  PlotScale scale;
+  scale.duration_us = static_cast<double>(std::max<std::int64_t>(1, report.run->duration.count()));
   double y_max = 1;
-  for (const VehicleSpec& spec : scenario.world.vehicles) {
+  for (const VehicleSpec& spec : report.scenario->world.vehicles) {
     y_max = std::max(y_max, static_cast<double>(spec.streamer.latency_limit.count()) / 1000.0);
   }
-  for (const auto& [name, data] : obs.vehicles) {
+  for (const auto& [name, data] : report.run->observations.vehicles) {
     for (const Sample& s : data.latency_ms) y_max = std::max(y_max, s.value);
     for (const Sample& s : data.ping_ms) y_max = std::max(y_max, s.value);
   }
-  y_max *= 1.1;
-  const double plot_width = width - left - right;
-  auto x_of = [&](SimTime t) { return left + plot_width * static_cast<double>(t.count()) / duration_us; };
-  auto y_of = [&](double ms) { return top + plot_height * (1.0 - ms / y_max); };
-  const std::size_t bands = obs.faults.size();
-  const double bands_top = top + plot_height + 24;
-  const double height = bands_top + band_height * static_cast<double>(bands) + 20;
+  scale.y_max = y_max * 1.1;
+  return scale;
+}
 
-  std::string out = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + num(width) + "\" height=\"" + num(height) +
-                    "\" font-family=\"sans-serif\" font-size=\"10\">\n";
-  out += "<rect x=\"" + num(left) + "\" y=\"" + num(top) + "\" width=\"" + num(plot_width) + "\" height=\"" + num(plot_height) +
+// The plot's frame, its tick labels and each vehicle's latency_limit (usually one line).
+void plot_axes(std::string& out, const PlotScale& scale, const Scenario& scenario) {
+  out += "<rect x=\"" + num(left) + "\" y=\"" + num(top) + "\" width=\"" + num(scale.plot_width) + "\" height=\"" + num(plot_height) +
          "\" fill=\"#fafafa\" stroke=\"#999\"/>\n";
   for (int i = 0; i <= 4; ++i) {   // y axis ticks
-    const double ms = y_max * i / 4;
-    out += "<text x=\"" + num(left - 4) + "\" y=\"" + num(y_of(ms) + 3) + "\" text-anchor=\"end\">" + format_number(std::round(ms)) + "</text>\n";
+    const double ms = scale.y_max * i / 4;
+    out += "<text x=\"" + num(left - 4) + "\" y=\"" + num(scale.y_of(ms) + 3) + "\" text-anchor=\"end\">" + format_number(std::round(ms)) + "</text>\n";
   }
   out += "<text x=\"4\" y=\"" + num(top + 10) + "\">ms</text>\n";
   for (int i = 0; i <= 10; ++i) {   // x axis ticks
-    const SimTime t{static_cast<std::int64_t>(duration_us * i / 10)};
-    out += "<text x=\"" + num(x_of(t)) + "\" y=\"" + num(top + plot_height + 12) + "\" text-anchor=\"middle\">" + format_seconds(t) + "</text>\n";
+    const SimTime t{static_cast<std::int64_t>(scale.duration_us * i / 10)};
+    out += "<text x=\"" + num(scale.x_of(t)) + "\" y=\"" + num(top + plot_height + 12) + "\" text-anchor=\"middle\">" + format_seconds(t) + "</text>\n";
   }
-  // latency_limit of each vehicle (usually one line).
   for (const VehicleSpec& spec : scenario.world.vehicles) {
     const double limit = static_cast<double>(spec.streamer.latency_limit.count()) / 1000.0;
-    out += "<line x1=\"" + num(left) + "\" x2=\"" + num(left + plot_width) + "\" y1=\"" + num(y_of(limit)) + "\" y2=\"" + num(y_of(limit)) +
+    out += "<line x1=\"" + num(left) + "\" x2=\"" + num(left + scale.plot_width) + "\" y1=\"" + num(scale.y_of(limit)) + "\" y2=\"" + num(scale.y_of(limit)) +
            "\" stroke=\"#d62728\" stroke-dasharray=\"2,2\"><title>latency_limit " + escape(spec.name) + "</title></line>\n";
   }
-  auto polyline = [&](const std::vector<Sample>& samples, const std::string& color, const char* style,
-                      const std::string& title) {
-    if (samples.empty()) return;
-    const std::size_t bucket = std::max<std::size_t>(1, (samples.size() + max_points - 1) / max_points);
-    out += "<polyline fill=\"none\" stroke=\"" + color + "\" stroke-width=\"1\" " + style + " points=\"";
-    for (std::size_t i = 0; i < samples.size(); i += bucket) {
-      double peak = 0;
-      for (std::size_t j = i; j < std::min(samples.size(), i + bucket); ++j) peak = std::max(peak, samples[j].value);
-      out += num(x_of(samples[i].time)) + "," + num(y_of(peak)) + " ";
-    }
-    out += "\"><title>" + escape(title) + "</title></polyline>\n";
-  };
+}
+
+// At most max_points points: each is the highest sample of its bucket, so spikes survive.
+void polyline(std::string& out, const PlotScale& scale, const std::vector<Sample>& samples, const std::string& color,
+              const char* style, const std::string& title) {
+  if (samples.empty()) return;
+  const std::size_t bucket = std::max<std::size_t>(1, (samples.size() + max_points - 1) / max_points);
+  out += "<polyline fill=\"none\" stroke=\"" + color + "\" stroke-width=\"1\" " + style + " points=\"";
+  for (std::size_t i = 0; i < samples.size(); i += bucket) {
+    double peak = 0;
+    for (std::size_t j = i; j < std::min(samples.size(), i + bucket); ++j) peak = std::max(peak, samples[j].value);
+    out += num(scale.x_of(samples[i].time)) + "," + num(scale.y_of(peak)) + " ";
+  }
+  out += "\"><title>" + escape(title) + "</title></polyline>\n";
+}
+
+// A vehicle's latency (solid) and ping (dotted) share its colour.
+void latency_lines(std::string& out, const PlotScale& scale, const Observations& obs) {
   std::size_t color = 0;
   for (const auto& [name, data] : obs.vehicles) {
     const std::string stroke = palette[color++ % 6];
-    polyline(data.latency_ms, stroke, "", "latency_ms " + name);
-    polyline(data.ping_ms, stroke, "stroke-dasharray=\"1,2\" opacity=\"0.7\"", "ping_ms " + name);
+    polyline(out, scale, data.latency_ms, stroke, "", "latency_ms " + name);
+    polyline(out, scale, data.ping_ms, stroke, "stroke-dasharray=\"1,2\" opacity=\"0.7\"", "ping_ms " + name);
   }
-  for (const FiredEvent& event : report.run->fired) {
-    const std::string x = num(x_of(event.at));
+}
+
+// A dashed vertical per fired timeline event, down through the bands, named at the top.
+void event_markers(std::string& out, const PlotScale& scale, const std::vector<FiredEvent>& fired, double height) {
+  for (const FiredEvent& event : fired) {
+    const std::string x = num(scale.x_of(event.at));
     out += "<line x1=\"" + x + "\" x2=\"" + x + "\" y1=\"" + num(top) + "\" y2=\"" + num(height - 20) +
            "\" stroke=\"#555\" stroke-dasharray=\"4,3\"><title>" + escape(format_seconds(event.at) + " " + event.label) + "</title></line>\n";
     out += "<text x=\"" + x + "\" y=\"" + num(top + 10) + "\" transform=\"rotate(90 " + x + " " + num(top + 10) +
            ")\" fill=\"#555\">" + escape(event.name.empty() ? event.label : event.name) + "</text>\n";
   }
+}
+
+// One band per (vehicle, fault) under the plot, a rectangle per interval (to the end if still active).
+void fault_bands(std::string& out, const PlotScale& scale, const RunResult& run, double bands_top) {
   double y = bands_top;
-  for (const auto& [fault_key, list] : obs.faults) {
+  for (const auto& [fault_key, list] : run.observations.faults) {
     const bool vehicle_side = fault_side(fault_key.second) == FaultSide::vehicle;
     const std::string fill = vehicle_side ? "#e377c2" : "#17becf";
     out += "<text x=\"" + num(left - 4) + "\" y=\"" + num(y + 10) + "\" text-anchor=\"end\" font-size=\"8\">" +
            escape(fault_key.first + " " + std::string(fault_identifier(fault_key.second))) + "</text>\n";
     for (const Interval& interval : list) {
-      const double x1 = x_of(interval.start);
-      const double x2 = x_of(interval.end.value_or(report.run->duration));
+      const double x1 = scale.x_of(interval.start);
+      const double x2 = scale.x_of(interval.end.value_or(run.duration));
       out += "<rect x=\"" + num(x1) + "\" y=\"" + num(y) + "\" width=\"" + num(std::max(1.0, x2 - x1)) + "\" height=\"" + num(band_height - 2) +
              "\" fill=\"" + fill + "\"><title>" + escape(std::string(fault_identifier(fault_key.second)) + " (" +
                                                          std::string(fault_side_name(fault_side(fault_key.second))) + ") " +
@@ -107,6 +125,18 @@ std::string svg(const RunReport& report) {
     }
     y += band_height;
   }
+}
+
+std::string svg(const RunReport& report) {
+  const PlotScale scale = plot_scale(report);
+  const double bands_top = top + plot_height + 24;
+  const double height = bands_top + band_height * static_cast<double>(report.run->observations.faults.size()) + 20;
+  std::string out = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + num(width) + "\" height=\"" + num(height) +
+                    "\" font-family=\"sans-serif\" font-size=\"10\">\n";
+  plot_axes(out, scale, *report.scenario);
+  latency_lines(out, scale, report.run->observations);
+  event_markers(out, scale, report.run->fired, height);
+  fault_bands(out, scale, *report.run, bands_top);
   out += "</svg>\n";
   return out;
 }

@@ -39,23 +39,8 @@ void route(Json& json, const RouteCounters& counters) {
   json.EndObject();
 }
 
-}  // namespace
-
-std::string summary_json(const RunReport& report) {
-  const Scenario& scenario = *report.scenario;
-  const RunResult& run = *report.run;
-  const Observations& obs = run.observations;
-  rapidjson::StringBuffer buffer;
-  Json json(buffer);
-  json.SetIndent(' ', 1);
-  json.StartObject();
-  text(json, "scenario", scenario.name);
-  text(json, "file", scenario.path);
-  key(json, "seed"); json.Uint64(run.seed);
-  key(json, "duration_s"); json.Double(seconds(run.duration));
-  text(json, "reproduce", report.reproduce);
-  key(json, "passed"); json.Bool(all_passed(report.verdicts));
-
+// Overall latency, per vehicle, and the Player's ping.
+void latency_section(Json& json, const Observations& obs) {
   key(json, "latency_ms");
   latency(json, series_values(obs, "latency_ms", std::nullopt));
   key(json, "latency_ms_per_vehicle");
@@ -67,14 +52,14 @@ std::string summary_json(const RunReport& report) {
   json.EndObject();
 
   key(json, "ping_ms");   // sampled every 100 ms from the Player's feedback (plot only)
-  {
-    std::vector<double> pings;
-    for (const auto& [name, data] : obs.vehicles) {
-      for (const Sample& sample : data.ping_ms) pings.push_back(sample.value);
-    }
-    latency(json, std::move(pings));
+  std::vector<double> pings;
+  for (const auto& [name, data] : obs.vehicles) {
+    for (const Sample& sample : data.ping_ms) pings.push_back(sample.value);
   }
+  latency(json, std::move(pings));
+}
 
+void faults_section(Json& json, const Observations& obs) {
   key(json, "faults");
   json.StartArray();
   for (const auto& [fault_key, list] : obs.faults) {
@@ -94,7 +79,10 @@ std::string summary_json(const RunReport& report) {
     json.EndObject();
   }
   json.EndArray();
+}
 
+// Totals per direction over every vehicle, then each vehicle's.
+void messages_section(Json& json, const Observations& obs) {
   RouteCounters to_streamer, to_player;
   for (const auto& [name, data] : obs.vehicles) {
     to_streamer.sent += data.to_streamer.sent;
@@ -119,10 +107,12 @@ std::string summary_json(const RunReport& report) {
   }
   json.EndObject();
   json.EndObject();
+}
 
+void timeline_section(Json& json, const std::vector<FiredEvent>& fired) {
   key(json, "timeline");
   json.StartArray();
-  for (const FiredEvent& event : run.fired) {
+  for (const FiredEvent& event : fired) {
     json.StartObject();
     key(json, "t_s"); json.Double(seconds(event.at));
     text(json, "name", event.name);
@@ -130,10 +120,12 @@ std::string summary_json(const RunReport& report) {
     json.EndObject();
   }
   json.EndArray();
+}
 
+void verdicts_section(Json& json, const std::vector<Verdict>& verdicts) {
   key(json, "verdicts");
   json.StartArray();
-  for (const Verdict& verdict : report.verdicts) {
+  for (const Verdict& verdict : verdicts) {
     json.StartObject();
     text(json, "title", verdict.title);
     text(json, "kind", verdict.kind);
@@ -144,7 +136,28 @@ std::string summary_json(const RunReport& report) {
     json.EndObject();
   }
   json.EndArray();
+}
 
+}  // namespace
+
+std::string summary_json(const RunReport& report) {
+  const Scenario& scenario = *report.scenario;
+  const RunResult& run = *report.run;
+  rapidjson::StringBuffer buffer;
+  Json json(buffer);
+  json.SetIndent(' ', 1);
+  json.StartObject();
+  text(json, "scenario", scenario.name);
+  text(json, "file", scenario.path);
+  key(json, "seed"); json.Uint64(run.seed);
+  key(json, "duration_s"); json.Double(seconds(run.duration));
+  text(json, "reproduce", report.reproduce);
+  key(json, "passed"); json.Bool(all_passed(report.verdicts));
+  latency_section(json, run.observations);
+  faults_section(json, run.observations);
+  messages_section(json, run.observations);
+  timeline_section(json, run.fired);
+  verdicts_section(json, report.verdicts);
   key(json, "trace");
   json.StartObject();
   key(json, "lines"); json.Uint64(run.trace_lines);

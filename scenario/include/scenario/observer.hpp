@@ -111,6 +111,14 @@ class Observer {
  private:
   struct VehicleState;
   void on_event(const Event& event);
+  // on_event's steps, one per kind of event it looks at.
+  void on_link(std::string_view name, const LinkEvent& link, SimTime now);
+  void on_control_out(std::string_view name, VehicleState& vehicle, const WireFrame& frame, SimTime now);
+  void record_delivery(std::string_view name, const WireFrame& frame, SimTime now);
+  void check_controller(std::string_view name, VehicleState& vehicle, const WireFrame& frame, SimTime now);
+  void on_response_in(std::string_view name, VehicleState& vehicle, const WireFrame& frame, SimTime now);
+  void on_fault(const FaultEvent& fault, SimTime now);
+  void on_vehicle_connection(std::string_view name, const ConnectionEvent& connection);
   VehicleState& state(std::string_view vehicle);
 
   ObserverOptions options_;
