@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "ocp/invariant.hpp"
 #include "ocp/json_codec.hpp"
 
 namespace ocp {
@@ -103,6 +104,8 @@ Status FramedConnection::send(std::string_view payload, std::optional<AckPair> c
     close(reason);
     return reason;
   }
+  OCP_INVARIANT(frame_buffer_.size() <= frame_header_bytes + max_payload_bytes,
+                "no frame above 16 KiB is ever written (append_frame refuses it above)");
   add(counters_.bytes_out, frame_buffer_.size());
   const bool listening = options_.events != nullptr && options_.events->active();
   const SimTime issued_at = listening ? executor_.now() : SimTime{};   // before the write syscall

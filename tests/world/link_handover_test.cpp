@@ -18,7 +18,7 @@ struct Harness {
                         [this](HandedMessage&& handed) { delivered.push_back(std::get<Ping>(handed.message).id); },
                         [this](std::uint64_t dropped) { overflow_reports.push_back(dropped); }, /*max_queued=*/3};
 
-  void push(std::uint64_t sequence) { handover.push(HandedMessage{nullptr, nullptr, Ping{sequence, {}}}); }
+  void push(std::uint64_t sequence) { handover.push(HandedMessage{ToStreamer{nullptr}, Ping{sequence, {}}}); }
   void run_posted() {
     auto tasks = std::move(posted);
     posted.clear();

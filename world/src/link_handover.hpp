@@ -11,6 +11,7 @@
 #include <mutex>
 #include <string>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "ocp/invariant.hpp"
@@ -19,9 +20,16 @@
 
 namespace ocp {
 
+// Where a handed-over message goes: to a Streamer, or to the Player from a vehicle.
+struct ToStreamer {
+  StreamerCore* streamer;
+};
+struct ToPlayer {
+  const std::string* from_vehicle;
+};
+
 struct HandedMessage {
-  StreamerCore* streamer = nullptr;      // to this Streamer, or (nullptr) …
-  const std::string* vehicle = nullptr;  // … to the Player, from this vehicle
+  std::variant<ToStreamer, ToPlayer> destination;
   LinkMessage message;
 };
 

@@ -189,10 +189,10 @@ void World::discard_vehicles() {
 void World::create_link_handovers() {
   auto deliver = [this](HandedMessage&& handed) {
     if (!running_) return;
-    if (handed.streamer != nullptr) {
-      handed.streamer->handle_link_message(std::move(handed.message));
+    if (const auto* to = std::get_if<ToStreamer>(&handed.destination)) {
+      to->streamer->handle_link_message(std::move(handed.message));
     } else {
-      player_->handle_link_message(*handed.vehicle, std::move(handed.message));
+      player_->handle_link_message(*std::get<ToPlayer>(handed.destination).from_vehicle, std::move(handed.message));
     }
   };
   auto overflow = [this](std::string where) {
@@ -220,10 +220,10 @@ void World::wire_link_receivers(Vehicle& vehicle) {
     // Delivered on the sender's thread, handed over to the receiver's.
     LinkHandover* to_streamer = handovers_[static_cast<std::size_t>(thread - streamer_threads_.data())].get();
     vehicle.link->to_streamer().set_receiver([to_streamer, streamer](LinkMessage&& message) {
-      to_streamer->push(HandedMessage{streamer, nullptr, std::move(message)});
+      to_streamer->push(HandedMessage{ToStreamer{streamer}, std::move(message)});
     });
     vehicle.link->to_player().set_receiver([this, name](LinkMessage&& message) {
-      to_world_->push(HandedMessage{nullptr, name, std::move(message)});
+      to_world_->push(HandedMessage{ToPlayer{name}, std::move(message)});
     });
     return;
   }
