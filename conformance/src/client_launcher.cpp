@@ -6,13 +6,17 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+extern char** environ;   // POSIX: the process environment (unistd.h declares it only with _GNU_SOURCE)
+
 #include <array>
 #include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cstring>
 #include <memory>
+#include <string>
 #include <thread>
+#include <vector>
 
 namespace ocp::conformance {
 namespace {
@@ -59,6 +63,19 @@ Result<std::unique_ptr<ClientProcess>> ClientProcess::launch(const std::vector<s
   const std::string port_env = std::to_string(port);
   const std::string out_path = log_path.empty() ? "/dev/null" : log_path;
 
+  // The child's environment is built here, before fork: between fork and exec the child may
+  // only make async-signal-safe calls. setenv allocates, and in a multi-threaded harness
+  // (-j N) another thread may hold the allocator's lock at the fork, so a child that called it
+  // could hang before exec, and the parent with it, waiting for the status pipe below.
+  std::vector<std::string> environment;
+  for (char** entry = environ; *entry != nullptr; ++entry) {
+    if (std::strncmp(*entry, "OCP_PORT=", 9) != 0) environment.emplace_back(*entry);
+  }
+  environment.push_back("OCP_PORT=" + port_env);
+  std::vector<char*> envp;
+  for (std::string& entry : environment) envp.push_back(entry.data());
+  envp.push_back(nullptr);
+
   // An exec failure is reported through a close-on-exec pipe: EOF means exec succeeded.
   int status_pipe[2];
   if (pipe2(status_pipe, O_CLOEXEC) != 0) {
@@ -91,8 +108,7 @@ Result<std::unique_ptr<ClientProcess>> ClientProcess::launch(const std::vector<s
     }
     const int null_in = open("/dev/null", O_RDONLY);
     if (null_in >= 0) dup2(null_in, STDIN_FILENO);
-    setenv("OCP_PORT", port_env.c_str(), 1);
-    execvp(argv[0], argv.data());
+    execvpe(argv[0], argv.data(), envp.data());
     const int error = errno;
     (void)!write(status_pipe[1], &error, sizeof error);
     _exit(127);
