@@ -12,13 +12,67 @@ namespace {
 
 Micros from_ms(double ms) { return Micros{static_cast<std::int64_t>(std::llround(ms * 1000.0))}; }
 
+// The command line's option groups, one function each.
+void add_safety_options(CLI::App& app, SafetyConfig& safety, double& watchdog_ms) {
+  app.add_option("--watchdog-ms", watchdog_ms, "Command timeout: safe state when no control message for this long")
+      ->capture_default_str()->check(cli::real(1.0, 60000.0))->group("Safety");
+  app.add_option("--max-throttle", safety.max_throttle, "Throttle cap [0,1]")
+      ->capture_default_str()->check(cli::real(0.0, 1.0))->group("Safety");
+  app.add_option("--max-brake", safety.max_brake, "Operator brake cap [0,1]")
+      ->capture_default_str()->check(cli::real(0.0, 1.0))->group("Safety");
+  app.add_option("--max-steer", safety.max_steer, "Steering cap, fraction of max angle [0,1]")
+      ->capture_default_str()->check(cli::real(0.0, 1.0))->group("Safety");
+  app.add_option("--throttle-rate", safety.throttle_rate_per_s, "Throttle rise limit per second")
+      ->capture_default_str()->check(cli::real(0.01, 1000.0))->group("Safety");
+  app.add_option("--brake-rate", safety.brake_rate_per_s, "Brake change limit per second")
+      ->capture_default_str()->check(cli::real(0.01, 1000.0))->group("Safety");
+  app.add_option("--steer-rate", safety.steer_rate_per_s, "Steering change limit per second")
+      ->capture_default_str()->check(cli::real(0.01, 1000.0))->group("Safety");
+  app.add_option("--safe-brake", safety.safe_brake, "Brake level of the safe state (0,1]")
+      ->capture_default_str()->check(cli::real(0.0, 1.0))->group("Safety");
+}
+
+void add_vehicle_options(CLI::App& app, VehicleClientConfig& client) {
+  VehicleParams& vehicle = client.vehicle;
+  app.add_option("--start-lat", client.start.lat, "Start latitude, degrees")
+      ->capture_default_str()->check(cli::real(-89.0, 89.0))->group("Vehicle");
+  app.add_option("--start-lon", client.start.lon, "Start longitude, degrees")
+      ->capture_default_str()->check(cli::real(-180.0, 180.0))->group("Vehicle");
+  app.add_option("--start-heading-deg", client.start_heading_deg, "Start compass heading (0 = north)")
+      ->capture_default_str()->check(cli::real(-360.0, 360.0))->group("Vehicle");
+  app.add_option("--wheelbase-m", vehicle.wheelbase_m, "Wheelbase")
+      ->capture_default_str()->check(cli::real(0.1, 50.0))->group("Vehicle");
+  app.add_option("--max-steer-rad", vehicle.max_steer_rad, "Road-wheel angle at full steering")
+      ->capture_default_str()->check(cli::real(0.01, 1.5))->group("Vehicle");
+  app.add_option("--max-speed-mps", vehicle.max_speed_mps, "Top speed")
+      ->capture_default_str()->check(cli::real(0.1, 100.0))->group("Vehicle");
+}
+
+void add_misbehaviour_options(CLI::App& app, Misbehaviour& misbehave, double& delay_ms) {
+  const std::string misbehave_group = "Misbehaviour (tests and demos only; all off by default)";
+  app.add_flag("--misbehave-stop-echo", misbehave.stop_echo,
+               "Keep echoing the first ack pair (Streamer: HighLatency)")->group(misbehave_group);
+  app.add_flag("--misbehave-corrupt-mac", misbehave.corrupt_mac,
+               "Echo a wrong ack_time_mac (Streamer: InvalidMac)")->group(misbehave_group);
+  app.add_option("--misbehave-delay-responses-ms", delay_ms,
+                 "Send every response this late (latency grows)")
+      ->check(cli::real(0.0, 60000.0))->group(misbehave_group);
+  app.add_flag("--misbehave-oversized-frames", misbehave.oversized_frames,
+               "Send >16 KiB responses (drained; InvalidMac)")->group(misbehave_group);
+  app.add_flag("--misbehave-ack-through-double", misbehave.ack_through_double,
+               "Round ack_time through a double (breaks > 2^53)")->group(misbehave_group);
+  app.add_flag("--misbehave-malformed-json", misbehave.malformed_json,
+               "Send truncated JSON (Streamer closes the connection)")->group(misbehave_group);
+  app.add_flag("--misbehave-silent", misbehave.silent,
+               "Never send a response (Streamer's 2 s read timeout)")->group(misbehave_group);
+}
+
 }  // namespace
 
 ParseOutcome parse_program_options(int argc, const char* const* argv) {
   ProgramOptions options;
   VehicleClientConfig& client = options.client;
   SafetyConfig& safety = client.safety;
-  VehicleParams& vehicle = client.vehicle;
   Misbehaviour& misbehave = client.misbehave;
 
   CLI::App app{
@@ -36,35 +90,8 @@ ParseOutcome parse_program_options(int argc, const char* const* argv) {
   app.add_option("server", server, "Streamer vehicle API as host:port")->capture_default_str();
 
   double watchdog_ms = 300.0;
-  app.add_option("--watchdog-ms", watchdog_ms, "Command timeout: safe state when no control message for this long")
-      ->capture_default_str()->check(cli::real(1.0, 60000.0))->group("Safety");
-  app.add_option("--max-throttle", safety.max_throttle, "Throttle cap [0,1]")
-      ->capture_default_str()->check(cli::real(0.0, 1.0))->group("Safety");
-  app.add_option("--max-brake", safety.max_brake, "Operator brake cap [0,1]")
-      ->capture_default_str()->check(cli::real(0.0, 1.0))->group("Safety");
-  app.add_option("--max-steer", safety.max_steer, "Steering cap, fraction of max angle [0,1]")
-      ->capture_default_str()->check(cli::real(0.0, 1.0))->group("Safety");
-  app.add_option("--throttle-rate", safety.throttle_rate_per_s, "Throttle rise limit per second")
-      ->capture_default_str()->check(cli::real(0.01, 1000.0))->group("Safety");
-  app.add_option("--brake-rate", safety.brake_rate_per_s, "Brake change limit per second")
-      ->capture_default_str()->check(cli::real(0.01, 1000.0))->group("Safety");
-  app.add_option("--steer-rate", safety.steer_rate_per_s, "Steering change limit per second")
-      ->capture_default_str()->check(cli::real(0.01, 1000.0))->group("Safety");
-  app.add_option("--safe-brake", safety.safe_brake, "Brake level of the safe state (0,1]")
-      ->capture_default_str()->check(cli::real(0.0, 1.0))->group("Safety");
-
-  app.add_option("--start-lat", client.start.lat, "Start latitude, degrees")
-      ->capture_default_str()->check(cli::real(-89.0, 89.0))->group("Vehicle");
-  app.add_option("--start-lon", client.start.lon, "Start longitude, degrees")
-      ->capture_default_str()->check(cli::real(-180.0, 180.0))->group("Vehicle");
-  app.add_option("--start-heading-deg", client.start_heading_deg, "Start compass heading (0 = north)")
-      ->capture_default_str()->check(cli::real(-360.0, 360.0))->group("Vehicle");
-  app.add_option("--wheelbase-m", vehicle.wheelbase_m, "Wheelbase")
-      ->capture_default_str()->check(cli::real(0.1, 50.0))->group("Vehicle");
-  app.add_option("--max-steer-rad", vehicle.max_steer_rad, "Road-wheel angle at full steering")
-      ->capture_default_str()->check(cli::real(0.01, 1.5))->group("Vehicle");
-  app.add_option("--max-speed-mps", vehicle.max_speed_mps, "Top speed")
-      ->capture_default_str()->check(cli::real(0.1, 100.0))->group("Vehicle");
+  add_safety_options(app, safety, watchdog_ms);
+  add_vehicle_options(app, client);
 
   double connect_timeout_ms = 2000.0;
   bool no_reconnect = false;
@@ -83,23 +110,8 @@ ParseOutcome parse_program_options(int argc, const char* const* argv) {
   bool no_status = false;
   app.add_flag("--no-status", no_status, "Do not print the once-per-second status line");
 
-  const std::string misbehave_group = "Misbehaviour (tests and demos only; all off by default)";
   double delay_ms = 0.0;
-  app.add_flag("--misbehave-stop-echo", misbehave.stop_echo,
-               "Keep echoing the first ack pair (Streamer: HighLatency)")->group(misbehave_group);
-  app.add_flag("--misbehave-corrupt-mac", misbehave.corrupt_mac,
-               "Echo a wrong ack_time_mac (Streamer: InvalidMac)")->group(misbehave_group);
-  app.add_option("--misbehave-delay-responses-ms", delay_ms,
-                 "Send every response this late (latency grows)")
-      ->check(cli::real(0.0, 60000.0))->group(misbehave_group);
-  app.add_flag("--misbehave-oversized-frames", misbehave.oversized_frames,
-               "Send >16 KiB responses (drained; InvalidMac)")->group(misbehave_group);
-  app.add_flag("--misbehave-ack-through-double", misbehave.ack_through_double,
-               "Round ack_time through a double (breaks > 2^53)")->group(misbehave_group);
-  app.add_flag("--misbehave-malformed-json", misbehave.malformed_json,
-               "Send truncated JSON (Streamer closes the connection)")->group(misbehave_group);
-  app.add_flag("--misbehave-silent", misbehave.silent,
-               "Never send a response (Streamer's 2 s read timeout)")->group(misbehave_group);
+  add_misbehaviour_options(app, misbehave, delay_ms);
 
   if (auto exit_code = cli::parse_or_exit_code(app, argc, argv)) return {std::nullopt, *exit_code};
 
