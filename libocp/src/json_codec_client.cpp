@@ -10,53 +10,86 @@ namespace {
 using json_detail::Decoder;
 using json_detail::FieldTable;
 
-constexpr FieldTable<4> entry_fields(
-    {"user_data", "ocp_disable_gamepad", "ack_time_returned", "ack_time_mac_returned"});
-constexpr FieldTable<2> client_fields({"active_vehicle", "client_user_data"});
+// Every field of the client's messages is optional, so these readers keep no FieldSet.
+enum class EntryField : std::uint8_t {
+  user_data,
+  ocp_disable_gamepad,
+  ack_time_returned,
+  ack_time_mac_returned,
+  unknown
+};
+constexpr FieldTable<EntryField> entry_fields({
+    {EntryField::user_data, "user_data"},
+    {EntryField::ocp_disable_gamepad, "ocp_disable_gamepad"},
+    {EntryField::ack_time_returned, "ack_time_returned"},
+    {EntryField::ack_time_mac_returned, "ack_time_mac_returned"},
+});
+
+enum class ClientField : std::uint8_t { active_vehicle, client_user_data, unknown };
+constexpr FieldTable<ClientField> client_fields({
+    {ClientField::active_vehicle, "active_vehicle"},
+    {ClientField::client_user_data, "client_user_data"},
+});
 
 bool read_entry(Decoder& decoder, std::size_t index, ClientVehicleEntry& out) {
   std::size_t hint = 0;
   return decoder.for_each_member(index, [&](std::string_view key, std::size_t value) {
-    const std::size_t field = entry_fields.find(key, hint);
-    if (field == 4) return true;
-    if (decoder.is_null(value)) {
-      switch (field) {
-        case 0: out.user_data.reset(); break;
-        case 1: out.ocp_disable_gamepad.reset(); break;
-        case 2: out.ack_time_returned.reset(); break;
-        default: out.ack_time_mac_returned.reset(); break;
-      }
-      return true;
-    }
+    const EntryField field = entry_fields.find(key, hint);
+    const bool null = decoder.is_null(value);
     switch (field) {
-      case 0: return decoder.read_raw(value, out.user_data.emplace());
-      case 1: return decoder.read_bool(value, out.ocp_disable_gamepad.emplace());
-      case 2: return decoder.read_u64(value, out.ack_time_returned.emplace());
-      default: return decoder.read_u32(value, out.ack_time_mac_returned.emplace());
+      case EntryField::user_data:
+        if (null) {
+          out.user_data.reset();
+          return true;
+        }
+        return decoder.read_raw(value, out.user_data.emplace());
+      case EntryField::ocp_disable_gamepad:
+        if (null) {
+          out.ocp_disable_gamepad.reset();
+          return true;
+        }
+        return decoder.read_bool(value, out.ocp_disable_gamepad.emplace());
+      case EntryField::ack_time_returned:
+        if (null) {
+          out.ack_time_returned.reset();
+          return true;
+        }
+        return decoder.read_u64(value, out.ack_time_returned.emplace());
+      case EntryField::ack_time_mac_returned:
+        if (null) {
+          out.ack_time_mac_returned.reset();
+          return true;
+        }
+        return decoder.read_u32(value, out.ack_time_mac_returned.emplace());
+      case EntryField::unknown: break;
     }
+    return true;  // unknown fields are ignored
   });
 }
 
 bool read_client(Decoder& decoder, std::size_t index, ClientOcpShared& out) {
   std::size_t hint = 0;
   return decoder.for_each_member(index, [&](std::string_view key, std::size_t value) {
-    const std::size_t field = client_fields.find(key, hint);
-    if (field == 2) return true;
+    const ClientField field = client_fields.find(key, hint);
     const bool null = decoder.is_null(value);
-    if (field == 0) {
-      if (null) {
-        out.active_vehicle.reset();
-        return true;
-      }
-      return decoder.read_string(value, out.active_vehicle.emplace());
+    switch (field) {
+      case ClientField::active_vehicle:
+        if (null) {
+          out.active_vehicle.reset();
+          return true;
+        }
+        return decoder.read_string(value, out.active_vehicle.emplace());
+      case ClientField::client_user_data:
+        out.client_user_data.clear();
+        if (null) return true;
+        return decoder.for_each_member(value, [&](std::string_view name, std::size_t entry) {
+          ClientVehicleEntry& target = out.client_user_data[std::string(name)];
+          target = ClientVehicleEntry{};  // a repeated name: the last one wins
+          return read_entry(decoder, entry, target);
+        });
+      case ClientField::unknown: break;
     }
-    out.client_user_data.clear();
-    if (null) return true;
-    return decoder.for_each_member(value, [&](std::string_view name, std::size_t entry) {
-      ClientVehicleEntry& target = out.client_user_data[std::string(name)];
-      target = ClientVehicleEntry{};  // a repeated name: the last one wins
-      return read_entry(decoder, entry, target);
-    });
+    return true;  // unknown fields are ignored
   });
 }
 

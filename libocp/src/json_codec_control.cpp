@@ -7,59 +7,83 @@ namespace ocp {
 namespace {
 
 using json_detail::Decoder;
+using json_detail::FieldSet;
 using json_detail::FieldTable;
 
-constexpr FieldTable<4> telemetry_fields({"latency", "fault", "fault_reason", "missing_cameras"});
-constexpr FieldTable<5> control_fields(
-    {"controller", "telemetry", "ack_time", "ack_time_mac", "client_user_data"});
+enum class TelemetryField : std::uint8_t { latency, fault, fault_reason, missing_cameras, unknown };
+constexpr FieldTable<TelemetryField> telemetry_fields({
+    {TelemetryField::latency, "latency"},
+    {TelemetryField::fault, "fault"},
+    {TelemetryField::fault_reason, "fault_reason"},
+    {TelemetryField::missing_cameras, "missing_cameras"},
+});
+// missing_cameras is optional.
+constexpr std::array required_telemetry_fields{TelemetryField::latency, TelemetryField::fault,
+                                               TelemetryField::fault_reason};
+
+enum class ControlField : std::uint8_t {
+  controller,
+  telemetry,
+  ack_time,
+  ack_time_mac,
+  client_user_data,
+  unknown
+};
+constexpr FieldTable<ControlField> control_fields({
+    {ControlField::controller, "controller"},
+    {ControlField::telemetry, "telemetry"},
+    {ControlField::ack_time, "ack_time"},
+    {ControlField::ack_time_mac, "ack_time_mac"},
+    {ControlField::client_user_data, "client_user_data"},
+});
+// controller and client_user_data are optional.
+constexpr std::array required_control_fields{ControlField::telemetry, ControlField::ack_time,
+                                             ControlField::ack_time_mac};
 
 bool read_telemetry(Decoder& decoder, std::size_t index, Telemetry& out) {
-  unsigned seen = 0;
+  FieldSet<TelemetryField> seen;
   std::size_t hint = 0;
   out.missing_cameras.clear();
   const bool ok = decoder.for_each_member(index, [&](std::string_view key, std::size_t value) {
-    const std::size_t field = telemetry_fields.find(key, hint);
-    seen |= 1U << field;
+    const TelemetryField field = telemetry_fields.find(key, hint);
+    seen.mark(field);
     switch (field) {
-      case 0: return decoder.read_integral(value, out.latency_ms);
-      case 1: return decoder.read_bool(value, out.fault);
-      case 2: return decoder.read_string(value, out.fault_reason);
-      case 3: return decoder.read_string_array(value, out.missing_cameras);
-      default: return true;
+      case TelemetryField::latency: return decoder.read_integral(value, out.latency_ms);
+      case TelemetryField::fault: return decoder.read_bool(value, out.fault);
+      case TelemetryField::fault_reason: return decoder.read_string(value, out.fault_reason);
+      case TelemetryField::missing_cameras:
+        return decoder.read_string_array(value, out.missing_cameras);
+      case TelemetryField::unknown: break;
     }
+    return true;  // unknown fields are ignored
   });
-  if (!ok) return false;
-  for (std::size_t i = 0; i < 3; ++i) {  // missing_cameras is optional
-    if ((seen & (1U << i)) == 0) return decoder.fail_missing(telemetry_fields.name(i));
-  }
-  return true;
+  return ok &&
+         json_detail::require_fields<required_telemetry_fields>(decoder, telemetry_fields, seen);
 }
 
 bool read_control_message(Decoder& decoder, std::size_t index, OcpControlMessage& out) {
-  unsigned seen = 0;
+  FieldSet<ControlField> seen;
   std::size_t hint = 0;
   const bool ok = decoder.for_each_member(index, [&](std::string_view key, std::size_t value) {
-    const std::size_t field = control_fields.find(key, hint);
-    seen |= 1U << field;
+    const ControlField field = control_fields.find(key, hint);
+    seen.mark(field);
     switch (field) {
-      case 0: return json_detail::read_optional_controller(decoder, value, out.controller);
-      case 1: return read_telemetry(decoder, value, out.telemetry);
-      case 2: return decoder.read_u64(value, out.ack.ack_time);
-      case 3: return decoder.read_u32(value, out.ack.ack_time_mac);
-      case 4:
+      case ControlField::controller:
+        return json_detail::read_optional_controller(decoder, value, out.controller);
+      case ControlField::telemetry: return read_telemetry(decoder, value, out.telemetry);
+      case ControlField::ack_time: return decoder.read_u64(value, out.ack.ack_time);
+      case ControlField::ack_time_mac: return decoder.read_u32(value, out.ack.ack_time_mac);
+      case ControlField::client_user_data:
         if (decoder.is_null(value)) {
           out.client_user_data.reset();
           return true;
         }
         return decoder.read_raw(value, out.client_user_data.emplace());
-      default: return true;
+      case ControlField::unknown: break;
     }
+    return true;  // unknown fields are ignored
   });
-  if (!ok) return false;
-  for (std::size_t i = 1; i < 4; ++i) {  // controller and client_user_data are optional
-    if ((seen & (1U << i)) == 0) return decoder.fail_missing(control_fields.name(i));
-  }
-  return true;
+  return ok && json_detail::require_fields<required_control_fields>(decoder, control_fields, seen);
 }
 
 }  // namespace

@@ -9,83 +9,116 @@ namespace ocp {
 namespace {
 
 using json_detail::Decoder;
+using json_detail::FieldSet;
 using json_detail::FieldTable;
 
-constexpr FieldTable<11> feedback_fields(
-    {"ping_latency_ms", "message_latency_roundtrip", "ms_since_last_vehicle_data",
-     "missing_cameras", "sender_fault", "receiver_fault", "vehicle_data", "last_remote_input",
-     "ack_time", "ack_time_mac", "is_monitor"});
-constexpr unsigned required_feedback_fields =
-    (1U << 0) | (1U << 2) | (1U << 4) | (1U << 5) | (1U << 8) | (1U << 9);
-constexpr FieldTable<2> shared_fields({"vehicle_feedback", "last_input"});
+enum class FeedbackField : std::uint8_t {
+  ping_latency_ms,
+  message_latency_roundtrip,
+  ms_since_last_vehicle_data,
+  missing_cameras,
+  sender_fault,
+  receiver_fault,
+  vehicle_data,
+  last_remote_input,
+  ack_time,
+  ack_time_mac,
+  is_monitor,
+  unknown
+};
+constexpr FieldTable<FeedbackField> feedback_fields({
+    {FeedbackField::ping_latency_ms, "ping_latency_ms"},
+    {FeedbackField::message_latency_roundtrip, "message_latency_roundtrip"},
+    {FeedbackField::ms_since_last_vehicle_data, "ms_since_last_vehicle_data"},
+    {FeedbackField::missing_cameras, "missing_cameras"},
+    {FeedbackField::sender_fault, "sender_fault"},
+    {FeedbackField::receiver_fault, "receiver_fault"},
+    {FeedbackField::vehicle_data, "vehicle_data"},
+    {FeedbackField::last_remote_input, "last_remote_input"},
+    {FeedbackField::ack_time, "ack_time"},
+    {FeedbackField::ack_time_mac, "ack_time_mac"},
+    {FeedbackField::is_monitor, "is_monitor"},
+});
+// The Option<…> fields and is_monitor may be absent.
+constexpr std::array required_feedback_fields{
+    FeedbackField::ping_latency_ms, FeedbackField::ms_since_last_vehicle_data,
+    FeedbackField::sender_fault,    FeedbackField::receiver_fault,
+    FeedbackField::ack_time,        FeedbackField::ack_time_mac};
+
+enum class SharedField : std::uint8_t { vehicle_feedback, last_input, unknown };
+constexpr FieldTable<SharedField> shared_fields({
+    {SharedField::vehicle_feedback, "vehicle_feedback"},
+    {SharedField::last_input, "last_input"},
+});
+// last_input is an Option<…>.
+constexpr std::array required_shared_fields{SharedField::vehicle_feedback};
 
 bool read_feedback(Decoder& decoder, std::size_t index, VehicleFeedback& out) {
-  unsigned seen = 0;
+  FieldSet<FeedbackField> seen;
   std::size_t hint = 0;
   const bool ok = decoder.for_each_member(index, [&](std::string_view key, std::size_t value) {
-    const std::size_t field = feedback_fields.find(key, hint);
-    seen |= 1U << field;
+    const FeedbackField field = feedback_fields.find(key, hint);
+    seen.mark(field);
     const bool null = decoder.is_null(value);
     switch (field) {
-      case 0: return decoder.read_u64(value, out.ping_latency_ms);
-      case 1:
+      case FeedbackField::ping_latency_ms: return decoder.read_u64(value, out.ping_latency_ms);
+      case FeedbackField::message_latency_roundtrip:
         if (null) {
           out.message_latency_roundtrip.reset();
           return true;
         }
         return decoder.read_u64(value, out.message_latency_roundtrip.emplace());
-      case 2: return decoder.read_u64(value, out.ms_since_last_vehicle_data);
-      case 3:
+      case FeedbackField::ms_since_last_vehicle_data:
+        return decoder.read_u64(value, out.ms_since_last_vehicle_data);
+      case FeedbackField::missing_cameras:
         if (null) {
           out.missing_cameras.reset();
           return true;
         }
         return decoder.read_string_array(value, out.missing_cameras.emplace());
-      case 4: return decoder.read_string_array(value, out.sender_fault);
-      case 5: return decoder.read_string_array(value, out.receiver_fault);
-      case 6:
+      case FeedbackField::sender_fault: return decoder.read_string_array(value, out.sender_fault);
+      case FeedbackField::receiver_fault:
+        return decoder.read_string_array(value, out.receiver_fault);
+      case FeedbackField::vehicle_data:
         if (null) {
           out.vehicle_data.reset();
           return true;
         }
         return json_detail::read_vehicle_user_data(decoder, value, out.vehicle_data.emplace());
-      case 7: return json_detail::read_optional_controller(decoder, value, out.last_remote_input);
-      case 8: return decoder.read_u64(value, out.ack.ack_time);
-      case 9: return decoder.read_u32(value, out.ack.ack_time_mac);
-      case 10: return decoder.read_bool(value, out.is_monitor);
-      default: return true;
+      case FeedbackField::last_remote_input:
+        return json_detail::read_optional_controller(decoder, value, out.last_remote_input);
+      case FeedbackField::ack_time: return decoder.read_u64(value, out.ack.ack_time);
+      case FeedbackField::ack_time_mac: return decoder.read_u32(value, out.ack.ack_time_mac);
+      case FeedbackField::is_monitor: return decoder.read_bool(value, out.is_monitor);
+      case FeedbackField::unknown: break;
     }
+    return true;  // unknown fields are ignored
   });
-  if (!ok) return false;
-  for (std::size_t i = 0; i < 11; ++i) {
-    const unsigned bit = 1U << i;
-    if ((required_feedback_fields & bit) != 0 && (seen & bit) == 0) {
-      return decoder.fail_missing(feedback_fields.name(i));
-    }
-  }
-  return true;
+  return ok &&
+         json_detail::require_fields<required_feedback_fields>(decoder, feedback_fields, seen);
 }
 
 bool read_shared(Decoder& decoder, std::size_t index, VehicleOcpShared& out) {
-  bool seen_feedback = false;
+  FieldSet<SharedField> seen;
   std::size_t hint = 0;
   const bool ok = decoder.for_each_member(index, [&](std::string_view key, std::size_t value) {
-    switch (shared_fields.find(key, hint)) {
-      case 0:
-        seen_feedback = true;
+    const SharedField field = shared_fields.find(key, hint);
+    seen.mark(field);
+    switch (field) {
+      case SharedField::vehicle_feedback:
         out.vehicle_feedback.clear();
         return decoder.for_each_member(value, [&](std::string_view name, std::size_t entry) {
           VehicleFeedback& feedback = out.vehicle_feedback[std::string(name)];
           feedback = VehicleFeedback{};  // a repeated name: the last one wins
           return read_feedback(decoder, entry, feedback);
         });
-      case 1: return json_detail::read_optional_controller(decoder, value, out.last_input);
-      default: return true;
+      case SharedField::last_input:
+        return json_detail::read_optional_controller(decoder, value, out.last_input);
+      case SharedField::unknown: break;
     }
+    return true;  // unknown fields are ignored
   });
-  if (!ok) return false;
-  if (!seen_feedback) return decoder.fail_missing("vehicle_feedback");
-  return true;
+  return ok && json_detail::require_fields<required_shared_fields>(decoder, shared_fields, seen);
 }
 
 void write_optional_string_array(json_detail::JsonWriter& writer,

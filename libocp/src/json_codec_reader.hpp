@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include "json_codec_tape.hpp"
@@ -67,29 +68,100 @@ class Decoder {
   std::vector<std::string> path_reversed_;
 };
 
-// Field lookup for a fixed object layout. Encoders write fields in table order, so the field
-// after the last match is tried first and a canonical message needs one compare per key.
-template <std::size_t N>
+// Named fields of a fixed object layout. Each object has a field enum listing its fields in
+// the order encoders write them, ending in `unknown` (any key not in the table):
+//
+//   enum class ResponseField : std::uint8_t { ack_time, ack_time_mac, vehicle_user_data, unknown };
+//
+// The enum's values are the fields' positions in their FieldTable, checked at compile time.
+template <class Field>
+concept FieldEnum = std::is_enum_v<Field> && requires { Field::unknown; };
+
+template <FieldEnum Field>
+inline constexpr std::size_t field_count = static_cast<std::size_t>(Field::unknown);
+
+// Every field of `Field`, in enum order (for objects whose fields are all required).
+template <FieldEnum Field>
+inline constexpr std::array<Field, field_count<Field>> every_field = [] {
+  std::array<Field, field_count<Field>> fields{};
+  for (std::size_t i = 0; i < fields.size(); ++i) fields[i] = static_cast<Field>(i);
+  return fields;
+}();
+
+// Key → field lookup. Encoders write fields in table order, so the field after the last
+// match is tried first and a canonical message needs one compare per key.
+template <FieldEnum Field>
 class FieldTable {
  public:
-  explicit constexpr FieldTable(std::array<std::string_view, N> names) : names_(names) {}
+  static constexpr std::size_t size = field_count<Field>;
+  struct Entry {
+    Field field;
+    std::string_view name;
+  };
 
-  // Index of `key`, or N when it is not a known field. `hint` carries the expected position.
-  std::size_t find(std::string_view key, std::size_t& hint) const {
-    if (hint < N && names_[hint] == key) return hint++;
-    for (std::size_t i = 0; i < N; ++i) {
+  // Entries in enum order, one per field: {ResponseField::ack_time, "ack_time"}, ...
+  explicit consteval FieldTable(const Entry (&entries)[size]) : names_{} {
+    for (std::size_t i = 0; i < size; ++i) {
+      if (entries[i].field != static_cast<Field>(i) || entries[i].name.empty()) {
+        throw "FieldTable: entries must list every field once, in enum order";
+      }
+      names_[i] = entries[i].name;
+    }
+  }
+
+  // The field named `key`, or Field::unknown. `hint` is the position of the field expected
+  // next (start at 0); a match moves it past the field found.
+  Field find(std::string_view key, std::size_t& hint) const {
+    if (hint < size && names_[hint] == key) return static_cast<Field>(hint++);
+    for (std::size_t i = 0; i < size; ++i) {
       if (names_[i] == key) {
         hint = i + 1;
-        return i;
+        return static_cast<Field>(i);
       }
     }
-    return N;
+    return Field::unknown;
   }
-  std::string_view name(std::size_t i) const { return names_[i]; }
+  std::string_view name(Field field) const { return names_[static_cast<std::size_t>(field)]; }
 
  private:
-  std::array<std::string_view, N> names_;
+  std::array<std::string_view, size> names_;
 };
+
+// The fields an object has shown so far. Marking Field::unknown is allowed (it has a bit of
+// its own) so callers can mark whatever find() returned.
+template <FieldEnum Field>
+class FieldSet {
+  static_assert(field_count<Field> < 32, "one bit a field, unknown included");
+
+ public:
+  constexpr FieldSet() = default;
+  template <std::size_t M>
+  explicit constexpr FieldSet(const std::array<Field, M>& fields) {
+    for (const Field field : fields) mark(field);
+  }
+
+  constexpr void mark(Field field) { bits_ |= bit(field); }
+  constexpr bool has(Field field) const { return (bits_ & bit(field)) != 0; }
+  constexpr bool has_all(FieldSet fields) const { return (bits_ & fields.bits_) == fields.bits_; }
+
+ private:
+  static constexpr std::uint32_t bit(Field field) {
+    return std::uint32_t{1} << static_cast<unsigned>(field);
+  }
+  std::uint32_t bits_ = 0;
+};
+
+// Fails with the first field of `required` (a constexpr std::array of Field, in the order a
+// missing field is reported) that `seen` lacks.
+template <const auto& required, FieldEnum Field>
+bool require_fields(Decoder& decoder, const FieldTable<Field>& table, FieldSet<Field> seen) {
+  constexpr FieldSet<Field> all_required{required};
+  if (seen.has_all(all_required)) return true;  // the usual case: one compare
+  for (const Field field : required) {
+    if (!seen.has(field)) return decoder.fail_missing(table.name(field));
+  }
+  return true;
+}
 
 // Shared pieces: the controller (control message, feedback) and vehicle user data
 // (response, feedback).

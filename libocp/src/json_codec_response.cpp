@@ -7,32 +7,39 @@ namespace ocp {
 namespace {
 
 using json_detail::Decoder;
+using json_detail::FieldSet;
 using json_detail::FieldTable;
 
-constexpr FieldTable<3> response_fields({"ack_time", "ack_time_mac", "vehicle_user_data"});
+enum class ResponseField : std::uint8_t { ack_time, ack_time_mac, vehicle_user_data, unknown };
+constexpr FieldTable<ResponseField> response_fields({
+    {ResponseField::ack_time, "ack_time"},
+    {ResponseField::ack_time_mac, "ack_time_mac"},
+    {ResponseField::vehicle_user_data, "vehicle_user_data"},
+});
+constexpr std::array required_response_fields{ResponseField::ack_time,
+                                              ResponseField::ack_time_mac};
 
 bool read_response(Decoder& decoder, std::size_t index, VehicleResponseMessage& out) {
-  unsigned seen = 0;
+  FieldSet<ResponseField> seen;
   std::size_t hint = 0;
   const bool ok = decoder.for_each_member(index, [&](std::string_view key, std::size_t value) {
-    const std::size_t field = response_fields.find(key, hint);
-    seen |= 1U << field;
+    const ResponseField field = response_fields.find(key, hint);
+    seen.mark(field);
     switch (field) {
-      case 0: return decoder.read_u64(value, out.ack.ack_time);
-      case 1: return decoder.read_u32(value, out.ack.ack_time_mac);
-      case 2:
+      case ResponseField::ack_time: return decoder.read_u64(value, out.ack.ack_time);
+      case ResponseField::ack_time_mac: return decoder.read_u32(value, out.ack.ack_time_mac);
+      case ResponseField::vehicle_user_data:
         if (decoder.is_null(value)) {
           out.vehicle_user_data.reset();
           return true;
         }
         return json_detail::read_vehicle_user_data(decoder, value, out.vehicle_user_data.emplace());
-      default: return true;
+      case ResponseField::unknown: break;
     }
+    return true;  // unknown fields are ignored
   });
-  if (!ok) return false;
-  if ((seen & 1U) == 0) return decoder.fail_missing("ack_time");
-  if ((seen & 2U) == 0) return decoder.fail_missing("ack_time_mac");
-  return true;
+  return ok &&
+         json_detail::require_fields<required_response_fields>(decoder, response_fields, seen);
 }
 
 }  // namespace

@@ -4,78 +4,179 @@
 namespace ocp::json_detail {
 namespace {
 
-constexpr FieldTable<15> button_fields({"a", "b", "x", "y", "left_bumper", "right_bumper",
-                                        "back", "start", "guide", "left_thumb", "right_thumb",
-                                        "dpad_up", "dpad_right", "dpad_down", "dpad_left"});
-constexpr FieldTable<6> axis_fields(
-    {"left_x", "left_y", "right_x", "right_y", "left_trigger", "right_trigger"});
-constexpr FieldTable<2> controller_fields({"buttons", "axes"});
-constexpr FieldTable<2> position_fields({"lat", "lon"});
-constexpr FieldTable<2> vehicle_user_data_fields({"pos", "user_data"});
+// Buttons, axes, the controller and a position need every field; vehicle user data needs
+// user_data only (pos may be absent).
+enum class ButtonField : std::uint8_t {
+  a,
+  b,
+  x,
+  y,
+  left_bumper,
+  right_bumper,
+  back,
+  start,
+  guide,
+  left_thumb,
+  right_thumb,
+  dpad_up,
+  dpad_right,
+  dpad_down,
+  dpad_left,
+  unknown
+};
+constexpr FieldTable<ButtonField> button_fields({
+    {ButtonField::a, "a"},
+    {ButtonField::b, "b"},
+    {ButtonField::x, "x"},
+    {ButtonField::y, "y"},
+    {ButtonField::left_bumper, "left_bumper"},
+    {ButtonField::right_bumper, "right_bumper"},
+    {ButtonField::back, "back"},
+    {ButtonField::start, "start"},
+    {ButtonField::guide, "guide"},
+    {ButtonField::left_thumb, "left_thumb"},
+    {ButtonField::right_thumb, "right_thumb"},
+    {ButtonField::dpad_up, "dpad_up"},
+    {ButtonField::dpad_right, "dpad_right"},
+    {ButtonField::dpad_down, "dpad_down"},
+    {ButtonField::dpad_left, "dpad_left"},
+});
 
-template <std::size_t N>
-bool first_missing(Decoder& decoder, const FieldTable<N>& fields, unsigned seen) {
-  for (std::size_t i = 0; i < N; ++i) {
-    if ((seen & (1U << i)) == 0) return decoder.fail_missing(fields.name(i));
+enum class AxisField : std::uint8_t {
+  left_x,
+  left_y,
+  right_x,
+  right_y,
+  left_trigger,
+  right_trigger,
+  unknown
+};
+constexpr FieldTable<AxisField> axis_fields({
+    {AxisField::left_x, "left_x"},
+    {AxisField::left_y, "left_y"},
+    {AxisField::right_x, "right_x"},
+    {AxisField::right_y, "right_y"},
+    {AxisField::left_trigger, "left_trigger"},
+    {AxisField::right_trigger, "right_trigger"},
+});
+
+enum class ControllerField : std::uint8_t { buttons, axes, unknown };
+constexpr FieldTable<ControllerField> controller_fields({
+    {ControllerField::buttons, "buttons"},
+    {ControllerField::axes, "axes"},
+});
+
+enum class PositionField : std::uint8_t { lat, lon, unknown };
+constexpr FieldTable<PositionField> position_fields({
+    {PositionField::lat, "lat"},
+    {PositionField::lon, "lon"},
+});
+
+enum class VehicleUserDataField : std::uint8_t { pos, user_data, unknown };
+constexpr FieldTable<VehicleUserDataField> vehicle_user_data_fields({
+    {VehicleUserDataField::pos, "pos"},
+    {VehicleUserDataField::user_data, "user_data"},
+});
+constexpr std::array required_vehicle_user_data_fields{VehicleUserDataField::user_data};
+
+// The member a field is read into: every button reads as a boolean and every axis or
+// coordinate as a double, so one call serves each object. `unknown` has no member.
+constexpr bool Buttons::*button_member(ButtonField field) {
+  switch (field) {
+    case ButtonField::a: return &Buttons::a;
+    case ButtonField::b: return &Buttons::b;
+    case ButtonField::x: return &Buttons::x;
+    case ButtonField::y: return &Buttons::y;
+    case ButtonField::left_bumper: return &Buttons::left_bumper;
+    case ButtonField::right_bumper: return &Buttons::right_bumper;
+    case ButtonField::back: return &Buttons::back;
+    case ButtonField::start: return &Buttons::start;
+    case ButtonField::guide: return &Buttons::guide;
+    case ButtonField::left_thumb: return &Buttons::left_thumb;
+    case ButtonField::right_thumb: return &Buttons::right_thumb;
+    case ButtonField::dpad_up: return &Buttons::dpad_up;
+    case ButtonField::dpad_right: return &Buttons::dpad_right;
+    case ButtonField::dpad_down: return &Buttons::dpad_down;
+    case ButtonField::dpad_left: return &Buttons::dpad_left;
+    case ButtonField::unknown: break;
   }
-  return true;
+  return nullptr;
+}
+
+constexpr double Axes::*axis_member(AxisField field) {
+  switch (field) {
+    case AxisField::left_x: return &Axes::left_x;
+    case AxisField::left_y: return &Axes::left_y;
+    case AxisField::right_x: return &Axes::right_x;
+    case AxisField::right_y: return &Axes::right_y;
+    case AxisField::left_trigger: return &Axes::left_trigger;
+    case AxisField::right_trigger: return &Axes::right_trigger;
+    case AxisField::unknown: break;
+  }
+  return nullptr;
+}
+
+constexpr double Position::*position_member(PositionField field) {
+  switch (field) {
+    case PositionField::lat: return &Position::lat;
+    case PositionField::lon: return &Position::lon;
+    case PositionField::unknown: break;
+  }
+  return nullptr;
 }
 
 bool read_buttons(Decoder& decoder, std::size_t index, Buttons& out) {
-  bool* const targets[] = {&out.a,          &out.b,          &out.x,           &out.y,
-                           &out.left_bumper, &out.right_bumper, &out.back,      &out.start,
-                           &out.guide,      &out.left_thumb, &out.right_thumb, &out.dpad_up,
-                           &out.dpad_right, &out.dpad_down,  &out.dpad_left};
-  unsigned seen = 0;
+  FieldSet<ButtonField> seen;
   std::size_t hint = 0;
   const bool ok = decoder.for_each_member(index, [&](std::string_view key, std::size_t value) {
-    const std::size_t field = button_fields.find(key, hint);
-    if (field == 15) return true;  // unknown fields are ignored
-    seen |= 1U << field;
-    return decoder.read_bool(value, *targets[field]);
+    const ButtonField field = button_fields.find(key, hint);
+    if (field == ButtonField::unknown) return true;  // unknown fields are ignored
+    seen.mark(field);
+    return decoder.read_bool(value, out.*button_member(field));
   });
-  return ok && first_missing(decoder, button_fields, seen);
+  return ok && require_fields<every_field<ButtonField>>(decoder, button_fields, seen);
 }
 
 bool read_axes(Decoder& decoder, std::size_t index, Axes& out) {
-  double* const targets[] = {&out.left_x,  &out.left_y,       &out.right_x,
-                             &out.right_y, &out.left_trigger, &out.right_trigger};
-  unsigned seen = 0;
+  FieldSet<AxisField> seen;
   std::size_t hint = 0;
   const bool ok = decoder.for_each_member(index, [&](std::string_view key, std::size_t value) {
-    const std::size_t field = axis_fields.find(key, hint);
-    if (field == 6) return true;
-    seen |= 1U << field;
-    return decoder.read_double(value, *targets[field]);
+    const AxisField field = axis_fields.find(key, hint);
+    if (field == AxisField::unknown) return true;  // unknown fields are ignored
+    seen.mark(field);
+    return decoder.read_double(value, out.*axis_member(field));
   });
-  return ok && first_missing(decoder, axis_fields, seen);
+  return ok && require_fields<every_field<AxisField>>(decoder, axis_fields, seen);
 }
 
 bool read_position(Decoder& decoder, std::size_t index, Position& out) {
-  unsigned seen = 0;
+  FieldSet<PositionField> seen;
   std::size_t hint = 0;
   const bool ok = decoder.for_each_member(index, [&](std::string_view key, std::size_t value) {
-    const std::size_t field = position_fields.find(key, hint);
-    if (field == 2) return true;
-    seen |= 1U << field;
-    return decoder.read_double(value, field == 0 ? out.lat : out.lon);
+    const PositionField field = position_fields.find(key, hint);
+    if (field == PositionField::unknown) return true;  // unknown fields are ignored
+    seen.mark(field);
+    return decoder.read_double(value, out.*position_member(field));
   });
-  return ok && first_missing(decoder, position_fields, seen);
+  return ok && require_fields<every_field<PositionField>>(decoder, position_fields, seen);
 }
 
 }  // namespace
 
 bool read_controller(Decoder& decoder, std::size_t index, Controller& out) {
-  unsigned seen = 0;
+  FieldSet<ControllerField> seen;
   std::size_t hint = 0;
   const bool ok = decoder.for_each_member(index, [&](std::string_view key, std::size_t value) {
-    const std::size_t field = controller_fields.find(key, hint);
-    if (field == 2) return true;
-    seen |= 1U << field;
-    return field == 0 ? read_buttons(decoder, value, out.buttons)
-                      : read_axes(decoder, value, out.axes);
+    const ControllerField field = controller_fields.find(key, hint);
+    seen.mark(field);
+    switch (field) {
+      case ControllerField::buttons: return read_buttons(decoder, value, out.buttons);
+      case ControllerField::axes: return read_axes(decoder, value, out.axes);
+      case ControllerField::unknown: break;
+    }
+    return true;  // unknown fields are ignored
   });
-  return ok && first_missing(decoder, controller_fields, seen);
+  return ok && require_fields<every_field<ControllerField>>(decoder, controller_fields, seen);
 }
 
 bool read_optional_controller(Decoder& decoder, std::size_t index,
@@ -88,25 +189,25 @@ bool read_optional_controller(Decoder& decoder, std::size_t index,
 }
 
 bool read_vehicle_user_data(Decoder& decoder, std::size_t index, VehicleUserData& out) {
-  unsigned seen = 0;
+  FieldSet<VehicleUserDataField> seen;
   std::size_t hint = 0;
   const bool ok = decoder.for_each_member(index, [&](std::string_view key, std::size_t value) {
-    const std::size_t field = vehicle_user_data_fields.find(key, hint);
-    if (field == 2) return true;
-    if (field == 1) {
-      seen |= 2U;
-      return decoder.read_raw(value, out.user_data);
+    const VehicleUserDataField field = vehicle_user_data_fields.find(key, hint);
+    seen.mark(field);
+    switch (field) {
+      case VehicleUserDataField::pos:
+        if (decoder.is_null(value)) {
+          out.pos.reset();
+          return true;
+        }
+        return read_position(decoder, value, out.pos.emplace());
+      case VehicleUserDataField::user_data: return decoder.read_raw(value, out.user_data);
+      case VehicleUserDataField::unknown: break;
     }
-    if (decoder.is_null(value)) {
-      out.pos.reset();
-      return true;
-    }
-    return read_position(decoder, value, out.pos.emplace());
+    return true;  // unknown fields are ignored
   });
-  // Only user_data is required; pos may be absent.
-  if (!ok) return false;
-  if ((seen & 2U) == 0) return decoder.fail_missing("user_data");
-  return true;
+  return ok && require_fields<required_vehicle_user_data_fields>(decoder, vehicle_user_data_fields,
+                                                                 seen);
 }
 
 }  // namespace ocp::json_detail
