@@ -91,9 +91,9 @@ Status StreamerCore::State::write_raw_to_vehicle(std::string bytes, std::vector<
     frame.wire = Wire::vehicle;
     frame.direction = FrameDirection::out;
     frame.kind = WireMessageKind::control;
-    if (all.size() >= 4) {
-      frame.length_prefix = read_length_prefix(all);
-      frame.payload = all.substr(4);
+    if (const auto length_prefix = read_length_prefix(all)) {
+      frame.length_prefix = *length_prefix;
+      frame.payload = all.substr(frame_header_bytes);
       if (auto decoded = decode_control_message(frame.payload)) frame.ack = decoded->ack;
     }
     frame.peer = vehicle->peer();

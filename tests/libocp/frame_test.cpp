@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -63,6 +65,18 @@ TEST(Frame, AppendFrameWritesALittleEndianLengthPrefix) {
   out.clear();
   ASSERT_TRUE(append_frame(big, out).ok());
   EXPECT_EQ(out.substr(0, 4), std::string("\x02\x01\x00\x00", 4));
+}
+
+TEST(Frame, LengthPrefixIsWrittenAndReadLittleEndian) {
+  std::string out = "keep";
+  append_length_prefix(0x04030201u, out);
+  EXPECT_EQ(out, "keep" + header(0x04030201u));
+  append_length_prefix(0xFFFFFFFFu, out);  // no limit: a bare header may declare anything
+  EXPECT_EQ(out.substr(8), header(0xFFFFFFFFu));
+  EXPECT_EQ(read_length_prefix(header(0x04030201u) + "payload"), 0x04030201u);
+  EXPECT_EQ(read_length_prefix(header(0xFFFFFFFFu)), 0xFFFFFFFFu);
+  EXPECT_EQ(read_length_prefix(header(20000).substr(0, 3)), std::nullopt);
+  EXPECT_EQ(read_length_prefix(""), std::nullopt);
 }
 
 TEST(Frame, AppendFrameAcceptsExactlyTheLimit) {

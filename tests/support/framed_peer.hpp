@@ -41,13 +41,11 @@ inline std::string frame_of(std::string_view payload) {
   return frame;
 }
 
-// A bare length prefix, for what the codec will not write: the header of a frame of up to
-// 4 GiB that never comes, or one followed by a payload cut short. Little-endian (SPEC §2).
+// A bare length prefix (the codec's, with no limit checked): the header of a frame of up to
+// 4 GiB that never comes, or one followed by a payload cut short or over the limit.
 inline std::string length_prefix(std::uint32_t length) {
-  std::string header(frame_header_bytes, '\0');
-  for (std::size_t index = 0; index < frame_header_bytes; ++index) {
-    header[index] = static_cast<char>((length >> (8 * index)) & 0xFFu);
-  }
+  std::string header;
+  append_length_prefix(length, header);
   return header;
 }
 

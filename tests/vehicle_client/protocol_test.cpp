@@ -338,11 +338,7 @@ TEST(VehicleClientProtocol, DrainsAnOversizedControlFrameAndKeepsGoing) {
   ClientWorld world;
   world.streamer->send_control(OcpControlMessage{});
   world.executor.run_for(ms(1));
-  const std::uint32_t length = 20000;
-  std::string oversized(4, '\0');
-  for (int index = 0; index < 4; ++index) oversized[index] = static_cast<char>((length >> (8 * index)) & 0xFF);
-  oversized += std::string(length, 'x');
-  world.streamer->send_raw(oversized);
+  world.streamer->send_raw(testing::length_prefix(20000) + std::string(20000, 'x'));
   const AckPair after = world.streamer->send_control(OcpControlMessage{});
   world.executor.run_for(ms(1));
 

@@ -160,7 +160,7 @@ bool VehicleClient::check_first_header(std::string_view bytes) {
   if (first_header_.size() >= frame_header_bytes) return true;
   const std::size_t had = first_header_.size();
   first_header_.append(bytes.substr(0, frame_header_bytes - had));
-  const auto length = declared_frame_length(first_header_);
+  const auto length = read_length_prefix(first_header_);
   if (!length || *length <= max_payload_bytes) return true;
   const std::string first_bytes = first_header_ + std::string(bytes.substr(frame_header_bytes - had));
   close_with(DisconnectKind::not_an_ocp_server,

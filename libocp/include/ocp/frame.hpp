@@ -8,6 +8,7 @@
 // limit are drained (exactly `length` bytes are skipped) and reported, not treated as errors.
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -17,6 +18,16 @@ namespace ocp {
 
 inline constexpr std::size_t max_payload_bytes = 16384;  // 16 KiB
 inline constexpr std::size_t frame_header_bytes = 4;
+
+// The length prefix on its own: the one encoder and the one decoder of it. FrameDecoder,
+// append_frame, the framing diagnosis, the raw conformance writes and their WireFrame events,
+// and the vehicle client's deliberately oversized frames all go through these two.
+//
+// Appends the 4 bytes declaring `length` to `out`. Checks no limit — append_frame does, for
+// protocol frames; a bare header is for what must break the limit on purpose.
+void append_length_prefix(std::uint32_t length, std::string& out);
+// The length the first 4 bytes of `bytes` declare; nullopt when there are fewer than 4.
+std::optional<std::uint32_t> read_length_prefix(std::string_view bytes);
 
 struct FrameEvent {
   enum class Kind {

@@ -18,9 +18,6 @@ namespace ocp {
 // Declared lengths from here up have a non-zero top byte: no OCP peer sends them.
 inline constexpr std::uint32_t implausible_frame_length = 0x0100'0000;  // 16 MiB
 
-// The length the first 4 bytes declare; nullopt with fewer than 4 bytes.
-std::optional<std::uint32_t> declared_frame_length(std::string_view first_bytes);
-
 // The first bytes as a short quote: printable ASCII kept, others as '.', at most 8 characters
 // then '…' ("GET / HT…").
 std::string quote_first_bytes(std::string_view first_bytes);
