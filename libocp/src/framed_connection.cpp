@@ -95,14 +95,7 @@ Status FramedConnection::send(std::string_view payload, std::optional<AckPair> c
   frame_buffer_.clear();
   Status framed = append_frame(payload, frame_buffer_, options_.payload_limit_bytes);
   if (!framed) return framed;  // never send an oversized frame (SPEC §2)
-  const std::size_t queued = stream_->queued_bytes();
-  if (queued + frame_buffer_.size() > options_.write_queue_limit_bytes) {
-    CloseReason reason{PeerError::not_reading,
-                       fmt::format("peer not reading: {} bytes already queued for it (limit {})",
-                                   queued, options_.write_queue_limit_bytes)};
-    close(reason);
-    return reason;
-  }
+  if (Status admitted = admit_to_write_queue(frame_buffer_.size()); !admitted) return admitted;
   add(counters_.bytes_out, frame_buffer_.size());
   const bool listening = options_.events != nullptr && options_.events->active();
   const SimTime issued_at = listening ? executor_.now() : SimTime{};   // before the write syscall
@@ -119,17 +112,20 @@ Status FramedConnection::write_raw(std::string_view bytes) {
     return Error{LocalError::not_connected,
                  fmt::format("{} connection {} is closed", options_.label, peer_)};
   }
-  const std::size_t queued = stream_->queued_bytes();
-  if (queued + bytes.size() > options_.write_queue_limit_bytes) {
-    CloseReason reason{PeerError::not_reading,
-                       fmt::format("peer not reading: {} bytes already queued for it (limit {})",
-                                   queued, options_.write_queue_limit_bytes)};
-    close(reason);
-    return reason;
-  }
+  if (Status admitted = admit_to_write_queue(bytes.size()); !admitted) return admitted;
   add(counters_.bytes_out, bytes.size());
   stream_->write(bytes);
   return Ok{};
+}
+
+Status FramedConnection::admit_to_write_queue(std::size_t bytes) {
+  const std::size_t queued = stream_->queued_bytes();
+  if (queued + bytes <= options_.write_queue_limit_bytes) return Ok{};
+  CloseReason reason{PeerError::not_reading,
+                     fmt::format("peer not reading: {} bytes already queued for it (limit {})", queued,
+                                 options_.write_queue_limit_bytes)};
+  close(reason);
+  return reason;
 }
 
 void FramedConnection::publish_frame(SimTime at, FrameDirection direction, WireMessageKind kind,

@@ -129,6 +129,9 @@ class FramedConnection : public std::enable_shared_from_this<FramedConnection> {
   void arm_read_timer(SimTime deadline);
   void on_read_timer();
   void finish(const CloseReason& reason);
+  // The write-queue rule of send() and write_raw(): Ok when `bytes` more fit the queue, else
+  // the peer is not reading — the connection is closed and the returned reason says so.
+  Status admit_to_write_queue(std::size_t bytes);
   void publish_frame(SimTime at, FrameDirection direction, WireMessageKind kind, std::uint32_t length_prefix,
                      std::string_view payload, bool drained, std::optional<AckPair> carried = std::nullopt);
   void publish_connection(ConnectionChange change, const CloseReason* reason);
