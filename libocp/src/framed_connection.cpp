@@ -34,6 +34,28 @@ std::optional<AckPair> carried_pair(WireMessageKind kind, std::string_view paylo
 
 }  // namespace
 
+FramedConnection::Options FramedConnection::server_options(Wire wire, Micros read_timeout, EventBus& events,
+                                                           Component component) {
+  Options options;
+  options.read_timeout = read_timeout;
+  options.events = &events;
+  options.component = component;
+  options.wire = wire;
+  switch (wire) {
+    case Wire::vehicle:
+      options.label = "vehicle";
+      options.inbound_kind = WireMessageKind::vehicle_response;
+      options.outbound_kind = WireMessageKind::control;
+      break;
+    case Wire::operator_:
+      options.label = "tcp client";
+      options.inbound_kind = WireMessageKind::client_ocp_shared;
+      options.outbound_kind = WireMessageKind::vehicle_ocp_shared;
+      break;
+  }
+  return options;
+}
+
 std::shared_ptr<FramedConnection> FramedConnection::open(Executor& executor, Logger logger,
                                                          std::shared_ptr<ByteStream> stream,
                                                          Options options, Counters counters,

@@ -103,14 +103,8 @@ void PlayerCore::Impl::accept_client(std::shared_ptr<ByteStream> stream) {
   }
   ++stats.client_connections_accepted;
   logger.info("tcp client {} connected", stream->peer_name());
-  FramedConnection::Options options;
-  options.label = "tcp client";
-  options.read_timeout = config.client_read_timeout;
-  options.events = &events;
-  options.component = component();
-  options.wire = Wire::operator_;
-  options.inbound_kind = WireMessageKind::client_ocp_shared;
-  options.outbound_kind = WireMessageKind::vehicle_ocp_shared;
+  FramedConnection::Options options =
+      FramedConnection::server_options(Wire::operator_, config.client_read_timeout, events, component());
   FramedConnection::Counters counters;
   counters.oversized_frames_dropped = &stats.client_oversized_frames;
   counters.bytes_out = &stats.client_bytes_out;
