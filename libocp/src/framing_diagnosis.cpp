@@ -64,7 +64,7 @@ std::optional<std::string> FramingSniffer::observe(std::string_view bytes) {
   const auto length = read_length_prefix(first_bytes_);
   if (!length) return std::nullopt;
   done_ = true;
-  if (*length < implausible_frame_length) return std::nullopt;
+  if (*length < implausible_from_) return std::nullopt;
   diagnosis_ = describe_non_ocp_bytes(first_bytes_);
   return diagnosis_;
 }

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <rapidjson/document.h>
 
+#include "ocp/framing_diagnosis.hpp"
 #include "recording_stream.hpp"
 #include "world.hpp"
 
@@ -299,6 +300,20 @@ TEST(VehicleClientProtocol, ReportsNotAnOcpServerWhenTheFirstFrameLengthIsAbsurd
   EXPECT_EQ(world.client->stats().last_disconnect_kind, DisconnectKind::not_an_ocp_server);
   EXPECT_NE(world.disconnects[0].find("not an OCP server"), std::string::npos);
   EXPECT_NE(world.disconnects[0].find("HTTP"), std::string::npos) << world.disconnects[0];
+}
+
+TEST(VehicleClientProtocol, AFirstFrameJustOverTheLimitIsNotAnOcpServersEvenWithItsHeaderSplit) {
+  ClientWorld world;
+  const std::string bytes = testing::length_prefix(max_payload_bytes + 1) + R"({"filler":"xxxxxxxx)";
+  world.streamer->send_raw(bytes.substr(0, 2));
+  world.executor.run_for(ms(1));
+  EXPECT_TRUE(world.client->connected());
+  world.streamer->send_raw(bytes.substr(2));
+  world.executor.run_for(ms(1));
+  ASSERT_EQ(world.disconnects.size(), 1u);
+  EXPECT_EQ(world.client->stats().last_disconnect_kind, DisconnectKind::not_an_ocp_server);
+  EXPECT_EQ(world.disconnects[0], "not an OCP server: first frame declares 16385 bytes (limit 16384); " +
+                                      describe_non_ocp_bytes(bytes));
 }
 
 TEST(VehicleClientProtocol, ReportsNotAnOcpServerWhenTheFirstFrameIsOtherJson) {

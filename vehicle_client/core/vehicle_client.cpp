@@ -70,7 +70,7 @@ void VehicleClient::attach(std::shared_ptr<ByteStream> stream) {
   stream_ = std::move(stream);
   const std::uint64_t id = ++connection_id_;
   decoder_.reset();
-  first_header_.clear();
+  sniffer_ = FramingSniffer(first_frame_implausible_from);
   seen_valid_control_ = false;
   echo_pair_.reset();
   last_response_time_.reset();
@@ -157,15 +157,11 @@ bool VehicleClient::check_first_header(std::string_view bytes) {
   // An OCP server's first frame is a small control message. A declared length over the limit
   // means the peer speaks something else (HTTP's "HTTP" reads as ~1.3 GB): say so at once
   // instead of silently draining gigabytes.
-  if (first_header_.size() >= frame_header_bytes) return true;
-  const std::size_t had = first_header_.size();
-  first_header_.append(bytes.substr(0, frame_header_bytes - had));
-  const auto length = read_length_prefix(first_header_);
-  if (!length || *length <= max_payload_bytes) return true;
-  const std::string first_bytes = first_header_ + std::string(bytes.substr(frame_header_bytes - had));
+  const std::optional<std::string> diagnosis = sniffer_.observe(bytes);
+  if (!diagnosis) return true;
   close_with(DisconnectKind::not_an_ocp_server,
-             fmt::format("not an OCP server: first frame declares {} bytes (limit {}); {}", *length,
-                         max_payload_bytes, describe_non_ocp_bytes(first_bytes)));
+             fmt::format("not an OCP server: first frame declares {} bytes (limit {}); {}",
+                         sniffer_.declared_length().value_or(0), max_payload_bytes, *diagnosis));
   return false;
 }
 
