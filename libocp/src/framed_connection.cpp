@@ -180,27 +180,21 @@ void FramedConnection::handle_bytes(std::string_view bytes) {
   }
   // The decoder never buffers more than one payload (≤ the limit) and drains oversized
   // frames, so a hostile peer cannot grow memory here whatever it sends.
-  while (!bytes.empty() && open_) {
-    FrameEvent event;
-    const std::size_t consumed = decoder_.put(bytes, event);
-    bytes.remove_prefix(consumed);
-    switch (event.kind) {
-      case FrameEvent::Kind::frame:
-        handle_payload(event.payload);
-        break;
-      case FrameEvent::Kind::oversized_dropped:
+  decoder_.put_all(
+      bytes,
+      [this](std::string_view payload) {
+        handle_payload(payload);
+        return open_;
+      },
+      [this](std::uint32_t declared_length) {
         add(counters_.oversized_frames_dropped, 1);
         if (options_.events != nullptr && options_.events->active()) {
-          publish_frame(last_byte_at_, FrameDirection::in, options_.inbound_kind, event.declared_length, {}, true);
+          publish_frame(last_byte_at_, FrameDirection::in, options_.inbound_kind, declared_length, {}, true);
         }
         logger_.warn("{} {}: dropped oversized frame of {} bytes (limit {}); connection kept",
-                     options_.label, peer_, event.declared_length, options_.payload_limit_bytes);
-        break;
-      case FrameEvent::Kind::need_more:
-        if (consumed == 0) return;  // defensive: the decoder promised to consume everything
-        break;
-    }
-  }
+                     options_.label, peer_, declared_length, options_.payload_limit_bytes);
+        return open_;
+      });
 }
 
 void FramedConnection::handle_payload(std::string_view payload) {
