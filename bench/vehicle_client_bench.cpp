@@ -17,7 +17,7 @@
 #include <boost/asio/read.hpp>
 #include <boost/asio/write.hpp>
 #include <chrono>
-#include <cstring>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -70,8 +70,7 @@ void report_percentiles(benchmark::State& state, std::vector<double>& samples_us
 std::string read_frame(tcp::socket& socket) {
   char header[ocp::frame_header_bytes];
   asio::read(socket, asio::buffer(header));
-  std::uint32_t length = 0;
-  std::memcpy(&length, header, sizeof(length));  // little-endian host (x86-64)
+  const std::uint32_t length = *ocp::read_length_prefix(std::string_view(header, sizeof(header)));
   std::string payload(length, '\0');
   asio::read(socket, asio::buffer(payload));
   return payload;

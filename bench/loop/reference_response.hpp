@@ -13,12 +13,10 @@ namespace ocp::bench {
 // Feeds `input` to `decoder` and calls on_pair(pair) for each control message that decodes.
 template <typename OnPair>
 void for_each_control_pair(FrameDecoder& decoder, std::string_view input, OnPair&& on_pair) {
-  while (!input.empty()) {
-    FrameEvent event;
-    input.remove_prefix(decoder.put(input, event));
-    if (event.kind != FrameEvent::Kind::frame) continue;
-    if (auto message = decode_control_message(event.payload)) on_pair(message->ack);
-  }
+  decoder.put_all(input, [&on_pair](std::string_view payload) {
+    if (auto message = decode_control_message(payload)) on_pair(message->ack);
+    return true;
+  });
 }
 
 // Encodes and frames the response for `pair` into `frame` (`payload` is scratch); false when

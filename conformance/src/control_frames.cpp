@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include "ocp/frame.hpp"
+
 namespace ocp::conformance {
 
 std::string control_payload(const CraftedControl& c) {
@@ -37,10 +39,9 @@ std::string control_payload(const CraftedControl& c) {
 }
 
 std::string frame_bytes(std::string_view payload) {
-  const auto n = static_cast<std::uint32_t>(payload.size());
   std::string out;
-  out.reserve(payload.size() + 4);
-  for (int i = 0; i < 4; ++i) out.push_back(static_cast<char>((n >> (8 * i)) & 0xFFu));
+  out.reserve(frame_header_bytes + payload.size());
+  append_length_prefix(static_cast<std::uint32_t>(payload.size()), out);  // the codec's, unchecked
   out.append(payload);
   return out;
 }

@@ -5,6 +5,23 @@
 
 namespace ocp {
 
+void append_length_prefix(std::uint32_t length, std::string& out) {
+  char header[frame_header_bytes];
+  for (std::size_t index = 0; index < frame_header_bytes; ++index) {
+    header[index] = static_cast<char>((length >> (8 * index)) & 0xFFu);  // little-endian (SPEC §2)
+  }
+  out.append(header, frame_header_bytes);
+}
+
+std::optional<std::uint32_t> read_length_prefix(std::string_view bytes) {
+  if (bytes.size() < frame_header_bytes) return std::nullopt;
+  std::uint32_t length = 0;
+  for (std::size_t index = 0; index < frame_header_bytes; ++index) {
+    length |= static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[index])) << (8 * index);
+  }
+  return length;
+}
+
 FrameDecoder::FrameDecoder(std::size_t payload_limit_bytes)
     : payload_limit_bytes_(payload_limit_bytes) {}
 
@@ -25,10 +42,7 @@ std::size_t FrameDecoder::put(std::string_view input, FrameEvent& event) {
         consumed += take;
         if (header_filled_ < frame_header_bytes) break;
         header_filled_ = 0;
-        length_ = static_cast<std::uint32_t>(static_cast<unsigned char>(header_[0])) |
-                  static_cast<std::uint32_t>(static_cast<unsigned char>(header_[1])) << 8 |
-                  static_cast<std::uint32_t>(static_cast<unsigned char>(header_[2])) << 16 |
-                  static_cast<std::uint32_t>(static_cast<unsigned char>(header_[3])) << 24;
+        length_ = *read_length_prefix(std::string_view(header_, frame_header_bytes));
         remaining_ = length_;
         if (length_ > payload_limit_bytes_) {
           state_ = State::drain;
@@ -121,11 +135,7 @@ Status append_frame(std::string_view payload, std::string& out, std::size_t payl
                  "payload of " + std::to_string(payload.size()) + " bytes exceeds the limit of " +
                      std::to_string(limit) + " bytes"};
   }
-  const auto length = static_cast<std::uint32_t>(payload.size());
-  const char header[frame_header_bytes] = {
-      static_cast<char>(length & 0xFF), static_cast<char>((length >> 8) & 0xFF),
-      static_cast<char>((length >> 16) & 0xFF), static_cast<char>((length >> 24) & 0xFF)};
-  out.append(header, frame_header_bytes);
+  append_length_prefix(static_cast<std::uint32_t>(payload.size()), out);
   out.append(payload);
   return Ok{};
 }

@@ -35,6 +35,28 @@ std::optional<AckPair> carried_pair(WireMessageKind kind, std::string_view paylo
 
 }  // namespace
 
+FramedConnection::Options FramedConnection::server_options(Wire wire, Micros read_timeout, EventBus& events,
+                                                           Component component) {
+  Options options;
+  options.read_timeout = read_timeout;
+  options.events = &events;
+  options.component = component;
+  options.wire = wire;
+  switch (wire) {
+    case Wire::vehicle:
+      options.label = "vehicle";
+      options.inbound_kind = WireMessageKind::vehicle_response;
+      options.outbound_kind = WireMessageKind::control;
+      break;
+    case Wire::operator_:
+      options.label = "tcp client";
+      options.inbound_kind = WireMessageKind::client_ocp_shared;
+      options.outbound_kind = WireMessageKind::vehicle_ocp_shared;
+      break;
+  }
+  return options;
+}
+
 std::shared_ptr<FramedConnection> FramedConnection::open(Executor& executor, Logger logger,
                                                          std::shared_ptr<ByteStream> stream,
                                                          Options options, Counters counters,
@@ -96,14 +118,7 @@ Status FramedConnection::send(std::string_view payload, std::optional<AckPair> c
   frame_buffer_.clear();
   Status framed = append_frame(payload, frame_buffer_, options_.payload_limit_bytes);
   if (!framed) return framed;  // never send an oversized frame (SPEC §2)
-  const std::size_t queued = stream_->queued_bytes();
-  if (queued + frame_buffer_.size() > options_.write_queue_limit_bytes) {
-    CloseReason reason{PeerError::not_reading,
-                       fmt::format("peer not reading: {} bytes already queued for it (limit {})",
-                                   queued, options_.write_queue_limit_bytes)};
-    close(reason);
-    return reason;
-  }
+  if (Status admitted = admit_to_write_queue(frame_buffer_.size()); !admitted) return admitted;
   OCP_INVARIANT(frame_buffer_.size() <= frame_header_bytes + max_payload_bytes,
                 "no frame above 16 KiB is ever written (append_frame refuses it above)");
   add(counters_.bytes_out, frame_buffer_.size());
@@ -122,17 +137,20 @@ Status FramedConnection::write_raw(std::string_view bytes) {
     return Error{LocalError::not_connected,
                  fmt::format("{} connection {} is closed", options_.label, peer_)};
   }
-  const std::size_t queued = stream_->queued_bytes();
-  if (queued + bytes.size() > options_.write_queue_limit_bytes) {
-    CloseReason reason{PeerError::not_reading,
-                       fmt::format("peer not reading: {} bytes already queued for it (limit {})",
-                                   queued, options_.write_queue_limit_bytes)};
-    close(reason);
-    return reason;
-  }
+  if (Status admitted = admit_to_write_queue(bytes.size()); !admitted) return admitted;
   add(counters_.bytes_out, bytes.size());
   stream_->write(bytes);
   return Ok{};
+}
+
+Status FramedConnection::admit_to_write_queue(std::size_t bytes) {
+  const std::size_t queued = stream_->queued_bytes();
+  if (queued + bytes <= options_.write_queue_limit_bytes) return Ok{};
+  CloseReason reason{PeerError::not_reading,
+                     fmt::format("peer not reading: {} bytes already queued for it (limit {})", queued,
+                                 options_.write_queue_limit_bytes)};
+  close(reason);
+  return reason;
 }
 
 void FramedConnection::publish_frame(SimTime at, FrameDirection direction, WireMessageKind kind,
@@ -165,27 +183,21 @@ void FramedConnection::handle_bytes(std::string_view bytes) {
   }
   // The decoder never buffers more than one payload (≤ the limit) and drains oversized
   // frames, so a hostile peer cannot grow memory here whatever it sends.
-  while (!bytes.empty() && open_) {
-    FrameEvent event;
-    const std::size_t consumed = decoder_.put(bytes, event);
-    bytes.remove_prefix(consumed);
-    switch (event.kind) {
-      case FrameEvent::Kind::frame:
-        handle_payload(event.payload);
-        break;
-      case FrameEvent::Kind::oversized_dropped:
+  decoder_.put_all(
+      bytes,
+      [this](std::string_view payload) {
+        handle_payload(payload);
+        return open_;
+      },
+      [this](std::uint32_t declared_length) {
         add(counters_.oversized_frames_dropped, 1);
         if (options_.events != nullptr && options_.events->active()) {
-          publish_frame(last_byte_at_, FrameDirection::in, options_.inbound_kind, event.declared_length, {}, true);
+          publish_frame(last_byte_at_, FrameDirection::in, options_.inbound_kind, declared_length, {}, true);
         }
         logger_.warn("{} {}: dropped oversized frame of {} bytes (limit {}); connection kept",
-                     options_.label, peer_, event.declared_length, options_.payload_limit_bytes);
-        break;
-      case FrameEvent::Kind::need_more:
-        if (consumed == 0) return;  // defensive: the decoder promised to consume everything
-        break;
-    }
-  }
+                     options_.label, peer_, declared_length, options_.payload_limit_bytes);
+        return open_;
+      });
 }
 
 void FramedConnection::handle_payload(std::string_view payload) {

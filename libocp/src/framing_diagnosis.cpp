@@ -43,15 +43,6 @@ std::string guess(std::string_view bytes, std::uint32_t length, std::size_t limi
 
 }  // namespace
 
-std::optional<std::uint32_t> declared_frame_length(std::string_view first_bytes) {
-  if (first_bytes.size() < frame_header_bytes) return std::nullopt;
-  std::uint32_t length = 0;
-  for (std::size_t index = 0; index < frame_header_bytes; ++index) {
-    length |= static_cast<std::uint32_t>(static_cast<unsigned char>(first_bytes[index])) << (8 * index);
-  }
-  return length;
-}
-
 std::string quote_first_bytes(std::string_view first_bytes) {
   std::string text;
   for (const char c : first_bytes.substr(0, quote_chars)) {
@@ -62,7 +53,7 @@ std::string quote_first_bytes(std::string_view first_bytes) {
 }
 
 std::string describe_non_ocp_bytes(std::string_view first_bytes, std::size_t payload_limit_bytes) {
-  const std::uint32_t length = declared_frame_length(first_bytes).value_or(0);
+  const std::uint32_t length = read_length_prefix(first_bytes).value_or(0);
   return fmt::format("this does not look like OCP framing (got '{}': {})", quote_first_bytes(first_bytes),
                      guess(first_bytes.substr(0, sniff_bytes), length, payload_limit_bytes));
 }
@@ -70,10 +61,10 @@ std::string describe_non_ocp_bytes(std::string_view first_bytes, std::size_t pay
 std::optional<std::string> FramingSniffer::observe(std::string_view bytes) {
   if (done_) return std::nullopt;
   first_bytes_.append(bytes.substr(0, sniff_bytes - std::min(sniff_bytes, first_bytes_.size())));
-  const auto length = declared_frame_length(first_bytes_);
+  const auto length = read_length_prefix(first_bytes_);
   if (!length) return std::nullopt;
   done_ = true;
-  if (*length < implausible_frame_length) return std::nullopt;
+  if (*length < implausible_from_) return std::nullopt;
   diagnosis_ = describe_non_ocp_bytes(first_bytes_);
   return diagnosis_;
 }

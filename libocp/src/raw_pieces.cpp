@@ -24,10 +24,4 @@ Status write_raw_in_pieces(Executor& executor, const std::shared_ptr<FramedConne
   return Ok{};
 }
 
-std::uint32_t read_length_prefix(std::string_view bytes) {
-  std::uint32_t prefix = 0;
-  for (std::size_t i = 4; i-- > 0;) prefix = (prefix << 8) | static_cast<unsigned char>(bytes[i]);
-  return prefix;
-}
-
 }  // namespace ocp

@@ -103,14 +103,8 @@ void PlayerCore::Impl::accept_client(std::shared_ptr<ByteStream> stream) {
   }
   ++stats.client_connections_accepted;
   logger.info("tcp client {} connected", stream->peer_name());
-  FramedConnection::Options options;
-  options.label = "tcp client";
-  options.read_timeout = config.client_read_timeout;
-  options.events = &events;
-  options.component = component();
-  options.wire = Wire::operator_;
-  options.inbound_kind = WireMessageKind::client_ocp_shared;
-  options.outbound_kind = WireMessageKind::vehicle_ocp_shared;
+  FramedConnection::Options options =
+      FramedConnection::server_options(Wire::operator_, config.client_read_timeout, events, component());
   FramedConnection::Counters counters;
   counters.oversized_frames_dropped = &stats.client_oversized_frames;
   counters.bytes_out = &stats.client_bytes_out;
@@ -157,17 +151,17 @@ Status PlayerCore::Impl::write_raw_to_client(std::string bytes, std::vector<std:
   if (!client) return Error{LocalError::not_connected, "no tcp client connected"};
   if (events.active()) {
     // One WireFrame per frame the bytes hold; a truncated last frame carries what is there.
-    const std::string_view all(bytes);
-    for (std::size_t at = 0; at + 4 <= all.size();) {
+    std::string_view rest(bytes);
+    while (const auto length_prefix = read_length_prefix(rest)) {
       WireFrame frame;
       frame.wire = Wire::operator_;
       frame.direction = FrameDirection::out;
       frame.kind = WireMessageKind::vehicle_ocp_shared;
-      frame.length_prefix = read_length_prefix(all.substr(at));
-      frame.payload = all.substr(at + 4, frame.length_prefix);
+      frame.length_prefix = *length_prefix;
+      frame.payload = rest.substr(frame_header_bytes, frame.length_prefix);
       frame.peer = client->peer();
       publish(frame);
-      at += 4 + frame.payload.size();
+      rest.remove_prefix(frame_header_bytes + frame.payload.size());
     }
   }
   return write_raw_in_pieces(executor, client, std::move(bytes), cuts, gap);

@@ -32,15 +32,9 @@ void StreamerCore::State::accept_vehicle(std::shared_ptr<ByteStream> stream) {
   // Nothing built for a previous connection survives: frames are encoded per tick straight
   // into the active connection, and the old connection (with anything its transport still
   // held) was dropped when it closed.
-  FramedConnection::Options options;
-  options.label = "vehicle";
-  options.read_timeout = config.vehicle_read_timeout;
+  FramedConnection::Options options =
+      FramedConnection::server_options(Wire::vehicle, config.vehicle_read_timeout, events, component());
   options.write_queue_limit_bytes = config.vehicle_write_queue_limit_bytes;
-  options.events = &events;
-  options.component = component();
-  options.wire = Wire::vehicle;
-  options.inbound_kind = WireMessageKind::vehicle_response;
-  options.outbound_kind = WireMessageKind::control;
   FramedConnection::Counters counters;
   counters.bytes_in = &stats.vehicle_bytes_in;
   counters.bytes_out = &stats.vehicle_bytes_out;
@@ -91,9 +85,9 @@ Status StreamerCore::State::write_raw_to_vehicle(std::string bytes, std::vector<
     frame.wire = Wire::vehicle;
     frame.direction = FrameDirection::out;
     frame.kind = WireMessageKind::control;
-    if (all.size() >= 4) {
-      frame.length_prefix = read_length_prefix(all);
-      frame.payload = all.substr(4);
+    if (const auto length_prefix = read_length_prefix(all)) {
+      frame.length_prefix = *length_prefix;
+      frame.payload = all.substr(frame_header_bytes);
       if (auto decoded = decode_control_message(frame.payload)) frame.ack = decoded->ack;
     }
     frame.peer = vehicle->peer();

@@ -1,6 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "ocp/frame.hpp"
@@ -63,6 +66,50 @@ TEST(Frame, AppendFrameWritesALittleEndianLengthPrefix) {
   out.clear();
   ASSERT_TRUE(append_frame(big, out).ok());
   EXPECT_EQ(out.substr(0, 4), std::string("\x02\x01\x00\x00", 4));
+}
+
+TEST(Frame, LengthPrefixIsWrittenAndReadLittleEndian) {
+  std::string out = "keep";
+  append_length_prefix(0x04030201u, out);
+  EXPECT_EQ(out, "keep" + header(0x04030201u));
+  append_length_prefix(0xFFFFFFFFu, out);  // no limit: a bare header may declare anything
+  EXPECT_EQ(out.substr(8), header(0xFFFFFFFFu));
+  EXPECT_EQ(read_length_prefix(header(0x04030201u) + "payload"), 0x04030201u);
+  EXPECT_EQ(read_length_prefix(header(0xFFFFFFFFu)), 0xFFFFFFFFu);
+  EXPECT_EQ(read_length_prefix(header(20000).substr(0, 3)), std::nullopt);
+  EXPECT_EQ(read_length_prefix(""), std::nullopt);
+}
+
+TEST(Frame, PutAllHandsOnEveryEventInArrivalOrder) {
+  FrameDecoder decoder(8);
+  const std::string stream = frame("a") + header(9) + std::string(9, 'x') + frame("") + frame("bc");
+  Decoded decoded;
+  for (std::size_t at = 0; at < stream.size(); at += 5) {  // in pieces, split anywhere
+    decoder.put_all(
+        std::string_view(stream).substr(at, 5),
+        [&](std::string_view payload) {
+          decoded.frames.emplace_back(payload);
+          decoded.order.push_back(0);
+          return true;
+        },
+        [&](std::uint32_t declared_length) {
+          decoded.dropped_lengths.push_back(declared_length);
+          decoded.order.push_back(1);
+          return true;
+        });
+  }
+  EXPECT_EQ(decoded, (Decoded{{"a", "", "bc"}, {9}, {0, 1, 0, 0}}));
+  EXPECT_FALSE(decoder.mid_frame());
+}
+
+TEST(Frame, PutAllStopsWhenAHandlerSaysSo) {
+  FrameDecoder decoder;
+  std::vector<std::string> payloads;
+  decoder.put_all(three_frame_stream(), [&](std::string_view payload) {
+    payloads.emplace_back(payload);
+    return false;  // as a handler that closed its connection
+  });
+  EXPECT_EQ(payloads, std::vector<std::string>{R"({"ack_time":1,"ack_time_mac":2})"});
 }
 
 TEST(Frame, AppendFrameAcceptsExactlyTheLimit) {

@@ -66,6 +66,25 @@ struct Fixture {
   }
 };
 
+TEST(FramedConnection, ServerOptionsFollowFromTheWire) {
+  EventBus events;
+  const Component component{};
+  const auto vehicle = FramedConnection::server_options(Wire::vehicle, 2000ms, events, component);
+  EXPECT_EQ(vehicle.label, "vehicle");
+  EXPECT_EQ(vehicle.read_timeout, 2000ms);
+  EXPECT_EQ(vehicle.events, &events);
+  EXPECT_EQ(vehicle.wire, Wire::vehicle);
+  EXPECT_EQ(vehicle.inbound_kind, WireMessageKind::vehicle_response);
+  EXPECT_EQ(vehicle.outbound_kind, WireMessageKind::control);
+  EXPECT_EQ(vehicle.write_queue_limit_bytes, default_write_queue_limit_bytes);
+  const auto client = FramedConnection::server_options(Wire::operator_, 500ms, events, component);
+  EXPECT_EQ(client.label, "tcp client");
+  EXPECT_EQ(client.read_timeout, 500ms);
+  EXPECT_EQ(client.wire, Wire::operator_);
+  EXPECT_EQ(client.inbound_kind, WireMessageKind::client_ocp_shared);
+  EXPECT_EQ(client.outbound_kind, WireMessageKind::vehicle_ocp_shared);
+}
+
 TEST(FramedConnection, DeliversEachPayloadAndCountsBytes) {
   Fixture fixture;
   fixture.ends.a->write(frame_of("one") + frame_of("two"));

@@ -38,6 +38,20 @@ TEST(FramingDiagnosis, SnifferSpeaksOnceAndOnlyAboutImplausibleHeaders) {
   EXPECT_EQ(text.diagnosis(), said);
 }
 
+TEST(FramingDiagnosis, SnifferTakesItsOwnThresholdAndKeepsTheDeclaredLength) {
+  // The vehicle client's: a first frame over the payload limit is already no OCP server's.
+  FramingSniffer strict(static_cast<std::uint32_t>(max_payload_bytes + 1));
+  EXPECT_EQ(strict.declared_length(), std::nullopt);
+  const auto said = strict.observe(std::string("\x20\x4e\x00\x00", 4));  // 20 000
+  ASSERT_TRUE(said.has_value());
+  EXPECT_NE(said->find("a length prefix of 20000 bytes, far over the 16384-byte limit"), std::string::npos)
+      << *said;
+  EXPECT_EQ(strict.declared_length(), 20000u);
+  FramingSniffer at_the_limit(static_cast<std::uint32_t>(max_payload_bytes + 1));
+  EXPECT_EQ(at_the_limit.observe(std::string("\x00\x40\x00\x00", 4)), std::nullopt);  // 16 384: fine
+  EXPECT_EQ(at_the_limit.declared_length(), 16384u);
+}
+
 struct ConnectionRun {
   VirtualExecutor executor;
   std::vector<std::string> warnings;

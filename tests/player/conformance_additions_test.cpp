@@ -71,9 +71,7 @@ std::string shared_frame(const AckPair& pair) {
   shared.vehicle_feedback["truck-1"].ack = pair;
   std::string json;
   encode_vehicle_ocp_shared(shared, json);
-  std::string bytes(4, '\0');
-  for (std::size_t i = 0; i < 4; ++i) bytes[i] = static_cast<char>((json.size() >> (8 * i)) & 0xFF);
-  return bytes + json;
+  return frame_of(json);
 }
 
 TEST_F(PlayerConformanceAdditions, RawFrameInPiecesArrivesWholeAfterTheLastPiece) {
@@ -125,10 +123,7 @@ TEST_F(PlayerConformanceAdditions, OversizedRawFrameIsWrittenAsIsAndDrainedByThe
   TestOperatorClient client(harness);
   harness.player.set_client_output_paused(true);
   harness.run_until(at_ms(5));
-  std::string bytes(4 + 20000, 'x');
-  bytes[0] = static_cast<char>(20000 & 0xFF);
-  bytes[1] = static_cast<char>(20000 >> 8);
-  bytes[2] = bytes[3] = '\0';
+  const std::string bytes = length_prefix(20000) + std::string(20000, 'x');
   ASSERT_TRUE(harness.player.write_raw_to_client(bytes + shared_frame(AckPair{7, 7})).ok());
   harness.run_until(at_ms(10));
   EXPECT_EQ(client.oversized_lengths(), std::vector<std::uint32_t>{20000});

@@ -41,13 +41,11 @@ inline std::string frame_of(std::string_view payload) {
   return frame;
 }
 
-// A bare length prefix, for what the codec will not write: the header of a frame of up to
-// 4 GiB that never comes, or one followed by a payload cut short. Little-endian (SPEC §2).
+// A bare length prefix (the codec's, with no limit checked): the header of a frame of up to
+// 4 GiB that never comes, or one followed by a payload cut short or over the limit.
 inline std::string length_prefix(std::uint32_t length) {
-  std::string header(frame_header_bytes, '\0');
-  for (std::size_t index = 0; index < frame_header_bytes; ++index) {
-    header[index] = static_cast<char>((length >> (8 * index)) & 0xFFu);
-  }
+  std::string header;
+  append_length_prefix(length, header);
   return header;
 }
 
@@ -55,11 +53,10 @@ inline std::string length_prefix(std::uint32_t length) {
 inline std::vector<std::string> payloads_of(std::string_view bytes) {
   std::vector<std::string> payloads;
   FrameDecoder decoder;
-  while (!bytes.empty()) {
-    FrameEvent event;
-    bytes.remove_prefix(decoder.put(bytes, event));
-    if (event.kind == FrameEvent::Kind::frame) payloads.emplace_back(event.payload);
-  }
+  decoder.put_all(bytes, [&payloads](std::string_view payload) {
+    payloads.emplace_back(payload);
+    return true;
+  });
   return payloads;
 }
 
@@ -156,21 +153,22 @@ class FramedPeer {
   }
   void on_bytes(std::string_view bytes) {
     bytes_received_ += bytes.size();
-    while (!bytes.empty()) {
-      FrameEvent event;
-      bytes.remove_prefix(decoder_.put(bytes, event));
-      if (event.kind == FrameEvent::Kind::oversized_dropped) {
-        oversized_lengths_.push_back(event.declared_length);
-      } else if (event.kind == FrameEvent::Kind::frame) {
-        // The decoder reports a frame only once its whole declared length arrived.
-        frames_.push_back(ReceivedFrame{now(), static_cast<std::uint32_t>(event.payload.size()),
-                                        std::string(event.payload)});
-        // Copy: a handler may send, close or even receive more, growing frames_.
-        const ReceivedFrame frame = frames_.back();
-        handle_frame(frame);
-        if (on_frame) on_frame(frame);
-      }
-    }
+    decoder_.put_all(
+        bytes,
+        [this](std::string_view payload) {
+          // The decoder reports a frame only once its whole declared length arrived.
+          frames_.push_back(
+              ReceivedFrame{now(), static_cast<std::uint32_t>(payload.size()), std::string(payload)});
+          // Copy: a handler may send, close or even receive more, growing frames_.
+          const ReceivedFrame frame = frames_.back();
+          handle_frame(frame);
+          if (on_frame) on_frame(frame);
+          return true;
+        },
+        [this](std::uint32_t declared_length) {
+          oversized_lengths_.push_back(declared_length);
+          return true;
+        });
   }
 
   const Executor* clock_;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <rapidjson/document.h>
 
+#include "ocp/framing_diagnosis.hpp"
 #include "recording_stream.hpp"
 #include "world.hpp"
 
@@ -301,6 +302,20 @@ TEST(VehicleClientProtocol, ReportsNotAnOcpServerWhenTheFirstFrameLengthIsAbsurd
   EXPECT_NE(world.disconnects[0].find("HTTP"), std::string::npos) << world.disconnects[0];
 }
 
+TEST(VehicleClientProtocol, AFirstFrameJustOverTheLimitIsNotAnOcpServersEvenWithItsHeaderSplit) {
+  ClientWorld world;
+  const std::string bytes = testing::length_prefix(max_payload_bytes + 1) + R"({"filler":"xxxxxxxx)";
+  world.streamer->send_raw(bytes.substr(0, 2));
+  world.executor.run_for(ms(1));
+  EXPECT_TRUE(world.client->connected());
+  world.streamer->send_raw(bytes.substr(2));
+  world.executor.run_for(ms(1));
+  ASSERT_EQ(world.disconnects.size(), 1u);
+  EXPECT_EQ(world.client->stats().last_disconnect_kind, DisconnectKind::not_an_ocp_server);
+  EXPECT_EQ(world.disconnects[0], "not an OCP server: first frame declares 16385 bytes (limit 16384); " +
+                                      describe_non_ocp_bytes(bytes));
+}
+
 TEST(VehicleClientProtocol, ReportsNotAnOcpServerWhenTheFirstFrameIsOtherJson) {
   ClientWorld world;
   world.streamer->send_payload(R"({"hello":"world"})");
@@ -338,11 +353,7 @@ TEST(VehicleClientProtocol, DrainsAnOversizedControlFrameAndKeepsGoing) {
   ClientWorld world;
   world.streamer->send_control(OcpControlMessage{});
   world.executor.run_for(ms(1));
-  const std::uint32_t length = 20000;
-  std::string oversized(4, '\0');
-  for (int index = 0; index < 4; ++index) oversized[index] = static_cast<char>((length >> (8 * index)) & 0xFF);
-  oversized += std::string(length, 'x');
-  world.streamer->send_raw(oversized);
+  world.streamer->send_raw(testing::length_prefix(20000) + std::string(20000, 'x'));
   const AckPair after = world.streamer->send_control(OcpControlMessage{});
   world.executor.run_for(ms(1));
 

@@ -23,10 +23,6 @@ std::uint64_t through_double(std::uint64_t value) {
   return static_cast<std::uint64_t>(rounded);
 }
 
-void append_u32_le(std::uint32_t value, std::string& out) {
-  for (int index = 0; index < 4; ++index) out += static_cast<char>((value >> (8 * index)) & 0xFFu);
-}
-
 }  // namespace
 
 void VehicleClient::send_response(ResponseCause cause) {
@@ -44,10 +40,10 @@ void VehicleClient::send_response(ResponseCause cause) {
     payload_buffer_.resize(payload_buffer_.size() / 2);  // cut mid-object: not JSON any more
   }
   if (misbehave.oversized_frames) {
-    // Deliberately past the limit: append_frame refuses, so frame it by hand. Trailing
-    // whitespace keeps it valid JSON, so only the size is wrong.
+    // Deliberately past the limit: append_frame refuses, so only the header is the codec's.
+    // Trailing whitespace keeps it valid JSON, so only the size is wrong.
     payload_buffer_.resize(std::max(payload_buffer_.size(), oversized_payload_bytes), ' ');
-    append_u32_le(static_cast<std::uint32_t>(payload_buffer_.size()), frame_buffer_);
+    append_length_prefix(static_cast<std::uint32_t>(payload_buffer_.size()), frame_buffer_);
     frame_buffer_ += payload_buffer_;
   } else if (const Status framed = append_frame(payload_buffer_, frame_buffer_); !framed.ok()) {
     // Cannot happen with bounded user data; refuse rather than send something invalid.

@@ -70,7 +70,7 @@ void VehicleClient::attach(std::shared_ptr<ByteStream> stream) {
   stream_ = std::move(stream);
   const std::uint64_t id = ++connection_id_;
   decoder_.reset();
-  first_header_.clear();
+  sniffer_ = FramingSniffer(first_frame_implausible_from);
   seen_valid_control_ = false;
   echo_pair_.reset();
   last_response_time_.reset();
@@ -135,37 +135,51 @@ void VehicleClient::finish_disconnect(DisconnectKind kind, const std::string& re
   if (on_disconnected_) on_disconnected_(reason);
 }
 
+// Why the client deframes with FrameDecoder::put_all (the loop FramedConnection runs too)
+// and not through a FramedConnection: FramedConnection is the servers' side of SPEC §2, and
+// its connection rules are not the client's — using it would change what the client does:
+//  * FramedConnection's read timeout restarts on any byte. The client's silence limit
+//    (on_silence_check) counts from the last valid control message — a server that sends
+//    only oversized frames is still silent — and before the first one the client ends the
+//    connection as not_an_ocp_server.
+//  * FramedConnection drains an oversized first frame and keeps the connection (its sniffer
+//    only warns, from 16 MiB). To the client a first frame over the payload limit means the
+//    peer is no OCP server (check_first_header).
+//  * FramedConnection closes a peer once 1 MiB is queued for it (not_reading). The client
+//    has no write-queue limit, and its misbehaviour switches write frames that send()
+//    refuses (oversized_frames) or write them later (delay_responses).
+//  * FramedConnection reports a close as a CloseReason, with the sniffer's diagnosis
+//    appended, and logs it in its own words; the client reports a DisconnectKind and reasons
+//    that its stats, its tests and the conformance suite read.
+// Not a reason: the echo between ControlMessageDecoder::start and finish would fit inside
+// FramedConnection's on_payload.
 void VehicleClient::on_bytes(std::string_view bytes) {
   stats_.bytes_received += bytes.size();
   if (!seen_valid_control_ && !check_first_header(bytes)) return;
   const std::uint64_t id = connection_id_;
-  while (!bytes.empty()) {
-    FrameEvent event;
-    bytes.remove_prefix(decoder_.put(bytes, event));
-    if (event.kind == FrameEvent::Kind::frame) {
-      handle_payload(event.payload);
-      if (id != connection_id_) return;  // the payload closed the connection
-    } else if (event.kind == FrameEvent::Kind::oversized_dropped) {
-      ++stats_.oversized_frames_dropped;
-      logger_.warn("dropped an oversized control frame ({} bytes > {} limit)", event.declared_length,
-                   max_payload_bytes);
-    }
-  }
+  decoder_.put_all(
+      bytes,
+      [this, id](std::string_view payload) {
+        handle_payload(payload);
+        return id == connection_id_;  // false: the payload closed the connection
+      },
+      [this](std::uint32_t declared_length) {
+        ++stats_.oversized_frames_dropped;
+        logger_.warn("dropped an oversized control frame ({} bytes > {} limit)", declared_length,
+                     max_payload_bytes);
+        return true;
+      });
 }
 
 bool VehicleClient::check_first_header(std::string_view bytes) {
   // An OCP server's first frame is a small control message. A declared length over the limit
   // means the peer speaks something else (HTTP's "HTTP" reads as ~1.3 GB): say so at once
   // instead of silently draining gigabytes.
-  if (first_header_.size() >= frame_header_bytes) return true;
-  const std::size_t had = first_header_.size();
-  first_header_.append(bytes.substr(0, frame_header_bytes - had));
-  const auto length = declared_frame_length(first_header_);
-  if (!length || *length <= max_payload_bytes) return true;
-  const std::string first_bytes = first_header_ + std::string(bytes.substr(frame_header_bytes - had));
+  const std::optional<std::string> diagnosis = sniffer_.observe(bytes);
+  if (!diagnosis) return true;
   close_with(DisconnectKind::not_an_ocp_server,
-             fmt::format("not an OCP server: first frame declares {} bytes (limit {}); {}", *length,
-                         max_payload_bytes, describe_non_ocp_bytes(first_bytes)));
+             fmt::format("not an OCP server: first frame declares {} bytes (limit {}); {}",
+                         sniffer_.declared_length().value_or(0), max_payload_bytes, *diagnosis));
   return false;
 }
 
@@ -223,6 +237,8 @@ void VehicleClient::handle_control_message(const OcpControlMessage& message) {
   safety_.on_control_message(message, now);
 }
 
+// Not FramedConnection's read timeout: silence is counted from the last valid control
+// message, not the last byte (see on_bytes).
 void VehicleClient::arm_silence_check(SimTime deadline) {
   std::weak_ptr<char> alive = alive_;
   silence_timer_ = executor_.call_at(deadline, [this, alive] {

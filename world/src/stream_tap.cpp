@@ -37,23 +37,17 @@ std::shared_ptr<ByteStream> StreamTap::wrap(std::shared_ptr<ByteStream> inner) {
 }
 
 void StreamTap::observe(std::string_view bytes) {
-  while (!bytes.empty()) {
-    FrameEvent event;
-    const std::size_t consumed = decoder_.put(bytes, event);
-    bytes.remove_prefix(consumed);
-    if (event.kind != FrameEvent::Kind::frame) {
-      if (event.kind == FrameEvent::Kind::need_more) return;
-      continue;
-    }
-    auto decoded = decode_control_message(event.payload);
+  decoder_.put_all(bytes, [this](std::string_view payload) {
+    auto decoded = decode_control_message(payload);
     if (!decoded) {
       ++undecodable_frames_;
-      continue;
+      return true;
     }
     ++control_messages_;
     last_control_ = std::move(decoded.value());
     last_control_time_ = executor_.now();
-  }
+    return true;
+  });
 }
 
 }  // namespace ocp

@@ -87,6 +87,13 @@ class FramedConnection : public std::enable_shared_from_this<FramedConnection> {
     std::function<void(const CloseReason& reason)> on_closed;
   };
 
+  // The options of a server's end of `wire`, built only here: the Streamer's vehicle
+  // connection (Wire::vehicle, peer "vehicle": control out, VehicleResponse in) and the
+  // Player's tcp client (Wire::operator_, peer "tcp client": VehicleOcpShared out,
+  // ClientOcpShared in). Events go to `events` as `component`; the rest keeps its defaults.
+  [[nodiscard]] static Options server_options(Wire wire, Micros read_timeout, EventBus& events,
+                                              Component component);
+
   // Takes over `stream`, starts reading from it and arms the read timeout. A stream that is
   // already closed is reported through on_closed from the executor, never from inside open().
   [[nodiscard]] static std::shared_ptr<FramedConnection> open(Executor& executor, Logger logger,
@@ -129,6 +136,9 @@ class FramedConnection : public std::enable_shared_from_this<FramedConnection> {
   void arm_read_timer(SimTime deadline);
   void on_read_timer();
   void finish(const CloseReason& reason);
+  // The write-queue rule of send() and write_raw(): Ok when `bytes` more fit the queue, else
+  // the peer is not reading — the connection is closed and the returned reason says so.
+  Status admit_to_write_queue(std::size_t bytes);
   void publish_frame(SimTime at, FrameDirection direction, WireMessageKind kind, std::uint32_t length_prefix,
                      std::string_view payload, bool drained, std::optional<AckPair> carried = std::nullopt);
   void publish_connection(ConnectionChange change, const CloseReason* reason);

@@ -23,7 +23,4 @@ namespace ocp {
 [[nodiscard]] Status write_raw_in_pieces(Executor& executor, const std::shared_ptr<FramedConnection>& connection,
                                          std::string bytes, const std::vector<std::size_t>& cuts, Micros gap);
 
-// The little-endian length prefix at the start of `bytes` (at least 4 bytes).
-std::uint32_t read_length_prefix(std::string_view bytes);
-
 }  // namespace ocp

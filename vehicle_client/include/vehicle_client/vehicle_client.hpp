@@ -31,6 +31,7 @@
 #include "ocp/executor.hpp"
 #include "ocp/flap_summariser.hpp"
 #include "ocp/frame.hpp"
+#include "ocp/framing_diagnosis.hpp"
 #include "ocp/json_codec.hpp"
 #include "ocp/log.hpp"
 #include "ocp/messages.hpp"
@@ -146,7 +147,9 @@ class VehicleClient {
   std::uint64_t connection_id_ = 0;            // bumped on every (de)attach: stale callbacks no-op
   FrameDecoder decoder_;
   ControlMessageDecoder control_decoder_;      // its own tape: the echo goes out between its two steps
-  std::string first_header_;                   // first 4 bytes of a connection ("not OCP" check)
+  // A first frame over the payload limit: the peer is no OCP server (check_first_header).
+  static constexpr auto first_frame_implausible_from = static_cast<std::uint32_t>(max_payload_bytes + 1);
+  FramingSniffer sniffer_{first_frame_implausible_from};
   std::function<void(const std::string&)> on_disconnected_;
   VehicleClientStats stats_;
   FlapSummariser fault_flaps_{"Streamer-reported fault"};  // the log line, not the decisions
