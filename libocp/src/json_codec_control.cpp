@@ -140,10 +140,8 @@ void encode_control_message(const OcpControlMessage& message, std::string& out) 
   writer.string(message.telemetry.fault_reason);
   writer.literal(",\"missing_cameras\":");
   writer.string_array(message.telemetry.missing_cameras);
-  writer.literal("},\"ack_time\":");
-  writer.u64(message.ack.ack_time);
-  writer.literal(",\"ack_time_mac\":");
-  writer.u64(message.ack.ack_time_mac);
+  writer.literal("},");
+  writer.ack_pair_members(message.ack);
   if (message.client_user_data) {
     writer.literal(",\"client_user_data\":");
     writer.raw(*message.client_user_data);

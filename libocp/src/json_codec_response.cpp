@@ -50,10 +50,8 @@ Result<VehicleResponseMessage> decode_vehicle_response(std::string_view json) {
 
 void encode_vehicle_response(const VehicleResponseMessage& message, std::string& out) {
   json_detail::JsonWriter writer(out);
-  writer.literal("{\"ack_time\":");
-  writer.u64(message.ack.ack_time);
-  writer.literal(",\"ack_time_mac\":");
-  writer.u64(message.ack.ack_time_mac);
+  writer.literal('{');
+  writer.ack_pair_members(message.ack);
   if (message.vehicle_user_data) {
     writer.literal(",\"vehicle_user_data\":");
     writer.vehicle_user_data(*message.vehicle_user_data);

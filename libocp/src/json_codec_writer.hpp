@@ -39,6 +39,14 @@ class JsonWriter {
     }
   }
 
+  // `"ack_time":N,"ack_time_mac":M`: the pair as both the control message and the vehicle
+  // response carry it (SPEC §5), written in one place.
+  void ack_pair_members(const AckPair& ack) {
+    literal("\"ack_time\":");
+    u64(ack.ack_time);
+    literal(",\"ack_time_mac\":");
+    u64(ack.ack_time_mac);
+  }
   void controller(const Controller& controller);
   void optional_controller(const std::optional<Controller>& controller);
   void string_array(const std::vector<std::string>& values);

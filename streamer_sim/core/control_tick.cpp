@@ -4,25 +4,25 @@
 // the steady-state path beyond what user data and camera names need.
 #include "ocp/frame.hpp"
 #include "ocp/json_codec.hpp"
-#include "streamer_state.hpp"
+#include "streamer_impl.hpp"
 
 namespace ocp {
 
-void StreamerCore::State::on_control_tick(SimTime deadline) {
+void StreamerCore::Impl::on_control_tick(SimTime deadline) {
   ++stats.control_ticks;
   // One instant per tick: the faults, the telemetry latency and the issued ack_time agree.
   const SimTime now = executor.now();
   evaluate_tick_faults(now);
   control_sent = false;
-  if (vehicle && !control_output_paused) {
+  if (vehicle_connection && !control_output_paused) {
     build_control_message(now);
     send_control_message();
   }
   publish_latency_sample(deadline, now);
 }
 
-void StreamerCore::State::evaluate_tick_faults(SimTime now) {
-  faults.set(FaultId::VehicleNoResponse, vehicle == nullptr);
+void StreamerCore::Impl::evaluate_tick_faults(SimTime now) {
+  faults.set(FaultId::VehicleNoResponse, vehicle_connection == nullptr);
   // Measured from start when no operator message ever arrived.
   faults.set(FaultId::NoControlMessage, now - last_operator_arrival > config.no_control_timeout);
   // The newest valid pair ages with every tick: a loop that stops turning shows it.
@@ -33,7 +33,7 @@ void StreamerCore::State::evaluate_tick_faults(SimTime now) {
   evaluate_inbox_fault();
 }
 
-void StreamerCore::State::build_control_message(SimTime now) {
+void StreamerCore::Impl::build_control_message(SimTime now) {
   const FaultSet& active = faults.faults();
   if (!operator_controller) {
     outgoing.controller.reset();  // gamepad disabled: null, also during faults
@@ -50,9 +50,9 @@ void StreamerCore::State::build_control_message(SimTime now) {
   outgoing.client_user_data = operator_user_data;
 }
 
-void StreamerCore::State::send_control_message() {
+void StreamerCore::Impl::send_control_message() {
   encode_control_message(outgoing, json_buffer);
-  Status sent = vehicle->send(json_buffer, outgoing.ack);
+  Status sent = vehicle_connection->send(json_buffer, outgoing.ack);
   if (!sent && sent.error().code == LocalError::frame_too_large) {
     // Only oversized client user data can do this; the vehicle still needs its control.
     logger.warn("control message of {} bytes exceeds {} bytes: sent without client_user_data",
@@ -60,7 +60,7 @@ void StreamerCore::State::send_control_message() {
     outgoing.client_user_data.reset();
     ++stats.control_user_data_dropped;
     encode_control_message(outgoing, json_buffer);
-    sent = vehicle->send(json_buffer, outgoing.ack);
+    sent = vehicle_connection->send(json_buffer, outgoing.ack);
   }
   if (!sent) {
     logger.error("control message of {} bytes not sent: {}", json_buffer.size(),

@@ -1,17 +1,17 @@
 // The frame loop's output (SPEC §4.1 source data, §6 StreamerSlow, §8): one StreamerFeedback
 // per iteration, and each camera's video frames carrying the latest echoed pair as SEI.
-#include "streamer_state.hpp"
+#include "streamer_impl.hpp"
 
 namespace ocp {
 
-void StreamerCore::State::on_frame_iteration(Micros took) {
+void StreamerCore::Impl::on_frame_iteration(Micros took) {
   ++stats.frame_loop_iterations;
   // Raised by the iteration that overran; cleared by the next iteration that did not.
   faults.set(FaultId::StreamerSlow, took > config.streamer_slow_threshold);
   send_feedback();
 }
 
-void StreamerCore::State::send_feedback() {
+void StreamerCore::Impl::send_feedback() {
   const SimTime now = executor.now();
   StreamerFeedback feedback;
   feedback.sequence = feedback_sequence++;
@@ -27,14 +27,14 @@ void StreamerCore::State::send_feedback() {
   send_to_player(std::move(feedback));
 }
 
-void StreamerCore::State::send_video_frame(VideoFrame&& frame) {
+void StreamerCore::Impl::send_video_frame(VideoFrame&& frame) {
   frame.sei = echoed_pair;
   ++stats.video_frames_sent;
   send_to_player(std::move(frame));
 }
 
-void StreamerCore::State::send_to_player(LinkMessage&& message) {
-  if (link != nullptr) link->send(std::move(message));
+void StreamerCore::Impl::send_to_player(LinkMessage&& message) {
+  if (to_player != nullptr) to_player->send(std::move(message));
 }
 
 }  // namespace ocp

@@ -2,11 +2,11 @@
 // the control path applies it (controller, user data, sender faults, returned pair).
 #include <variant>
 
-#include "streamer_state.hpp"
+#include "streamer_impl.hpp"
 
 namespace ocp {
 
-void StreamerCore::State::handle_link_message(LinkMessage&& message) {
+void StreamerCore::Impl::handle_link_message(LinkMessage&& message) {
   if (auto* control = std::get_if<OperatorControl>(&message)) {
     enqueue_operator_control(std::move(*control));
   } else if (const auto* ping = std::get_if<Ping>(&message)) {
@@ -18,7 +18,7 @@ void StreamerCore::State::handle_link_message(LinkMessage&& message) {
   }
 }
 
-void StreamerCore::State::enqueue_operator_control(OperatorControl&& message) {
+void StreamerCore::Impl::enqueue_operator_control(OperatorControl&& message) {
   ++stats.operator_messages_received;
   if (!inbox.push(std::move(message), executor.now()) && !inbox_overflow_logged) {
     // Once per backlog episode: the fault already says the control path is behind.
@@ -30,17 +30,17 @@ void StreamerCore::State::enqueue_operator_control(OperatorControl&& message) {
   evaluate_inbox_fault();
 }
 
-void StreamerCore::State::drain_inbox() {
+void StreamerCore::Impl::drain_inbox() {
   while (!inbox.empty()) apply_operator_control(inbox.pop());
   inbox_overflow_logged = false;
 }
 
-void StreamerCore::State::evaluate_inbox_fault() {
+void StreamerCore::Impl::evaluate_inbox_fault() {
   faults.set(FaultId::ControlThreadChannelSlow,
              inbox.slow(executor.now(), config.control_queue_limit, config.control_queue_max_age));
 }
 
-void StreamerCore::State::apply_operator_control(streamer::QueuedControl&& queued) {
+void StreamerCore::Impl::apply_operator_control(streamer::QueuedControl&& queued) {
   OperatorControl& message = queued.message;
   operator_message_seen = true;
   last_operator_arrival = queued.arrived_at;

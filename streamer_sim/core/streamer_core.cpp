@@ -1,10 +1,10 @@
 #include "streamer/streamer_core.hpp"
 
-#include "streamer_state.hpp"
+#include "streamer_impl.hpp"
 
 namespace ocp {
 
-StreamerCore::State::State(Executor& executor_in, StreamerConfig config_in, Logger logger_in)
+StreamerCore::Impl::Impl(Executor& executor_in, StreamerConfig config_in, Logger logger_in)
     : executor(executor_in),
       config(std::move(config_in)),
       logger(std::move(logger_in)),
@@ -15,7 +15,7 @@ StreamerCore::State::State(Executor& executor_in, StreamerConfig config_in, Logg
       control_timer(executor, config.control_period,
                     [this](SimTime deadline) { on_control_tick(deadline); }) {}
 
-void StreamerCore::State::start() {
+void StreamerCore::Impl::start() {
   if (started) return;
   started = true;
   start_time = executor.now();
@@ -24,7 +24,7 @@ void StreamerCore::State::start() {
   logger.info("streamer {} started: control every {} us, frame loop {} Hz, {} camera(s)",
               config.name, config.control_period.count(), config.frame_rate_hz,
               config.cameras.size());
-  faults.set(FaultId::VehicleNoResponse, vehicle == nullptr);
+  faults.set(FaultId::VehicleNoResponse, vehicle_connection == nullptr);
   cameras.start(start_time, [this](VideoFrame&& frame) { send_video_frame(std::move(frame)); });
   if (!frame_loop.start(start_time)) {
     logger.error("frame_rate_hz {} is not a positive rate; no feedback will be sent",
@@ -39,7 +39,7 @@ void StreamerCore::State::start() {
   }
 }
 
-void StreamerCore::State::stop() {
+void StreamerCore::Impl::stop() {
   if (!started) return;
   started = false;
   control_timer.stop();
@@ -47,17 +47,17 @@ void StreamerCore::State::stop() {
   ticker_member = {};
   frame_loop.stop();
   cameras.stop();
-  if (vehicle) vehicle->close(CloseReason{LocalError::shut_down, "streamer stopped"});
+  if (vehicle_connection) vehicle_connection->close(CloseReason{LocalError::shut_down, "streamer stopped"});
   logger.info("streamer {} stopped", config.name);
 }
 
-void StreamerCore::State::publish_fault(FaultId id, bool active) {
+void StreamerCore::Impl::publish_fault(FaultId id, bool active) {
   if (!events.active()) return;
   events.publish(Event{executor.now(), component(),
                        FaultEvent{FaultSide::vehicle, id, active, config.name}});
 }
 
-void StreamerCore::State::publish_latency_sample(SimTime deadline, SimTime now) {
+void StreamerCore::Impl::publish_latency_sample(SimTime deadline, SimTime now) {
   if (!events.active()) return;
   LatencySample sample;
   sample.latency_ms = latency_loop.latency_ms(now);
@@ -68,76 +68,76 @@ void StreamerCore::State::publish_latency_sample(SimTime deadline, SimTime now) 
 }
 
 StreamerCore::StreamerCore(Executor& executor, StreamerConfig config, Logger logger)
-    : state_(std::make_unique<State>(executor, std::move(config), std::move(logger))) {}
+    : impl_(std::make_unique<Impl>(executor, std::move(config), std::move(logger))) {}
 
 StreamerCore::~StreamerCore() {
-  state_->stop();
+  impl_->stop();
 }
 
-void StreamerCore::start() { state_->start(); }
-void StreamerCore::stop() { state_->stop(); }
-void StreamerCore::set_link(LinkDirection* to_player) { state_->link = to_player; }
-void StreamerCore::use_control_ticker(ControlTicker* ticker) { state_->control_ticker = ticker; }
+void StreamerCore::start() { impl_->start(); }
+void StreamerCore::stop() { impl_->stop(); }
+void StreamerCore::set_link(LinkDirection* to_player) { impl_->to_player = to_player; }
+void StreamerCore::use_control_ticker(ControlTicker* ticker) { impl_->control_ticker = ticker; }
 
 void StreamerCore::handle_link_message(LinkMessage&& message) {
-  state_->handle_link_message(std::move(message));
+  impl_->handle_link_message(std::move(message));
 }
 
 void StreamerCore::accept_vehicle_connection(std::shared_ptr<ByteStream> stream) {
-  state_->accept_vehicle(std::move(stream));
+  impl_->accept_vehicle(std::move(stream));
 }
 
 void StreamerCore::set_camera_stalled(std::string_view camera, bool stalled) {
-  if (!state_->cameras.set_stalled(camera, stalled)) {
-    state_->logger.warn("set_camera_stalled: no camera named '{}'", camera);
+  if (!impl_->cameras.set_stalled(camera, stalled)) {
+    impl_->logger.warn("set_camera_stalled: no camera named '{}'", camera);
   }
 }
 
 void StreamerCore::inject_frame_loop_stall(Micros duration) {
-  state_->logger.info("frame loop: injecting a stall of {} us into the next iteration",
+  impl_->logger.info("frame loop: injecting a stall of {} us into the next iteration",
                       duration.count());
-  state_->frame_loop.inject_stall(duration);
+  impl_->frame_loop.inject_stall(duration);
 }
 
 void StreamerCore::set_control_thread_stalled(bool stalled) {
-  state_->control_thread_stalled = stalled;
-  state_->logger.info("control thread {}", stalled ? "stalled" : "resumed");
-  if (!stalled) state_->drain_inbox();
-  state_->evaluate_inbox_fault();
+  impl_->control_thread_stalled = stalled;
+  impl_->logger.info("control thread {}", stalled ? "stalled" : "resumed");
+  if (!stalled) impl_->drain_inbox();
+  impl_->evaluate_inbox_fault();
 }
 
-void StreamerCore::set_control_output_paused(bool paused) { state_->control_output_paused = paused; }
-bool StreamerCore::control_output_paused() const { return state_->control_output_paused; }
+void StreamerCore::set_control_output_paused(bool paused) { impl_->control_output_paused = paused; }
+bool StreamerCore::control_output_paused() const { return impl_->control_output_paused; }
 
 Status StreamerCore::write_raw_to_vehicle(std::string bytes, std::vector<std::size_t> cuts, Micros gap) {
-  return state_->write_raw_to_vehicle(std::move(bytes), std::move(cuts), gap);
+  return impl_->write_raw_to_vehicle(std::move(bytes), std::move(cuts), gap);
 }
 
 void StreamerCore::close_vehicle_connection() {
-  if (state_->vehicle) {
-    state_->vehicle->close(CloseReason{LocalError::shut_down, "closed by the server on request"});
+  if (impl_->vehicle_connection) {
+    impl_->vehicle_connection->close(CloseReason{LocalError::shut_down, "closed by the server on request"});
   }
 }
 
-EventBus& StreamerCore::events() { return state_->events; }
+EventBus& StreamerCore::events() { return impl_->events; }
 
-const FaultSet& StreamerCore::faults() const { return state_->faults.faults(); }
+const FaultSet& StreamerCore::faults() const { return impl_->faults.faults(); }
 
 std::optional<std::uint64_t> StreamerCore::latency_ms() const {
-  return state_->latency_loop.latency_ms(state_->executor.now());
+  return impl_->latency_loop.latency_ms(impl_->executor.now());
 }
 
-bool StreamerCore::vehicle_connected() const { return state_->vehicle != nullptr; }
+bool StreamerCore::vehicle_connected() const { return impl_->vehicle_connection != nullptr; }
 
 std::string StreamerCore::vehicle_peer() const {
-  return state_->vehicle ? state_->vehicle->peer() : std::string();
+  return impl_->vehicle_connection ? impl_->vehicle_connection->peer() : std::string();
 }
 
-const StreamerStats& StreamerCore::stats() const { return state_->stats; }
-const StreamerConfig& StreamerCore::config() const { return state_->config; }
-std::optional<AckPair> StreamerCore::latest_echoed_pair() const { return state_->echoed_pair; }
+const StreamerStats& StreamerCore::stats() const { return impl_->stats; }
+const StreamerConfig& StreamerCore::config() const { return impl_->config; }
+std::optional<AckPair> StreamerCore::latest_echoed_pair() const { return impl_->echoed_pair; }
 std::optional<Controller> StreamerCore::last_sent_controller() const {
-  return state_->last_sent_controller;
+  return impl_->last_sent_controller;
 }
 
 }  // namespace ocp

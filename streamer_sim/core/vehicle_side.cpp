@@ -8,17 +8,17 @@
 
 #include "ocp/json_codec.hpp"
 #include "ocp/raw_pieces.hpp"
-#include "streamer_state.hpp"
+#include "streamer_impl.hpp"
 
 namespace ocp {
 
-void StreamerCore::State::accept_vehicle(std::shared_ptr<ByteStream> stream) {
+void StreamerCore::Impl::accept_vehicle(std::shared_ptr<ByteStream> stream) {
   if (!stream) return;
   const std::string peer = stream->peer_name();
-  if (vehicle) {
+  if (vehicle_connection) {
     ++stats.connections_refused;
     const CloseReason reason{LocalError::already_connected,
-                             fmt::format("{} is already connected", vehicle->peer())};
+                             fmt::format("{} is already connected", vehicle_connection->peer())};
     logger.warn("refused vehicle connection from {}: {}", peer, reason.detail);
     stream->close();
     if (events.active()) {
@@ -43,17 +43,17 @@ void StreamerCore::State::accept_vehicle(std::shared_ptr<ByteStream> stream) {
   handlers.on_payload = [this](std::string_view payload) -> Status {
     auto response = decode_vehicle_response(payload);
     if (!response) return response.error();
-    if (vehicle) vehicle->note_inbound_pair(response->ack);   // for the WireFrame event
+    if (vehicle_connection) vehicle_connection->note_inbound_pair(response->ack);   // for the WireFrame event
     on_vehicle_response(std::move(*response));
     return Ok{};
   };
   handlers.on_closed = [this](const CloseReason& reason) { on_vehicle_closed(reason); };
-  vehicle = FramedConnection::open(executor, logger.child("vehicle"), std::move(stream),
+  vehicle_connection = FramedConnection::open(executor, logger.child("vehicle"), std::move(stream),
                                    std::move(options), counters, std::move(handlers));
   if (started) faults.set(FaultId::VehicleNoResponse, false);
 }
 
-void StreamerCore::State::on_vehicle_response(VehicleResponseMessage&& response) {
+void StreamerCore::Impl::on_vehicle_response(VehicleResponseMessage&& response) {
   // Responses' pairs are not validated here: they are copied into SEI, and the MAC is checked
   // when the operator returns them.
   ++stats.vehicle_responses_received;
@@ -64,21 +64,21 @@ void StreamerCore::State::on_vehicle_response(VehicleResponseMessage&& response)
   }
 }
 
-void StreamerCore::State::on_vehicle_closed(const CloseReason& reason) {
-  if (!vehicle) return;
-  const std::string peer = vehicle->peer();
+void StreamerCore::Impl::on_vehicle_closed(const CloseReason& reason) {
+  if (!vehicle_connection) return;
+  const std::string peer = vehicle_connection->peer();
   ++stats.connections_closed;
   stats.last_close_reason = reason;
   logger.info("vehicle disconnected: {} ({})", peer, reason.message());
   // Keep the connection object alive until this callback unwinds: the stream callback that
   // led here holds its own reference, so resetting our pointer is safe.
-  vehicle.reset();
+  vehicle_connection.reset();
   if (started) faults.set(FaultId::VehicleNoResponse, true);
 }
 
-Status StreamerCore::State::write_raw_to_vehicle(std::string bytes, std::vector<std::size_t> cuts,
+Status StreamerCore::Impl::write_raw_to_vehicle(std::string bytes, std::vector<std::size_t> cuts,
                                                 Micros gap) {
-  if (!vehicle) return Error{LocalError::not_connected, "no vehicle connected"};
+  if (!vehicle_connection) return Error{LocalError::not_connected, "no vehicle connected"};
   if (events.active()) {
     const std::string_view all(bytes);
     WireFrame frame;
@@ -90,10 +90,10 @@ Status StreamerCore::State::write_raw_to_vehicle(std::string bytes, std::vector<
       frame.payload = all.substr(frame_header_bytes);
       if (auto decoded = decode_control_message(frame.payload)) frame.ack = decoded->ack;
     }
-    frame.peer = vehicle->peer();
+    frame.peer = vehicle_connection->peer();
     events.publish(Event{executor.now(), component(), frame});
   }
-  return write_raw_in_pieces(executor, vehicle, std::move(bytes), cuts, gap);
+  return write_raw_in_pieces(executor, vehicle_connection, std::move(bytes), cuts, gap);
 }
 
 }  // namespace ocp

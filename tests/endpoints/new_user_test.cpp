@@ -23,7 +23,8 @@ using testing::run_until;
 
 class NewUser : public ::testing::Test {
  protected:
-  void start(StreamerSimOptions options = {}) {
+  void start() { start(StreamerSimOptions()); }
+  void start(StreamerSimOptions options) {
     options.plugin_params.tcp_port = 0;
     simulation_ = std::make_unique<StreamerSimulation>(executor_, options, log_.sink());
     ASSERT_TRUE(simulation_->start().ok());

@@ -58,10 +58,10 @@ void VehicleClient::send_response(ResponseCause cause) {
   last_response_time_ = now;
 
   if (misbehave.delay_responses.count() > 0) {
-    std::weak_ptr<char> alive = alive_;
+    const LivenessToken::Watch owner = liveness_.watch();
     const std::uint64_t id = connection_id_;
-    executor_.call_after(misbehave.delay_responses, [this, alive, id, frame = frame_buffer_] {
-      if (!alive.expired() && id == connection_id_ && stream_) stream_->write(frame);
+    executor_.call_after(misbehave.delay_responses, [this, owner, id, frame = frame_buffer_] {
+      if (owner.alive() && id == connection_id_ && stream_) stream_->write(frame);
     });
   } else {
     stream_->write(frame_buffer_);

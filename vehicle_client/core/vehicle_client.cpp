@@ -39,8 +39,7 @@ VehicleClient::VehicleClient(Executor& executor, VehicleClientConfig config, Log
       logger_(std::move(logger)),
       safety_(config_.safety),
       model_(config_.vehicle, config_.start, config_.start_heading_deg),
-      model_timer_(executor_, config_.model_step, [this](SimTime deadline) { on_model_tick(deadline); }),
-      alive_(std::make_shared<char>()) {
+      model_timer_(executor_, config_.model_step, [this](SimTime deadline) { on_model_tick(deadline); }) {
   model_.reset_time(executor_.now());
   refresh_user_data();
   if (config_.misbehave.any()) {
@@ -49,7 +48,7 @@ VehicleClient::VehicleClient(Executor& executor, VehicleClientConfig config, Log
 }
 
 VehicleClient::~VehicleClient() {
-  alive_.reset();
+  liveness_.revoke();
   detach();
   // Keep-alive tasks hold a plain `this` (response_writer.cpp): none may outlive the client.
   if (keepalive_timer_ != 0) executor_.cancel(keepalive_timer_);
@@ -84,15 +83,15 @@ void VehicleClient::attach(std::shared_ptr<ByteStream> stream) {
   logger_.debug("attached to {}", stream_->peer_name());
 
   stream_->set_no_delay(true);
-  std::weak_ptr<char> alive = alive_;
+  const LivenessToken::Watch owner = liveness_.watch();
   stream_->set_handlers(ByteStreamHandlers{
       .on_bytes =
-          [this, alive, id](std::string_view bytes) {
-            if (!alive.expired() && id == connection_id_) on_bytes(bytes);
+          [this, owner, id](std::string_view bytes) {
+            if (owner.alive() && id == connection_id_) on_bytes(bytes);
           },
       .on_closed =
-          [this, alive, id](const std::string& reason) {
-            if (!alive.expired() && id == connection_id_) on_closed(reason);
+          [this, owner, id](const std::string& reason) {
+            if (owner.alive() && id == connection_id_) on_closed(reason);
           },
   });
   arm_silence_check(now + config_.server_silence_limit);
@@ -240,9 +239,9 @@ void VehicleClient::handle_control_message(const OcpControlMessage& message) {
 // Not FramedConnection's read timeout: silence is counted from the last valid control
 // message, not the last byte (see on_bytes).
 void VehicleClient::arm_silence_check(SimTime deadline) {
-  std::weak_ptr<char> alive = alive_;
-  silence_timer_ = executor_.call_at(deadline, [this, alive] {
-    if (!alive.expired()) on_silence_check();
+  const LivenessToken::Watch owner = liveness_.watch();
+  silence_timer_ = executor_.call_at(deadline, [this, owner] {
+    if (owner.alive()) on_silence_check();
   });
 }
 

@@ -11,14 +11,9 @@ namespace ocp {
 
 PlayerSimOptions PlayerCli::simulation_options() const {
   PlayerSimOptions options;
+  static_cast<sim_app::SimulatedWorldOptions&>(options) = common.world_options();
   options.vehicles = vehicles;
-  options.plugin_params = common.plugin_params;
-  options.cameras = common.cameras;
-  options.link = common.link_impairments();
-  options.seed = common.seed;
-  options.gamepad = common.gamepad;
   options.frame_rate_hz = frame_rate_hz;
-  options.ack_time_offset = common.ack_time_offset;
   options.vehicle_tcp_ports = vehicle_tcp_ports;
   if (!no_webview) {
     WebviewOptions webview;   // allow_remote follows ocp_tcp_allow_remote (PlayerSimulation)

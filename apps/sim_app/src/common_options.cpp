@@ -81,6 +81,10 @@ Impairments CommonOptions::link_impairments() const {
   return impairments;
 }
 
+SimulatedWorldOptions CommonOptions::world_options() const {
+  return SimulatedWorldOptions{plugin_params, cameras, link_impairments(), seed, gamepad, ack_time_offset};
+}
+
 std::optional<Micros> CommonOptions::duration() const {
   if (duration_s <= 0.0) return std::nullopt;
   return Micros{static_cast<std::int64_t>(std::llround(duration_s * 1e6))};

@@ -9,14 +9,9 @@ namespace ocp {
 
 StreamerSimOptions StreamerCli::simulation_options() const {
   StreamerSimOptions options;
+  static_cast<sim_app::SimulatedWorldOptions&>(options) = common.world_options();
   options.vehicle = vehicle;
-  options.plugin_params = common.plugin_params;
-  options.cameras = common.cameras;
-  options.link = common.link_impairments();
-  options.seed = common.seed;
-  options.gamepad = common.gamepad;
   options.operator_frame_rate_hz = operator_rate_hz;
-  options.ack_time_offset = common.ack_time_offset;
   return options;
 }
 

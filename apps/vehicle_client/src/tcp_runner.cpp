@@ -80,17 +80,16 @@ TcpRunner::TcpRunner(AsioExecutor& executor, VehicleClient& client, TcpRunnerCon
       client_(client),
       config_(std::move(config)),
       logger_(std::move(logger)),
-      backoff_(config_.backoff_initial),
-      alive_(std::make_shared<char>()) {
-  std::weak_ptr<char> alive = alive_;
-  client_.set_on_disconnected([this, alive](const std::string& reason) {
-    if (!alive.expired()) on_client_disconnected(reason);
+      backoff_(config_.backoff_initial) {
+  const LivenessToken::Watch owner = liveness_.watch();
+  client_.set_on_disconnected([this, owner](const std::string& reason) {
+    if (owner.alive()) on_client_disconnected(reason);
   });
 }
 
 TcpRunner::~TcpRunner() {
   stop();
-  alive_.reset();
+  liveness_.revoke();
   client_.set_on_disconnected(nullptr);
 }
 
@@ -141,7 +140,7 @@ void TcpRunner::connect() {
   attempt_ = attempt;
   emit(ConnectionEventKind::connecting, fmt::format("connecting to {}", config_.server.to_string()));
 
-  std::weak_ptr<char> alive = alive_;
+  const LivenessToken::Watch owner = liveness_.watch();
   attempt->timeout_timer = executor_.call_after(config_.connect_timeout, [attempt] {
     if (attempt->finished) return;
     attempt->timeout_timer = 0;
@@ -151,8 +150,8 @@ void TcpRunner::connect() {
     attempt->socket.close(ignored);  // completes the pending connect with operation_aborted
   });
 
-  const auto on_connect = [this, alive, attempt](const boost::system::error_code& error, const tcp::endpoint&) {
-    if (alive.expired() || attempt->finished) return;
+  const auto on_connect = [this, owner, attempt](const boost::system::error_code& error, const tcp::endpoint&) {
+    if (!owner.alive() || attempt->finished) return;
     const std::string server = config_.server.to_string();
     if (attempt->timed_out) {
       on_attempt_failed(ConnectionEventKind::timed_out,
@@ -171,9 +170,9 @@ void TcpRunner::connect() {
   };
   attempt->resolver.async_resolve(
       config_.server.host, std::to_string(config_.server.port),
-      [this, alive, attempt, on_connect](const boost::system::error_code& error,
+      [this, owner, attempt, on_connect](const boost::system::error_code& error,
                                          const tcp::resolver::results_type& results) {
-        if (alive.expired() || attempt->finished) return;
+        if (!owner.alive() || attempt->finished) return;
         if (attempt->timed_out) {
           on_connect(asio::error::timed_out, tcp::endpoint{});
         } else if (error) {
@@ -232,9 +231,9 @@ void TcpRunner::schedule_retry() {
   const Micros delay = backoff_;
   backoff_ = std::min(backoff_ * 2, config_.backoff_max);
   emit(ConnectionEventKind::retry_scheduled, fmt::format("retrying in {} ms", to_whole_ms(delay)), delay);
-  std::weak_ptr<char> alive = alive_;
-  retry_timer_ = executor_.call_after(delay, [this, alive] {
-    if (!alive.expired()) connect();
+  const LivenessToken::Watch owner = liveness_.watch();
+  retry_timer_ = executor_.call_after(delay, [this, owner] {
+    if (owner.alive()) connect();
   });
 }
 

@@ -176,7 +176,7 @@ class PlayerCore {
   const PlayerStats& stats() const;
 
  private:
-  struct Impl;
+  struct Impl;   // private state, split by concern over player_sim/core (player_impl.hpp)
   std::unique_ptr<Impl> impl_;
 };
 

@@ -189,8 +189,8 @@ class StreamerCore {
   std::optional<Controller> last_sent_controller() const;
 
  private:
-  struct State;
-  std::unique_ptr<State> state_;
+  struct Impl;   // private state, split by concern over streamer_sim/core (streamer_impl.hpp)
+  std::unique_ptr<Impl> impl_;
 };
 
 }  // namespace ocp

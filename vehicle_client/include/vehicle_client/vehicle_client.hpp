@@ -33,6 +33,7 @@
 #include "ocp/frame.hpp"
 #include "ocp/framing_diagnosis.hpp"
 #include "ocp/json_codec.hpp"
+#include "ocp/liveness_token.hpp"
 #include "ocp/log.hpp"
 #include "ocp/messages.hpp"
 #include "vehicle_client/misbehaviour.hpp"
@@ -142,7 +143,7 @@ class VehicleClient {
   PeriodicTimer model_timer_;
   // Callbacks handed to streams and the executor hold a weak copy: once the client is gone
   // they do nothing, whoever outlives whom.
-  std::shared_ptr<char> alive_;
+  LivenessToken liveness_;  // socket handlers and timers watch it: no-ops once this is destroyed
   std::shared_ptr<ByteStream> stream_;
   std::uint64_t connection_id_ = 0;            // bumped on every (de)attach: stale callbacks no-op
   FrameDecoder decoder_;

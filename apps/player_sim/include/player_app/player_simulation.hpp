@@ -18,23 +18,18 @@
 #include "player_app/webview_server.hpp"
 #include "world/world.hpp"
 #include "sim_app/gamepad_script.hpp"
+#include "sim_app/simulated_world_options.hpp"
 #include "sim_app/tcp_front.hpp"
 
 namespace ocp {
 
-struct PlayerSimOptions {
+struct PlayerSimOptions : sim_app::SimulatedWorldOptions {   // ocp_player_tcp_port is the operator API's
   std::vector<std::string> vehicles{"vehicle"};
-  PluginParams plugin_params;            // ocp_player_tcp_port, ocp_tcp_allow_remote, latency_limit
-  std::vector<CameraConfig> cameras;     // per vehicle; empty: the default (front, 30 fps)
-  Impairments link;                      // both directions of every fake com channel
-  std::uint64_t seed = 1;
-  sim_app::GamepadScript gamepad;            // the operator station's gamepad (default: drive)
   double frame_rate_hz = 100.0;          // Player frame rate (capped at 100)
   // --vehicle-tcp: these vehicles get a vehicle-side TCP API on the port (0 = free port)
   // instead of the in-process reference vehicle client.
   std::map<std::string, std::uint16_t> vehicle_tcp_ports;
   std::optional<WebviewOptions> webview;  // the web view endpoint; nullopt = none
-  std::uint64_t ack_time_offset = 0;     // added to every ack_time of every Streamer (SPEC §5)
 };
 
 class PlayerSimulation {

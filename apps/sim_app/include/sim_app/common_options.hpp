@@ -24,6 +24,7 @@
 #include "ocp/log.hpp"
 #include "ocp/plugin_params.hpp"
 #include "sim_app/gamepad_script.hpp"
+#include "sim_app/simulated_world_options.hpp"
 #include "streamer/streamer_core.hpp"
 
 namespace ocp::sim_app {
@@ -54,6 +55,7 @@ struct CommonOptions {
   std::vector<std::string> warnings;
 
   Impairments link_impairments() const;    // delay / jitter / loss, for both directions
+  SimulatedWorldOptions world_options() const;
   std::optional<Micros> duration() const;  // nullopt = run until a signal
 };
 

@@ -15,19 +15,14 @@
 #include "ocp/plugin_params.hpp"
 #include "world/world.hpp"
 #include "sim_app/gamepad_script.hpp"
+#include "sim_app/simulated_world_options.hpp"
 #include "sim_app/tcp_front.hpp"
 
 namespace ocp {
 
-struct StreamerSimOptions {
+struct StreamerSimOptions : sim_app::SimulatedWorldOptions {   // tcp_port is the vehicle API's
   std::string vehicle = "vehicle";
-  PluginParams plugin_params;            // tcp_port, ocp_tcp_allow_remote, latency_limit
-  std::vector<CameraConfig> cameras;     // empty: the StreamerConfig default (front, 30 fps)
-  Impairments link;                      // both directions of the fake com channel
-  std::uint64_t seed = 1;
-  sim_app::GamepadScript gamepad;            // the simulated operator's gamepad (default: drive)
   double operator_frame_rate_hz = 100.0;
-  std::uint64_t ack_time_offset = 0;     // added to every ack_time (SPEC §5)
   Micros operator_phase{0};              // the operator's frames this long after the control ticks
 };
 

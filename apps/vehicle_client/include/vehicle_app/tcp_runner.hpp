@@ -98,7 +98,7 @@ class TcpRunner {
   Micros backoff_;
   bool running_ = false;
   std::uint64_t control_seen_at_connect_ = 0;
-  std::shared_ptr<char> alive_;  // weak copies in async handlers: no-ops once destroyed
+  LivenessToken liveness_;  // async handlers watch it: no-ops once this is destroyed
 };
 
 }  // namespace ocp

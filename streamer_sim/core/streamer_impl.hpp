@@ -21,8 +21,8 @@
 
 namespace ocp {
 
-struct StreamerCore::State {
-  State(Executor& executor, StreamerConfig config, Logger logger);
+struct StreamerCore::Impl {
+  Impl(Executor& executor, StreamerConfig config, Logger logger);
 
   // streamer_core.cpp
   void start();
@@ -63,7 +63,7 @@ struct StreamerCore::State {
   Logger logger;
   StreamerStats stats;
   EventBus events;
-  LinkDirection* link = nullptr;
+  LinkDirection* to_player = nullptr;             // the link's direction towards the Player (feedback, video)
 
   streamer::FaultTracker faults;
   streamer::LatencyLoop latency_loop;
@@ -78,7 +78,7 @@ struct StreamerCore::State {
   SimTime start_time{};
 
   // Vehicle side.
-  std::shared_ptr<FramedConnection> vehicle;
+  std::shared_ptr<FramedConnection> vehicle_connection;
   std::optional<AckPair> echoed_pair;            // latest pair echoed by the vehicle (→ SEI)
   std::optional<VehicleUserData> vehicle_data;   // latest vehicle user data …
   SimTime vehicle_data_arrived_at{};             // … and when it arrived
