@@ -37,6 +37,7 @@ bool write_file(const std::string& path, const std::string& text) {
 struct SuiteCommandLine {
   RunOptions options;
   int port = -1;
+  double connect_timeout_s = 3.0;
   bool list = false, markdown = false;
   std::string include, exclude, out_dir, junit, baseline_path, write_baseline;
   std::vector<std::string> command;
@@ -57,6 +58,10 @@ void add_suite_options(CLI::App& suite, bool is_vehicle, SuiteCommandLine& line)
   suite.add_option("--exclude", line.exclude, "Skip these cases (same syntax)");
   suite.add_option("--timeout-scale", options.timeout_scale, "Multiply every timeout (slow machines, sanitizers)")
       ->check(ocp::cli::real(0.1, 100.0));
+  suite.add_option("--connect-timeout-s", line.connect_timeout_s,
+                   "A launched client that has not connected this long after its launch (or exited before) stops the run: exit 2")
+      ->capture_default_str()
+      ->check(ocp::cli::real(0.1, 600.0));
   suite.add_option("--out", line.out_dir, "Write index.json, report.html and client logs into this directory");
   suite.add_option("--junit", line.junit, "Write JUnit XML to this file");
   suite.add_option("--baseline", line.baseline_path, "Expected failures (one case id per line); the run is judged against it");
@@ -75,6 +80,7 @@ void print_case_list(const std::vector<VehicleCase>& cases, bool markdown) {
 bool complete_run_options(SuiteCommandLine& line, bool operator_suite) {
   RunOptions& options = line.options;
   options.command = line.command;
+  options.connect_timeout = std::chrono::milliseconds(static_cast<std::int64_t>(line.connect_timeout_s * 1000.0));
   options.port = static_cast<std::uint16_t>(line.port >= 0 ? line.port : (line.command.empty() ? (operator_suite ? 4001 : 4000) : 0));
   if (line.out_dir.empty()) return true;
   std::error_code error;

@@ -13,6 +13,8 @@ extern char** environ;   // POSIX: the process environment (unistd.h declares it
 #include <cerrno>
 #include <chrono>
 #include <cstring>
+#include <deque>
+#include <fstream>
 #include <memory>
 #include <string>
 #include <thread>
@@ -40,6 +42,28 @@ void forget(pid_t pid) {
 }
 
 }  // namespace
+
+std::string describe_exit_status(int status) {
+  if (status <= 128) return "exited with code " + std::to_string(status);
+  const int signal_number = status - 128;
+  const char* name = sigabbrev_np(signal_number);
+  return "was killed by signal " + std::to_string(signal_number) + (name ? std::string(" (SIG") + name + ")" : std::string());
+}
+
+std::string last_lines_of(const std::string& path, std::size_t count) {
+  std::ifstream in(path, std::ios::binary);
+  if (path.empty() || !in) return "";
+  std::deque<std::string> lines;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.size() > 300) line = line.substr(0, 300) + " …";   // a client may write anything
+    lines.push_back(std::move(line));
+    if (lines.size() > count) lines.pop_front();
+  }
+  std::string out;
+  for (const std::string& kept : lines) out += "\n    " + kept;
+  return out;
+}
 
 std::vector<std::string> substitute_port(const std::vector<std::string>& command, std::uint16_t port) {
   std::vector<std::string> out;

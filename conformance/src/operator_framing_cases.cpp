@@ -136,7 +136,8 @@ Outcome oversized_frame_skipped(CaseContext& context) {
   context.run_for(milliseconds(300));
   // Nothing sent when the client dropped the connection at once: grade() reports the close.
   const std::vector<AckPair> last = sent.empty() ? std::vector<AckPair>{} : std::vector<AckPair>{sent.back()};
-  return grade(context, start, sent, last, fmt::format("a 20000-byte frame, then {} frames", sent.size()));
+  return beyond_what_the_product_sends(
+      grade(context, start, sent, last, fmt::format("a 20000-byte frame, then {} frames", sent.size())));
 }
 
 }  // namespace
@@ -165,9 +166,10 @@ void add_operator_framing_cases(std::vector<VehicleCase>& cases) {
   cases.push_back({{{"operator/2/5", "skips an oversized VehicleOcpShared frame, keeps the connection", "SPEC §2, §4.2",
                      "\"Inbound frame larger than that: read and discard (drain) exactly length bytes, log a warning, keep the "
                      "connection.\" — Player TCP server: \"same bind rule and framing as §2\"",
-                     Tier::must, milliseconds(10'000),
-                     {"OK: after a 20000-byte frame the client stays connected and returns the following frames' pairs"},
-                     "broken_client.py op-reject-oversized"},
+                     Tier::should, milliseconds(10'000),
+                     {"OK: after a 20000-byte frame the client stays connected and returns the following frames' pairs",
+                      "NON-STRICT: the client closes or stops returning pairs after it (the product never sends such a frame: SPEC §2 Decision)"},
+                     "broken_client.py op-reject-oversized (NON-STRICT)"},
                     oversized_frame_skipped},
                    op});
 }

@@ -17,9 +17,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// How long a freshly launched client may take to start and connect before its case begins.
-constexpr std::chrono::milliseconds launch_connect_limit{10'000};
-
 double ms_since(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
@@ -52,6 +49,26 @@ std::string log_path(const RunOptions& options, const std::string& name) {
   return options.client_log_dir + "/" + file + ".log";
 }
 
+// Waits until the launched client connected to the current Streamer (or Player) at least once;
+// a client connected and already closed again counts, it is the case's to grade.
+void wait_for_first_connection(StreamerHost& host, ClientProcess& client, const std::string& client_log,
+                               const RunOptions& options) {
+  const auto limit = std::chrono::duration_cast<std::chrono::milliseconds>(
+      std::chrono::duration<double, std::milli>(static_cast<double>(options.connect_timeout.count()) * options.timeout_scale));
+  const auto connected = [&] { return host.client_connections_accepted() > 0; };
+  (void)host.run_until([&] { return connected() || !client.running(); }, limit);
+  if (connected()) return;
+  const std::string what = client.running()
+      ? fmt::format("did not connect to 127.0.0.1:{} within {:.1f} s of its launch (a slow starter: raise --connect-timeout-s)", host.port(),
+                    std::chrono::duration<double>(limit).count())
+      : fmt::format("{} before it connected to 127.0.0.1:{}", describe_exit_status(*client.exit_status()), host.port());
+  const std::string output = last_lines_of(client_log, 10);
+  const std::string said = client_log.empty() ? "rerun with --out DIR to keep its output"
+                           : output.empty()   ? "it wrote nothing"
+                                              : "the last lines it wrote (" + client_log + "):" + output;
+  throw std::runtime_error(fmt::format("the client {}; {}", what, said));
+}
+
 CaseResult run_one(Shared& shared, StreamerHost& host, const VehicleCase& test_case, std::unique_ptr<ClientProcess>& client,
                    std::string& client_log, unsigned worker) {
   const RunOptions& options = shared.options;
@@ -78,17 +95,15 @@ CaseResult run_one(Shared& shared, StreamerHost& host, const VehicleCase& test_c
   }
   result.client_log_path = launching ? client_log : std::string();
   // A client just launched (a new process, or one relaunched after it died) is given its own
-  // bounded time to start and connect before the case's clock starts: on a loaded machine a
-  // Python client can take seconds to start, and that is no part of what the case grades.
-  // A client that exits or never connects gets no such grace: its case starts at the launch
-  // and fails on its own connection wait.
+  // bounded time to start and connect before the case's clock starts: starting is no part of
+  // what the case grades. A client that exits or never connects cannot be graded at all: the
+  // run stops with a harness error at once, instead of timing out case after case.
   Clock::time_point case_start = start;
   if (client_was_launched) {
-    const auto connect_limit = std::chrono::duration_cast<std::chrono::milliseconds>(
-        std::chrono::duration<double, std::milli>(static_cast<double>(launch_connect_limit.count()) * options.timeout_scale));
-    (void)host.run_until([&] { return host.client_connected() || !client->running(); }, connect_limit);
-    if (host.client_connected()) case_start = Clock::now();
+    wait_for_first_connection(host, *client, client_log, options);
+    case_start = Clock::now();
   }
+  const bool client_was_running = client && client->running();
   const auto timeout = std::chrono::duration_cast<Clock::duration>(
       std::chrono::duration<double, std::milli>(static_cast<double>(test_case.body.info.timeout.count()) * options.timeout_scale));
   CaseContext context(host, log, case_start + timeout, options.timeout_scale);
@@ -101,6 +116,9 @@ CaseResult run_one(Shared& shared, StreamerHost& host, const VehicleCase& test_c
     result.verdict = test_case.body.info.tier == Tier::info ? Verdict::informational : Verdict::failed;
     result.actual = fmt::format("the case did not finish within its {:.1f} s timeout",
                                 std::chrono::duration<double>(timeout).count());
+  }
+  if (client_was_running && !client->running()) {
+    result.actual += fmt::format(" (the client {} during the case)", describe_exit_status(*client->exit_status()));
   }
   host.stop_streamer();
   log.detach();

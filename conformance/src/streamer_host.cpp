@@ -90,6 +90,11 @@ bool StreamerHost::client_connected() {
   return operator_side_ ? world_->player().client_connected() : streamer().vehicle_connected();
 }
 
+std::uint64_t StreamerHost::client_connections_accepted() {
+  if (!world_) return 0;
+  return operator_side_ ? world_->player().stats().client_connections_accepted : streamer().stats().connections_accepted;
+}
+
 EventBus& StreamerHost::client_events() { return operator_side_ ? world_->player().events() : streamer().events(); }
 
 bool StreamerHost::run_until(const std::function<bool()>& done, std::chrono::milliseconds timeout) {

@@ -10,6 +10,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -62,7 +63,10 @@ SuiteRun run_suite(const std::string& name, const std::string& options, const st
                    const std::string& suite = "vehicle") {
   const std::string dir = fresh_dir(name);
   SuiteRun result;
-  result.exit_code = run(harness + " " + suite + " --out " + dir + " " + options + " -- " + client, dir + "/out.txt");
+  // A Python client took 3.9 s to start on this machine at load 9: the suites here give every
+  // client 60 s to connect, so only the tests of the connect timeout itself depend on it.
+  const std::string connect = options.find("--connect-timeout-s") == std::string::npos ? " --connect-timeout-s 60" : "";
+  result.exit_code = run(harness + " " + suite + " --out " + dir + connect + " " + options + " -- " + client, dir + "/out.txt");
   result.output = read_file(dir + "/out.txt");
   const std::string json = read_file(dir + "/index.json");
   result.index.Parse<rapidjson::kParseValidateEncodingFlag>(json.c_str());   // reports stay valid UTF-8
@@ -165,8 +169,9 @@ INSTANTIATE_TEST_SUITE_P(
     BrokenClients, BrokenClientExactly,
     ::testing::Values(ExactCase{"echo-only", {"vehicle/2/7"}, "vehicle/2/7", "FAILED"},
                       ExactCase{"timer-echo", {}, "vehicle/3.3/2", "NON-STRICT"},
-                      ExactCase{"naive-recv", {"vehicle/2/3", "vehicle/2/4", "vehicle/2/5"}, "vehicle/2/3", "FAILED"},
-                      ExactCase{"reject-oversized", {"vehicle/2/5"}, "vehicle/2/5", "FAILED"},
+                      ExactCase{"naive-recv", {"vehicle/2/3", "vehicle/2/4"}, "vehicle/2/3", "FAILED"},
+                      // SHOULD (SPEC §2 Decision): the product never sends a frame above 16 KiB.
+                      ExactCase{"reject-oversized", {}, "vehicle/2/5", "NON-STRICT"},
                       ExactCase{"require-controller", {"vehicle/3.2/1"}, "vehicle/3.2/1", "FAILED"},
                       ExactCase{"fault-enum", {"vehicle/3.2/2"}, "vehicle/3.2/2", "FAILED"},
                       ExactCase{"flat-user-data", {"vehicle/3.2/3"}, "vehicle/3.2/3", "FAILED"},
@@ -253,6 +258,43 @@ TEST(ConformanceSuite, HarnessErrorsExitTwo) {
   close(listener);
 }
 
+// A client that cannot run is a harness error found at once: exit 2 with the client's exit code
+// and the last lines it wrote, instead of a timeout in every case (80–160 s and exit 1 before).
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+TEST(ConformanceSuite, AClientThatExitsBeforeConnectingStopsTheRunAtOnce) {
+  for (const std::string suite : {"vehicle", "operator"}) {
+    const auto start = std::chrono::steady_clock::now();
+    const SuiteRun r = run_suite("exits_early_" + suite, "", "sh -c 'echo no module named ocp_client >&2; exit 3'", suite);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("the client exited with code 3 before it connected"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("no module named ocp_client"), std::string::npos) << r.output;
+    EXPECT_LT(seconds_since(start), 30.0) << r.output;   // the first case stops the run (< 1 s here)
+  }
+}
+
+TEST(ConformanceSuite, AClientThatNeverConnectsStopsTheRunAfterTheConnectTimeout) {
+  const auto start = std::chrono::steady_clock::now();
+  const SuiteRun r = run_suite("never_connects", "--connect-timeout-s 1", "sleep 60");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("did not connect to 127.0.0.1:"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("within 1.0 s of its launch"), std::string::npos) << r.output;
+  EXPECT_LT(seconds_since(start), 30.0) << r.output;
+}
+
+TEST(ConformanceSuite, AClientThatCrashesDuringACaseIsNamedInThatCase) {
+  const std::string crashes =
+      "python3 -c \"import os, signal, socket, time; s = socket.create_connection(('127.0.0.1', int(os.environ['OCP_PORT']))); "
+      "time.sleep(0.2); os.kill(os.getpid(), signal.SIGSEGV)\"";
+  const SuiteRun r = run_suite("crashes", "--cases vehicle/3.3/1", crashes);
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  ASSERT_TRUE(r.index.IsObject()) << r.output;
+  const std::string actual = r.index["cases"][0]["actual"].GetString();
+  EXPECT_NE(actual.find("the client was killed by signal 11 (SIGSEGV) during the case"), std::string::npos) << actual;
+}
+
 // `ocp_conformance operator`: python's op-echo behaves; each op-* mode breaks one rule.
 TEST(OperatorSuite, WellBehavedClientPassesEveryCase) {
   const SuiteRun r = run_suite("operator_echo", "-j 2", python_client("op-echo"), "operator");
@@ -284,7 +326,7 @@ TEST_P(OperatorClient, GetsItsVerdicts) {
   bool must_failed = false;
   for (const auto& [id, verdict] : p.verdicts) {
     ids += (ids.empty() ? "" : ",") + id;
-    must_failed = must_failed || verdict == "FAILED";   // every operator case but the INFO one is MUST
+    must_failed = must_failed || verdict == "FAILED";   // a FAILED verdict here is always a MUST case
   }
   const SuiteRun r = run_suite("operator_" + p.mode, "--cases " + ids, python_client(p.mode), "operator");
   for (const auto& [id, verdict] : p.verdicts) EXPECT_EQ(r.verdict(id), verdict) << id << "\n" << r.output;
@@ -297,7 +339,7 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(OperatorCase{"op-oversized", {{"operator/2/1", "FAILED"}}},
                       // One recv() taken as one frame: split and coalesced frames both break it.
                       OperatorCase{"op-naive-recv", {{"operator/2/3", "FAILED"}, {"operator/2/4", "FAILED"}}},
-                      OperatorCase{"op-reject-oversized", {{"operator/2/5", "FAILED"}}},
+                      OperatorCase{"op-reject-oversized", {{"operator/2/5", "NON-STRICT"}}},
                       OperatorCase{"op-no-keepalive", {{"operator/2/2", "FAILED"}}},
                       // Returns no published pair at all: 4.2/1 fails, the INFO case only reports.
                       OperatorCase{"op-corrupt", {{"operator/4.2/1", "FAILED"}, {"operator/4.2/6", "INFORMATIONAL"}}},

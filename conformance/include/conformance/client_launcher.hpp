@@ -35,6 +35,12 @@ class ClientProcess {
   std::optional<int> exit_status_;
 };
 
+// "exited with code 3", "was killed by signal 11 (SIGSEGV)": an exit_status() in words.
+std::string describe_exit_status(int status);
+// The last `count` lines of a client's log, each indented, for a harness error; "" when the
+// file is missing or empty.
+std::string last_lines_of(const std::string& path, std::size_t count);
+
 // Replaces "{port}" in every argument.
 std::vector<std::string> substitute_port(const std::vector<std::string>& command, std::uint16_t port);
 // Kills every client still running (from a signal handler: only async-signal-safe calls).

@@ -3,6 +3,7 @@
 // the client under test either external (waits on --port) or launched per worker, or per case
 // with --restart-per-case. Independent cases run concurrently with jobs > 1 (launched clients
 // only: each worker has its own client and port).
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -19,6 +20,9 @@ struct RunOptions {
   bool restart_per_case = false;
   unsigned jobs = 1;
   double timeout_scale = 1.0;
+  // A launched client that has not connected this long after its launch (or exited before it
+  // did) cannot be graded: the run stops with a harness error (exit 2). Scaled by timeout_scale.
+  std::chrono::milliseconds connect_timeout{3'000};
   std::string client_log_dir;         // launched clients' output (one file each); "" → /dev/null
   std::function<void(const CaseResult&)> on_result;   // progress, called from worker threads (serialized)
 };

@@ -72,6 +72,8 @@ class StreamerHost {
   bool operator_side() const { return operator_side_; }
   // The client under test is connected (vehicle API or operator API, by the setup).
   bool client_connected();
+  // Connections the current Streamer (or Player) accepted from the client, refused ones excluded.
+  std::uint64_t client_connections_accepted();
   // The event bus that carries the client's wire (the Streamer's or the Player's).
   EventBus& client_events();
   AsioExecutor& executor() { return executor_; }
