@@ -13,14 +13,16 @@
 #include "conformance/case_context.hpp"
 #include "conformance/control_frames.hpp"
 #include "conformance/observations.hpp"
+#include "conformance/pair_diagnosis.hpp"
 
 namespace ocp::conformance::detail {
 
 using std::chrono::milliseconds;
 
-inline Outcome ok(std::string actual) { return {Verdict::ok, std::move(actual)}; }
-inline Outcome non_strict(std::string actual) { return {Verdict::non_strict, std::move(actual)}; }
-inline Outcome failed(std::string actual) { return {Verdict::failed, std::move(actual)}; }
+inline Outcome ok(std::string actual) { return {Verdict::ok, std::move(actual), {}}; }
+inline Outcome non_strict(std::string actual) { return {Verdict::non_strict, std::move(actual), {}}; }
+inline Outcome informational(std::string actual) { return {Verdict::informational, std::move(actual), {}}; }
+inline Outcome failed(std::string actual) { return {Verdict::failed, std::move(actual), {}}; }
 
 // SPEC §2 Decision: a client is graded MUST only on what the real product can send it. A case
 // that checks robustness beyond that (surviving a frame above 16 KiB, which the product never
@@ -66,6 +68,23 @@ inline std::vector<AckPair> unknown_pairs(const Observations& observed, std::int
     if (response.time_us >= after_us && response.ack && !known(*response.ack)) out.push_back(*response.ack);
   }
   return out;
+}
+
+// A failure over pairs nobody sent, with the cause named when one fits (pair_diagnosis.hpp).
+inline Outcome failed_with_cause(std::string actual, const std::vector<AckPair>& altered, const std::vector<AckPair>& sent) {
+  Outcome outcome = failed(std::move(actual));
+  const PairDiagnosis diagnosis = diagnose_altered_pairs(altered, sent);
+  outcome.cause = diagnosis.cause;
+  if (!diagnosis.cause.empty()) outcome.actual += "; cause: " + diagnosis.cause + " (" + diagnosis.example + ")";
+  return outcome;
+}
+
+// The same on the vehicle wire; `crafted`: hand-made pairs written besides the Streamer's own.
+inline Outcome failed_over_altered_pairs(std::string actual, const std::vector<AckPair>& altered,
+                                         const Observations& observed, const std::vector<AckPair>& crafted = {}) {
+  std::vector<AckPair> sent = crafted;
+  for (const SentPair& pair : observed.sent) sent.push_back(pair.ack);
+  return failed_with_cause(std::move(actual), altered, sent);
 }
 
 inline std::string list_pairs(const std::vector<AckPair>& pairs, std::size_t max = 3) {
@@ -120,7 +139,10 @@ inline Outcome grade_crafted(CaseContext& context, const CraftedRun& run, const 
     return failed(fmt::format("{}; the connection closed ({})", counts,
                               observed.close_codes.empty() ? "?" : observed.close_codes.back()));
   }
-  if (!unknown.empty()) return failed(fmt::format("{}; echoed pairs never sent: {}", counts, list_pairs(unknown)));
+  if (!unknown.empty()) {
+    return failed_over_altered_pairs(fmt::format("{}; echoed pairs never sent: {}", counts, list_pairs(unknown)), unknown,
+                                     observed, run.pairs);
+  }
   if (!last) return failed(fmt::format("{}; the last pair {} was never echoed", counts, describe(run.pairs.back())));
   return ok(fmt::format("{}; last pair echoed; connection kept", counts));
 }

@@ -82,7 +82,7 @@ Outcome split_frames(CaseContext& context) {
   const std::string counts = fmt::format("a {}-byte frame sent byte by byte, then {} frames cut at every boundary; {} of {} pairs echoed",
                                          frame_size, pairs.size() - 1, echoed, pairs.size());
   if (closed) return failed(counts + "; connection closed: " + last_close(observed));
-  if (!unknown.empty()) return failed(counts + "; echoed pairs never sent: " + list_pairs(unknown));
+  if (!unknown.empty()) return failed_over_altered_pairs(counts + "; echoed pairs never sent: " + list_pairs(unknown), unknown, observed, pairs);
   if (!first_echo(observed, dribbled_pair, start)) return failed(counts + "; the byte-by-byte frame's pair was never echoed");
   if (!first_echo(observed, pairs.back(), start)) return failed(counts + "; the last split frame's pair was never echoed");
   return ok(counts);
@@ -115,7 +115,7 @@ Outcome coalesced_frames(CaseContext& context) {
   const bool closed = observed.closed_us.size() > closes_before;
   const std::string counts = fmt::format("3 writes of 50 frames each; the last pair of {} of 3 writes echoed", lasts_echoed);
   if (closed) return failed(counts + "; connection closed: " + last_close(observed));
-  if (!unknown.empty()) return failed(counts + "; echoed pairs never sent: " + list_pairs(unknown));
+  if (!unknown.empty()) return failed_over_altered_pairs(counts + "; echoed pairs never sent: " + list_pairs(unknown), unknown, observed, all);
   if (lasts_echoed < lasts.size()) return failed(counts + " (the latest pair of a write must be echoed)");
   return ok(counts);
 }

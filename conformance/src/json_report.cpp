@@ -38,7 +38,8 @@ std::string index_json(const ReportContext& report) {
     for (std::size_t i = 0; i < result.info.expected.size(); ++i) {
       out += i ? "," : ""; out += fmt::format(R"("{}")", json_escape(result.info.expected[i]));
     }
-    out += fmt::format(R"(],"actual":"{}","client_log":"{}","wire_log":[)", json_escape(result.actual), json_escape(result.client_log_path));
+    out += fmt::format(R"(],"actual":"{}","cause":"{}","client_log":"{}","wire_log":[)", json_escape(result.actual),
+                       json_escape(result.cause), json_escape(result.client_log_path));
     const std::int64_t origin = result.wire_log.empty() ? 0 : result.wire_log.front().time_us;
     const std::size_t n = result.wire_log.size();
     bool any = false;

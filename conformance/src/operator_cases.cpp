@@ -29,7 +29,9 @@ Outcome valid_frames(CaseContext& context) {
 
 Outcome grade_pairs(const PairReturns& returns, const std::string& vehicle, std::size_t at_least) {
   const std::string counts = returns.describe(vehicle);
-  if (!returns.altered.empty()) return failed(counts + "; never published for it: " + list_pairs(returns.altered));
+  if (!returns.altered.empty()) {
+    return failed_with_cause(counts + "; never published for it: " + list_pairs(returns.altered), returns.altered, returns.published);
+  }
   if (returns.count < at_least) return failed(fmt::format("{}; fewer than {} returned pairs", counts, at_least));
   if (static_cast<double>(returns.stale) > 0.05 * static_cast<double>(returns.count)) return failed(counts);
   return ok(counts);
@@ -62,7 +64,7 @@ Outcome returns_every_vehicle_pair(CaseContext& context) {
 
 // INFO: how long after the Player first published a pair the client first returned it.
 Outcome return_delay(CaseContext& context) {
-  if (!context.wait_connected()) return {Verdict::informational, "the client did not connect within 10 s: nothing measured"};
+  if (!context.wait_connected()) return informational("the client did not connect within 10 s: nothing measured");
   context.run_for(milliseconds(1500));
   const OperatorObservations observed = OperatorObservations::from(context.entries());
   const auto published = observed.published.find(host_vehicle_name);
@@ -84,13 +86,12 @@ Outcome return_delay(CaseContext& context) {
     }
   }
   if (delays_ms.empty()) {
-    return {Verdict::informational, fmt::format("{} pairs published, none returned: no delay to measure", pairs)};
+    return informational(fmt::format("{} pairs published, none returned: no delay to measure", pairs));
   }
-  return {Verdict::informational,
-          fmt::format("{} of {} published pairs returned; delay from publication to return: median {:.1f} ms, p90 {:.1f} ms, "
+  return informational(fmt::format("{} of {} published pairs returned; delay from publication to return: median {:.1f} ms, p90 {:.1f} ms, "
                       "p99 {:.1f} ms, max {:.1f} ms",
                       delays_ms.size(), pairs, percentile(delays_ms, 50), percentile(delays_ms, 90), percentile(delays_ms, 99),
-                      percentile(delays_ms, 100))};
+                      percentile(delays_ms, 100)));
 }
 
 void add_operator_echo_cases(std::vector<VehicleCase>& cases) {

@@ -59,7 +59,10 @@ Outcome reconnects(CaseContext& context, const std::function<void()>& cut, const
   const PairReturns returns = pair_returns(after, host_vehicle_name);
   const std::string counts = fmt::format("reconnected {} ms after {}; then {}", (reopened_us - cut_us) / 1000, what,
                                          returns.describe(host_vehicle_name));
-  if (!returns.altered.empty()) return failed(counts + "; pairs not published on the new connection: " + list_pairs(returns.altered));
+  if (!returns.altered.empty()) {
+    return failed_with_cause(counts + "; pairs not published on the new connection: " + list_pairs(returns.altered),
+                             returns.altered, returns.published);
+  }
   if (returns.count < 5) return failed(counts + "; fewer than 5 returned pairs in 0.8 s after the reconnect");
   return ok(counts);
 }

@@ -25,7 +25,7 @@ Outcome user_data_reaches_vehicle(CaseContext& context) {
   context.run_for(milliseconds(1000));
   const OperatorObservations observed = OperatorObservations::from(context.entries());
   if (observed.user_data.empty()) {
-    return {Verdict::informational, "the client sent no user_data in 1 s: nothing to check"};
+    return informational("the client sent no user_data in 1 s: nothing to check");
   }
   std::map<std::string, std::set<std::string>> sent;   // per vehicle: every value sent
   for (const auto& u : observed.user_data) {
@@ -75,7 +75,7 @@ Outcome disable_gamepad(CaseContext& context) {
     if (g.disable == false) enabled_at = g.time_us;
     omitted += !g.disable.has_value();
   }
-  if (!disabled_at) return {Verdict::informational, "the client never set ocp_disable_gamepad: the gamepad drives the vehicle; nothing to check"};
+  if (!disabled_at) return informational("the client never set ocp_disable_gamepad: the gamepad drives the vehicle; nothing to check");
   std::size_t frames = 0, with_controller = 0;
   for (const ControlSeen& c : watch.seen(vehicle)) {
     if (c.time_us < *disabled_at + settle_us || (enabled_at && c.time_us >= *enabled_at)) continue;

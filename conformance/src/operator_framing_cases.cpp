@@ -64,7 +64,11 @@ Outcome grade(CaseContext& context, std::int64_t start_us, const std::vector<Ack
     if (observed.closed_us[i] >= start_us) return failed(counts + "; the connection closed: " + observed.close_codes[i]);
   }
   const PairReturns returns = pair_returns(observed, host_vehicle_name);
-  if (!returns.altered.empty()) return failed(counts + "; returned pairs never published: " + list_pairs(returns.altered));
+  if (!returns.altered.empty()) {
+    std::vector<AckPair> all = returns.published;
+    all.insert(all.end(), sent.begin(), sent.end());   // hand-made frames' pairs too
+    return failed_with_cause(counts + "; returned pairs never published: " + list_pairs(returns.altered), returns.altered, all);
+  }
   for (const AckPair& p : required) {
     if (!returned_since(observed, p, start_us)) return failed(counts + "; never returned: " + describe(p));
   }

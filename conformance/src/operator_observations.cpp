@@ -75,6 +75,7 @@ PairReturns pair_returns(const OperatorObservations& observed, const std::string
   static const std::vector<SentPair> never;
   const auto found = observed.published.find(vehicle);
   const std::vector<SentPair>& published = found == observed.published.end() ? never : found->second;
+  for (const SentPair& pair : published) returns.published.push_back(pair.ack);
   for (const SentPair& back : returned->second) {
     ++returns.count;
     const std::int64_t index = observed.find_published(vehicle, back.ack);

@@ -49,6 +49,7 @@ struct OperatorObservations {
 struct PairReturns {
   std::size_t count = 0, stale = 0;
   std::vector<AckPair> altered;
+  std::vector<AckPair> published;   // every pair published for the vehicle, for pair_diagnosis
   std::string describe(const std::string& vehicle) const;
 };
 PairReturns pair_returns(const OperatorObservations& observed, const std::string& vehicle);

@@ -111,6 +111,7 @@ CaseResult run_one(Shared& shared, StreamerHost& host, const VehicleCase& test_c
     const Outcome outcome = test_case.body.run(context);
     result.verdict = outcome.verdict;
     result.actual = outcome.actual;
+    result.cause = outcome.cause;
   } catch (const CaseTimeout&) {
     // An INFO case only observes: running out of time is its observation, never a failure.
     result.verdict = test_case.body.info.tier == Tier::info ? Verdict::informational : Verdict::failed;

@@ -1,5 +1,6 @@
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <map>
 
 #include "conformance/reports.hpp"
@@ -16,17 +17,38 @@ void print_case_line(std::ostream& out, const CaseResult& result) {
   if (!result.client_log_path.empty()) out << "    Client log:  " << result.client_log_path << "\n";
 }
 
-void print_summary(std::ostream& out, const ReportContext& report) {
-  const RunSummary& summary = *report.summary;
+std::string verdict_counts(const RunSummary& summary) {
   std::map<Verdict, int> counts;
   int must_failed = 0;
   for (const CaseResult& result : summary.results) {
     ++counts[result.verdict];
     must_failed += result.verdict == Verdict::failed && result.info.tier == Tier::must;
   }
-  out << fmt::format("\n{} cases in {:.1f} s: {} OK, {} NON-STRICT, {} INFORMATIONAL, {} FAILED ({} of them MUST)\n",
-                     summary.results.size(), summary.duration_ms / 1000.0, counts[Verdict::ok], counts[Verdict::non_strict],
-                     counts[Verdict::informational], counts[Verdict::failed], must_failed);
+  return fmt::format("{} case{} in {:.1f} s: {} OK, {} NON-STRICT, {} INFORMATIONAL, {} FAILED ({} of them MUST)",
+                     summary.results.size(), summary.results.size() == 1 ? "" : "s", summary.duration_ms / 1000.0,
+                     counts[Verdict::ok], counts[Verdict::non_strict], counts[Verdict::informational], counts[Verdict::failed],
+                     must_failed);
+}
+
+std::vector<NamedCause> named_causes(const RunSummary& summary) {
+  std::vector<NamedCause> causes;
+  for (const CaseResult& result : summary.results) {
+    if (result.cause.empty()) continue;
+    auto found = std::find_if(causes.begin(), causes.end(), [&](const NamedCause& c) { return c.cause == result.cause; });
+    if (found == causes.end()) found = causes.insert(causes.end(), NamedCause{result.cause, {}});
+    found->case_ids.push_back(result.info.id);
+  }
+  return causes;
+}
+
+void print_summary(std::ostream& out, const ReportContext& report) {
+  const RunSummary& summary = *report.summary;
+  out << "\n" << verdict_counts(summary) << "\n";
+  for (const NamedCause& cause : named_causes(summary)) {
+    std::string ids;
+    for (const std::string& id : cause.case_ids) ids += (ids.empty() ? "" : ", ") + id;
+    out << "Cause found: " << cause.cause << "\n    (in " << ids << ")\n";
+  }
   if (report.baseline != nullptr) {
     const BaselineDiff& d = *report.baseline;
     auto list = [](const std::vector<std::string>& ids) {

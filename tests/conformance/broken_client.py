@@ -25,7 +25,7 @@ LIMIT = 16384
 # Broken modes (each fails one case) and hostile modes (the harness must stay in control).
 BROKEN = {"echo-only", "timer-echo", "naive-recv", "reject-oversized", "require-controller",
           "fault-enum", "flat-user-data", "strict-schema", "bad-pos", "no-reconnect",
-          "sticky-pair", "early-echo", "slow-early-echo", "scalar-user-data"}
+          "sticky-pair", "early-echo", "slow-early-echo", "scalar-user-data", "float-ack", "slow-timer"}
 # Operator-side (:4001) clients: op-echo behaves (op-disable too, with the gamepad disabled);
 # the others break one rule.
 OPERATOR = {"op-echo", "op-corrupt", "op-stale", "op-double", "op-oversized", "op-no-keepalive", "op-no-reconnect",
@@ -248,7 +248,7 @@ def session(sock):
     last_sent = time.monotonic()
     next_timer = time.monotonic() + 0.01
     while True:
-        if MODE == "timer-echo":
+        if MODE in ("timer-echo", "slow-timer"):
             # Wake exactly at the timer (not when data happens to arrive).
             sock.settimeout(max(0.0005, next_timer - time.monotonic()))
         try:
@@ -274,14 +274,19 @@ def session(sock):
             if MODE == "fault-enum" and msg["telemetry"]["fault"] and msg["telemetry"]["fault_reason"] not in FAULT_NAMES:
                 return   # Bug: fault_reason parsed as one known display string.
             pair = (msg["ack_time"], msg["ack_time_mac"])
+            if MODE == "float-ack":
+                # Bug: ack_time read through a double (as JavaScript's JSON.parse does).
+                pair = (min(int(float(msg["ack_time"])), 2**64 - 1), msg["ack_time_mac"])
             got_new = True
         now = time.monotonic()
-        if MODE == "timer-echo":
+        if MODE in ("timer-echo", "slow-timer"):
+            # timer-echo: every 10 ms; slow-timer: every 50 ms, both exact copies of the latest pair.
+            period = 0.05 if MODE == "slow-timer" else 0.01
             if now >= next_timer and pair:
                 sock.sendall(response(pair))
-                next_timer += 0.01
+                next_timer += period
                 while next_timer < now:
-                    next_timer += 0.01
+                    next_timer += period
             continue
         if got_new:
             sock.sendall(held + response(pair))

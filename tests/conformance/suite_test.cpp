@@ -295,6 +295,31 @@ TEST(ConformanceSuite, AClientThatCrashesDuringACaseIsNamedInThatCase) {
   EXPECT_NE(actual.find("the client was killed by signal 11 (SIGSEGV) during the case"), std::string::npos) << actual;
 }
 
+// One bug, one named cause: ack_time read through a double breaks every case that checks an
+// echoed pair; each names the cause, and the summary names it once.
+TEST(ConformanceSuite, AckTimeThroughADoubleIsNamedAsTheCauseInEveryCaseItBreaks) {
+  const SuiteRun r = run_suite("float_ack", "--cases vehicle/2/2,vehicle/2/3,vehicle/3.3/1", python_client("float-ack"));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  ASSERT_TRUE(r.index.IsObject()) << r.output;
+  for (const auto& c : r.index["cases"].GetArray()) {
+    EXPECT_EQ(std::string(c["verdict"].GetString()), "FAILED") << c["id"].GetString();
+    EXPECT_NE(std::string(c["cause"].GetString()).find("ack_time rounded through a double"), std::string::npos)
+        << c["id"].GetString() << ": " << c["actual"].GetString();
+  }
+  const std::string named = "Cause found: ack_time rounded through a double";
+  const auto first = r.output.find(named);
+  EXPECT_NE(first, std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find(named, first + 1), std::string::npos) << "named more than once:\n" << r.output;
+}
+
+// "Survive byte-exact" judges exactness, not cadence: a client that echoes exact copies on a
+// 50 ms timer passes it.
+TEST(ConformanceSuite, AClientOnA50MsTimerSurvivesByteExact) {
+  const SuiteRun r = run_suite("slow_timer", "--cases vehicle/2/2", python_client("slow-timer"));
+  EXPECT_EQ(r.verdict("vehicle/2/2"), "OK") << r.output;
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
 // `ocp_conformance operator`: python's op-echo behaves; each op-* mode breaks one rule.
 TEST(OperatorSuite, WellBehavedClientPassesEveryCase) {
   const SuiteRun r = run_suite("operator_echo", "-j 2", python_client("op-echo"), "operator");

@@ -27,6 +27,7 @@ struct CaseInfo {
 struct Outcome {
   Verdict verdict = Verdict::failed;
   std::string actual;        // what was observed, with numbers
+  std::string cause;         // the named cause behind it, when one was found (pair_diagnosis.hpp)
 };
 
 struct Case {
@@ -38,6 +39,7 @@ struct CaseResult {
   CaseInfo info;
   Verdict verdict = Verdict::failed;
   std::string actual;
+  std::string cause;                    // Outcome::cause
   double duration_ms = 0.0;
   std::vector<WireLogEntry> wire_log;   // kept for every case that is not OK
   std::string client_log_path;          // the launched client's output, when launched

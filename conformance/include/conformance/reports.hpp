@@ -19,6 +19,16 @@ struct ReportContext {
   BaselineDiff const* baseline = nullptr;   // null: no baseline given
 };
 
+// "16 cases in 21.3 s: 12 OK, 1 NON-STRICT, 0 INFORMATIONAL, 3 FAILED (3 of them MUST)".
+std::string verdict_counts(const RunSummary& summary);
+
+// Each named cause (Outcome::cause) once, with the cases that showed it, in case order.
+struct NamedCause {
+  std::string cause;
+  std::vector<std::string> case_ids;
+};
+std::vector<NamedCause> named_causes(const RunSummary& summary);
+
 // One line per case as it finishes; for every case that is not OK also Requirement,
 // Expected (every accepted outcome) and Actual.
 void print_case_line(std::ostream& out, const CaseResult& result);
