@@ -2,7 +2,9 @@
 """Checks docs/protocol.md against its example files, its JSON Schemas and the C++ codec.
 
 1. Every ```json block of docs/protocol.md follows an `<!-- example: examples/NAME.json -->`
-   line and equals that file byte for byte; every file in docs/examples/ is shown.
+   line and equals that file byte for byte; every file in docs/examples/ is shown. Links to
+   protocol.md#anchors from README.md and docs/*.md name headings that exist, and the relative
+   links of protocol.md name files that exist.
 2. Every example validates against its schema (docs/examples/MESSAGE[.VARIANT].json →
    docs/schemas/MESSAGE.schema.json), with a small validator of the JSON Schema subset the
    schemas use (standard library only), and with the `jsonschema` package too when it is
@@ -256,6 +258,31 @@ def fenced_examples(doc_text):
     return blocks
 
 
+def slug(heading):
+    """GitHub's anchor for a Markdown heading."""
+    text = re.sub(r"[^\w\- ]", "", heading.strip().lower())
+    return text.replace(" ", "-")
+
+
+def check_links(root, problems):
+    """Links into docs/protocol.md#… from the user docs name its headings; its own relative
+    links name files that exist."""
+    protocol = root / "docs" / "protocol.md"
+    text = protocol.read_text(encoding="utf-8")
+    anchors, fenced = set(), False
+    for line in text.split("\n"):
+        fenced = fenced != line.startswith("```")
+        if line.startswith("#") and not fenced:
+            anchors.add(slug(line.lstrip("#")))
+    for doc in [root / "README.md", *sorted((root / "docs").glob("*.md"))]:
+        for anchor in re.findall(r"protocol\.md#([\w\-]+)", doc.read_text(encoding="utf-8")):
+            if anchor not in anchors:
+                problems.append(f"{doc.relative_to(root)}: link to protocol.md#{anchor}, no such heading")
+    for target in re.findall(r"\]\(([^)#:]+)(?:#[^)]*)?\)", text):
+        if not (protocol.parent / target).exists():
+            problems.append(f"docs/protocol.md: link to {target}, no such file")
+
+
 def run_decoder(decoder, items):
     """items: [(message, json text)] → [(ok, detail)] from the codec."""
     stdin = b"".join(f"{message} {len(text.encode())}\n".encode() + text.encode() for message, text in items)
@@ -303,6 +330,8 @@ def main():
             problems.append(f"docs/examples/{path.name} is not shown in docs/protocol.md")
     if not files:
         problems.append("no examples in docs/examples/")
+
+    check_links(root, problems)
 
     # 2.-4. Schemas, codec, mutants.
     schemas = {}
