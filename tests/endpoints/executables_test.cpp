@@ -151,10 +151,32 @@ TEST(Executables, BusyPortExitsOneNamingTheAddress) {
   EXPECT_NE(result.output.find("address 127.0.0.1:" + port + " already in use"), std::string::npos)
       << result.output;
 
+  EXPECT_NE(result.output.find("pick another port with --plugin-param tcp_port N"), std::string::npos) << result.output;
+
   result = run({player_sim, "--plugin-param", "ocp_player_tcp_port", port, "--duration-s", "20"});
   EXPECT_EQ(result.exit_code, 1);
   EXPECT_NE(result.output.find("address 127.0.0.1:" + port + " already in use"), std::string::npos)
       << result.output;
+  EXPECT_NE(result.output.find("pick another port with --plugin-param ocp_player_tcp_port N"), std::string::npos)
+      << result.output;
+}
+
+// Each port player_sim opens names its own option when it is busy (not ocp_player_tcp_port's).
+TEST(Executables, BusyWebviewOrVehicleTcpPortNamesItsOwnOption) {
+  boost::asio::io_context io;
+  TcpServer occupant(io, {});
+  ASSERT_TRUE(occupant.listen({.port = 0}).ok());
+  const std::string port = std::to_string(occupant.port());
+
+  ProcessRun result = run({player_sim, "--plugin-param", "ocp_player_tcp_port", "0", "--webview-port", port, "--duration-s", "20"});
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_NE(result.output.find("pick another port with --webview-port N"), std::string::npos) << result.output;
+  EXPECT_EQ(result.output.find("ocp_player_tcp_port N"), std::string::npos) << result.output;
+
+  result = run({player_sim, "--plugin-param", "ocp_player_tcp_port", "0", "--no-webview", "--vehicle-tcp", "vehicle=" + port,
+                "--duration-s", "20"});
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_NE(result.output.find("pick another port with --vehicle-tcp vehicle=PORT"), std::string::npos) << result.output;
 }
 
 TEST(Executables, SigtermShutsDownCleanlyWithExitZero) {

@@ -15,7 +15,7 @@ int main(int argc, char** argv) {
   sim_app::RealTimeRunner runner;   // first: the io_context outlives every socket below
   const Logger logger(runner.executor(), "player_sim", sink);
   PlayerSimulation simulation(runner.executor(), cli.simulation_options(), sink);
-  return sim_app::run_simulation("player_sim", "ocp_player_tcp_port", cli.common, runner, logger, simulation, [&] {
+  return sim_app::run_simulation("player_sim", cli.common, runner, logger, simulation, [&] {
     const PlayerStats& stats = simulation.player().stats();
     return fmt::format("{} frames, {} feedback objects to the client, {} client messages, {} clients accepted, {} refused",
                        stats.frames, stats.client_frames_sent, stats.client_messages_received,

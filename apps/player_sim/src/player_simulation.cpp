@@ -4,6 +4,7 @@
 
 #include <utility>
 
+#include "sim_app/port_hint.hpp"
 #include "sim_app/console.hpp"
 
 namespace ocp {
@@ -75,18 +76,20 @@ PlayerSimulation::~PlayerSimulation() { stop(); }
 Status PlayerSimulation::start() {
   const TcpServerOptions listen_options{options_.plugin_params.ocp_player_tcp_port,
                                         options_.plugin_params.ocp_tcp_allow_remote};
-  if (auto status = front_->listen(listen_options); !status) return status;
+  if (auto status = front_->listen(listen_options); !status) {
+    return sim_app::with_port_hint(status, "player_sim", "--plugin-param ocp_player_tcp_port N");
+  }
   for (const auto& [name, front] : vehicle_fronts_) {
     const TcpServerOptions vehicle_options{options_.vehicle_tcp_ports.at(name), options_.plugin_params.ocp_tcp_allow_remote};
     if (auto status = front->listen(vehicle_options); !status) {
       stop();
-      return status;
+      return sim_app::with_port_hint(status, "player_sim", "--vehicle-tcp " + name + "=PORT");
     }
   }
   if (webview_) {
     if (auto status = webview_->listen(); !status) {
       stop();
-      return status;
+      return sim_app::with_port_hint(status, "player_sim", "--webview-port N (0: any free port), or --no-webview");
     }
   }
   if (auto status = world_.start(); !status) {

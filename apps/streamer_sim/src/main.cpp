@@ -15,7 +15,7 @@ int main(int argc, char** argv) {
   sim_app::RealTimeRunner runner;   // first: the io_context outlives every socket below
   const Logger logger(runner.executor(), "streamer_sim", sink);
   StreamerSimulation simulation(runner.executor(), cli.simulation_options(), sink);
-  return sim_app::run_simulation("streamer_sim", "tcp_port", cli.common, runner, logger, simulation, [&] {
+  return sim_app::run_simulation("streamer_sim", cli.common, runner, logger, simulation, [&] {
     const StreamerStats& stats = simulation.streamer().stats();
     return fmt::format("{} control frames sent, {} vehicle responses, {} connections accepted, {} refused",
                        stats.control_frames_sent, stats.vehicle_responses_received,

@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "sim_app/console.hpp"
+#include "sim_app/port_hint.hpp"
 
 namespace ocp {
 
@@ -47,7 +48,9 @@ StreamerSimulation::~StreamerSimulation() { stop(); }
 Status StreamerSimulation::start() {
   const TcpServerOptions listen_options{options_.plugin_params.tcp_port,
                                         options_.plugin_params.ocp_tcp_allow_remote};
-  if (auto status = front_->listen(listen_options); !status) return status;
+  if (auto status = front_->listen(listen_options); !status) {
+    return sim_app::with_port_hint(status, "streamer_sim", "--plugin-param tcp_port N");
+  }
   if (auto status = world_.start(); !status) {
     front_->stop();
     return status;

@@ -19,9 +19,9 @@
 namespace ocp::sim_app {
 
 // `Simulation` needs start() → Status, stop(), status_line() → std::string, world() → World&.
-// `port_param` names the --plugin-param that moves the port ("tcp_port").
+// A start error names the option that moves a busy port (port_hint.hpp, where the port opens).
 template <class Simulation>
-[[nodiscard]] int run_simulation(std::string_view program, std::string_view port_param,
+[[nodiscard]] int run_simulation(std::string_view program,
                                  const CommonOptions& common, RealTimeRunner& runner,
                                  const Logger& logger, Simulation& simulation,
                                  std::function<std::string()> summary) {
@@ -36,12 +36,7 @@ template <class Simulation>
     wire_log = std::move(*opened);
   }
   if (auto status = simulation.start(); !status) {
-    std::cerr << program << ": cannot start: " << status.error().detail;
-    if (status.error().code == std::errc::address_in_use) {
-      std::cerr << " (is another " << program << " running? pick a port with --plugin-param "
-                << port_param << " N)";
-    }
-    std::cerr << "\n";
+    std::cerr << program << ": cannot start: " << status.error().detail << "\n";
     return exit_runtime_error;
   }
   StatusTicker status(runner.executor(), Millis{1000},
