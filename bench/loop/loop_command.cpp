@@ -54,6 +54,15 @@ CLI::App* add_loop_command(CLI::App& app, LoopOptions& options) {
       ->needs(loop->get_option("--compare"));
   loop->add_flag("--fail-on-fault", options.fail_on_fault,
                  "gate: fail (exit 1) when the Streamer raised any fault after the client connected");
+  loop->add_option("--min-response-rate", options.min_response_rate,
+                   "gate: fail (exit 1) when the client sent fewer responses per second than this (the product expects ~100)")
+      ->check(ocp::cli::positive_real(1e6));
+  loop->add_option("--max-response-gap-ms", options.max_response_gap_ms,
+                   "gate: fail (exit 1) when two responses were ever further apart than this (the Streamer closes at 2000)")
+      ->check(ocp::cli::positive_real(1e6));
+  loop->add_option("--max-latency-p99-ms", options.max_latency_p99_ms,
+                   "gate: fail (exit 1) when the Streamer's measured loop latency p99 is above this")
+      ->check(ocp::cli::positive_real(1e6));
   loop->add_option("command", options.command, "client command after `--`; {port} is replaced by the port");
   return loop;
 }

@@ -22,6 +22,11 @@ struct LoopOptions {
   std::optional<double> max_echo_p50_us, max_echo_p99_us;
   std::optional<double> max_floor_ratio;   // client echo p50 ÷ machine floor p50; needs --compare
   bool fail_on_fault = false;              // any fault the Streamer raised once the client was there
+  // What matters to a loop besides the echo delay: a client answering 19.8 times a second can
+  // echo fast and still starve the loop.
+  std::optional<double> min_response_rate;      // responses per second
+  std::optional<double> max_response_gap_ms;    // longest silence between two responses
+  std::optional<double> max_latency_p99_ms;     // the Streamer's measured loop latency
   std::vector<std::string> command;    // after `--`
 };
 

@@ -24,6 +24,23 @@ std::vector<GateResult> evaluate_gates(const LoopOptions& options, const LoopRes
     gates.push_back({"client echo p50 ÷ machine floor p50", fmt::format("≤ {:g}×", *options.max_floor_ratio),
                      measured ? fmt::format("{:.2f}×", ratio) : "not measured", measured && ratio <= *options.max_floor_ratio});
   }
+  const ClientFigures& client = result.client;
+  if (options.min_response_rate) {
+    gates.push_back({"client responses per second", fmt::format("≥ {:g} /s", *options.min_response_rate),
+                     fmt::format("{:.1f} /s", client.responses_per_s), client.responses_per_s >= *options.min_response_rate});
+  }
+  if (options.max_response_gap_ms) {
+    const bool measured = client.responses >= 2;
+    gates.push_back({"longest gap between client responses", fmt::format("≤ {:g} ms", *options.max_response_gap_ms),
+                     measured ? fmt::format("{:.1f} ms", client.max_response_gap_ms) : "fewer than 2 responses",
+                     measured && client.max_response_gap_ms <= *options.max_response_gap_ms});
+  }
+  if (options.max_latency_p99_ms) {
+    const bool measured = client.latency_ms.count > 0;
+    gates.push_back({"loop latency p99 (Streamer)", fmt::format("≤ {:g} ms", *options.max_latency_p99_ms),
+                     measured ? fmt::format("{:.3g} ms", client.latency_ms.p99) : "no latency measured",
+                     measured && client.latency_ms.p99 <= *options.max_latency_p99_ms});
+  }
   if (options.fail_on_fault) {
     const std::size_t faults = result.faults_after_connect();
     gates.push_back({"faults raised after the client connected", "none", faults == 0 ? "none" : fmt::format("{}", faults),

@@ -1,6 +1,6 @@
 #pragma once
 // The gates of `ocp_bench loop` (--max-echo-p50-us, --max-echo-p99-us, --max-floor-ratio,
-// --fail-on-fault): the run's figures against the budget a team holds its client to. Each
+// --min-response-rate, --max-response-gap-ms, --max-latency-p99-ms, --fail-on-fault): the run's figures against the budget a team holds its client to. Each
 // gives ✓/✗ with expected against actual; any ✗ makes the exit code 1.
 #include <vector>
 

@@ -37,3 +37,7 @@ run_gated(ratio "ON;OFF;OFF" --duration-s 1 --compare --max-echo-p50-us 1000000 
 # and a p50 budget no client meets.
 run_gated(fault "OFF;OFF" --duration-s 2 --max-echo-p50-us 0.001 --fail-on-fault
           -- ${VEHICLE_CLIENT} 127.0.0.1:{port} --misbehave-stop-echo)
+# The loop gates: a rate, a gap and a latency budget no client meets (the reference client
+# answers about 100 times a second, at most ~10 ms apart, with a loop latency of milliseconds).
+run_gated(loop "OFF;OFF;OFF" --duration-s 1 --min-response-rate 100000 --max-response-gap-ms 0.001
+          --max-latency-p99-ms 0.001 -- ${VEHICLE_CLIENT} 127.0.0.1:{port})

@@ -5,7 +5,8 @@ set(json_file ${OUT_DIR}/ocp_bench_loop_test.json)
 file(REMOVE ${json_file})
 execute_process(
   COMMAND ${OCP_BENCH} loop --duration-s 2 --quiet --compare --json ${json_file}
-          --max-echo-p50-us 1000000 --fail-on-fault -- ${VEHICLE_CLIENT} 127.0.0.1:{port}
+          --max-echo-p50-us 1000000 --fail-on-fault --min-response-rate 20 --max-response-gap-ms 1500
+          --max-latency-p99-ms 1000 -- ${VEHICLE_CLIENT} 127.0.0.1:{port}
   RESULT_VARIABLE exit_code OUTPUT_VARIABLE output ERROR_VARIABLE errors TIMEOUT 60)
 if(NOT exit_code EQUAL 0)
   message(FATAL_ERROR "ocp_bench loop exited with ${exit_code}\n${output}\n${errors}")
