@@ -4,6 +4,8 @@
 #include <rapidjson/stringbuffer.h>
 #include <rapidjson/writer.h>
 
+#include <fmt/format.h>
+
 #include "player_app/webview/messages.hpp"
 
 namespace ocp::webview {
@@ -63,6 +65,16 @@ bool is_keep_alive(const ClientOcpShared& data) {
   return true;
 }
 
+std::string describe(const Status::ClientFrameTooLarge& too_large) {
+  return fmt::format("VehicleOcpShared too large: {} B > {} B, not sent to the operator TCP client, which "
+                     "receives nothing until it fits. Reduce the vehicles ({}), their vehicle_user_data or cameras.",
+                     too_large.bytes, too_large.limit, too_large.vehicles);
+}
+
+Status::ClientFrameTooLarge status_of(const ClientFrameTooLarge& too_large) {
+  return Status::ClientFrameTooLarge{too_large.bytes, too_large.limit, too_large.vehicles};
+}
+
 std::string encode_status(const Status& status) {
   rapidjson::StringBuffer buffer;
   rapidjson::Writer<rapidjson::StringBuffer> writer(buffer);
@@ -79,6 +91,22 @@ std::string encode_status(const Status& status) {
   writer.EndArray();
   writer.Key("webview_clients");
   writer.Uint64(status.webview_clients);
+  // {"bytes": 19574, "limit": 16384, "vehicles": 20, "text": "…"} or null.
+  writer.Key("client_frame_too_large");
+  if (const auto& too_large = status.client_frame_too_large) {
+    writer.StartObject();
+    writer.Key("bytes");
+    writer.Uint64(too_large->bytes);
+    writer.Key("limit");
+    writer.Uint64(too_large->limit);
+    writer.Key("vehicles");
+    writer.Uint64(too_large->vehicles);
+    writer.Key("text");
+    write_string(writer, describe(*too_large));
+    writer.EndObject();
+  } else {
+    writer.Null();
+  }
   writer.EndObject();
   return {buffer.GetString(), buffer.GetSize()};
 }
