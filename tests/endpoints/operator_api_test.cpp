@@ -242,7 +242,7 @@ TEST_F(OperatorApi, TwentyVehiclesMakeVehicleOcpSharedTooLargeAndTheStatusLineSa
             std::string::npos)
       << json;
   EXPECT_NE(json.find("Reduce the vehicles (20), their vehicle_user_data or cameras."), std::string::npos) << json;
-  EXPECT_NE(webview::encode_status(webview::Status{}).find(R"("client_frame_too_large":null)"), std::string::npos);
+  EXPECT_EQ(webview::encode_status(webview::Status{}).find("client_frame_too_large"), std::string::npos);
 }
 
 TEST_F(OperatorApi, PortInUseIsAClearError) {

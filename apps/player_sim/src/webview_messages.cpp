@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "player_app/webview/messages.hpp"
+#include "player/player_core.hpp"
 
 namespace ocp::webview {
 namespace {
@@ -71,7 +72,7 @@ std::string describe(const Status::ClientFrameTooLarge& too_large) {
                      too_large.bytes, too_large.limit, too_large.vehicles);
 }
 
-Status::ClientFrameTooLarge status_of(const ClientFrameTooLarge& too_large) {
+Status::ClientFrameTooLarge status_of(const ocp::ClientFrameTooLarge& too_large) {
   return Status::ClientFrameTooLarge{too_large.bytes, too_large.limit, too_large.vehicles};
 }
 
@@ -91,9 +92,9 @@ std::string encode_status(const Status& status) {
   writer.EndArray();
   writer.Key("webview_clients");
   writer.Uint64(status.webview_clients);
-  // {"bytes": 19574, "limit": 16384, "vehicles": 20, "text": "…"} or null.
-  writer.Key("client_frame_too_large");
+  // {"bytes": 19574, "limit": 16384, "vehicles": 20, "text": "…"}; absent while it fits.
   if (const auto& too_large = status.client_frame_too_large) {
+    writer.Key("client_frame_too_large");
     writer.StartObject();
     writer.Key("bytes");
     writer.Uint64(too_large->bytes);
@@ -104,8 +105,6 @@ std::string encode_status(const Status& status) {
     writer.Key("text");
     write_string(writer, describe(*too_large));
     writer.EndObject();
-  } else {
-    writer.Null();
   }
   writer.EndObject();
   return {buffer.GetString(), buffer.GetSize()};

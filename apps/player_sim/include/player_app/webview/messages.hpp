@@ -14,7 +14,10 @@
 
 #include "ocp/error.hpp"
 #include "ocp/messages.hpp"
-#include "player/player_core.hpp"
+
+namespace ocp {
+struct ClientFrameTooLarge;   // player/player_core.hpp
+}
 
 namespace ocp::webview {
 
@@ -58,15 +61,15 @@ struct Status {
     std::size_t vehicles = 0;   // vehicle entries in it
     bool operator==(const ClientFrameTooLarge&) const = default;
   };
-  std::optional<ClientFrameTooLarge> client_frame_too_large;   // null while it fits
+  std::optional<ClientFrameTooLarge> client_frame_too_large;   // not in the JSON while it fits
   bool operator==(const Status&) const = default;
 };
 std::string encode_status(const Status& status);    // the "data" object
 // For a page and the log: "VehicleOcpShared too large: 19574 B > 16384 B, not sent to the
 // operator TCP client, … Reduce the vehicles (20), their vehicle_user_data or cameras."
 std::string describe(const Status::ClientFrameTooLarge& too_large);
-// The Player's view of it, as the status carries it.
-Status::ClientFrameTooLarge status_of(const ClientFrameTooLarge& too_large);
+// The Player's view of it (PlayerCore::client_frame_too_large), as the status carries it.
+Status::ClientFrameTooLarge status_of(const ocp::ClientFrameTooLarge& too_large);
 
 std::string encode_error(std::string_view kind, std::string_view detail);   // the "data" object
 
