@@ -79,8 +79,11 @@ void StreamerCore::Impl::send_control_message() {
     sent = vehicle_connection->send(json_buffer, outgoing.ack);
   }
   if (!sent) {
-    logger.error("control message of {} bytes not sent: {}", json_buffer.size(),
-                 sent.error().message());
+    // A vehicle that stopped reading was just closed, and the close said why; anything
+    // else is a surprise worth its own line.
+    if (sent.error().code != PeerError::not_reading) {
+      logger.error("control message of {} bytes not sent: {}", json_buffer.size(), sent.error().message());
+    }
     return;
   }
   ++stats.control_frames_sent;
