@@ -47,9 +47,27 @@ FlapSummariser::Pattern FlapSummariser::pattern(SimTime now) const {
   return result;
 }
 
+namespace {
+
+// A share that rounds to 0 % or 100 % but is neither says so: "<1 %", ">99 %".
+std::string percent_text(double share) {
+  const double percent = share * 100.0;
+  if (percent > 0.0 && percent < 0.5) return "<1 %";
+  if (percent < 100.0 && percent >= 99.5) return ">99 %";
+  return fmt::format("{:.0f} %", percent);
+}
+
+}  // namespace
+
 std::string FlapSummariser::summary_text(const Pattern& pattern) const {
-  return fmt::format("{} flapping: raised {}× in the last {:.2g} s, active {:.0f} % of the time", name_,
-                     pattern.raises, static_cast<double>(pattern.span.count()) / 1e6, pattern.active_share * 100.0);
+  return fmt::format("{} flapping: raised {}× in the last {:.2g} s, active {} of the time", name_,
+                     pattern.raises, static_cast<double>(pattern.span.count()) / 1e6,
+                     percent_text(pattern.active_share));
+}
+
+std::string FlapSummariser::stopped_text(bool active_now) const {
+  return fmt::format("{} stopped flapping: {} now; raised {}× while flapping", name_,
+                     active_now ? "active" : "cleared", raises_while_flapping_);
 }
 
 FlapSummariser::Verdict FlapSummariser::on_edge(bool active, SimTime now) {
@@ -57,8 +75,9 @@ FlapSummariser::Verdict FlapSummariser::on_edge(bool active, SimTime now) {
   edges_.push_back(Edge{now, active});
   forget_before(now - options_.window);
   if (flapping_) {
-    if (active) ++raises_while_flapping_;
-    return Verdict{false, resummarise(now)};
+    Verdict verdict = resummarise(now, active);
+    if (flapping_ && active) ++raises_while_flapping_;   // not the raise that ended it
+    return verdict;
   }
   const Pattern current = pattern(now);
   if (current.raises < options_.raises_to_flap) return Verdict{true, std::nullopt};
@@ -69,19 +88,26 @@ FlapSummariser::Verdict FlapSummariser::on_edge(bool active, SimTime now) {
   return Verdict{false, summary_text(current)};
 }
 
-std::optional<std::string> FlapSummariser::resummarise(SimTime now) {
+FlapSummariser::Verdict FlapSummariser::resummarise(SimTime now, bool active) {
   // Looked at once per window, and only while edges keep coming: a pattern that is dying
   // out is reported by on_steady's "stopped flapping" line instead.
-  if (now - checked_at_ < options_.window) return std::nullopt;
+  if (now - checked_at_ < options_.window) return Verdict{false, std::nullopt};
   checked_at_ = now;
   const Pattern current = pattern(now);
+  if (current.raises < options_.raises_to_flap) {
+    // Too few raises left in the window to call it flapping (a fault raised once is not
+    // flapping; this happens when nobody called on_steady for a while, e.g. the process was
+    // stopped): the flapping ends here, and this edge is logged as usual.
+    flapping_ = false;
+    return Verdict{true, stopped_text(active)};
+  }
   const double ratio = (current.raise_rate() + 1e-9) / (logged_.raise_rate() + 1e-9);
   const bool rate_changed = ratio >= options_.rate_change_factor || ratio <= 1.0 / options_.rate_change_factor;
   const bool share_changed =
       std::abs(current.active_share - logged_.active_share) * 100.0 >= options_.share_change_points;
-  if (!rate_changed && !share_changed) return std::nullopt;
+  if (!rate_changed && !share_changed) return Verdict{false, std::nullopt};
   logged_ = current;
-  return summary_text(current);
+  return Verdict{false, summary_text(current)};
 }
 
 std::optional<std::string> FlapSummariser::on_steady(SimTime now) {
@@ -89,9 +115,7 @@ std::optional<std::string> FlapSummariser::on_steady(SimTime now) {
   if (!edges_.empty() && now - edges_.back().time < options_.window) return std::nullopt;
   forget_before(now - options_.window);
   flapping_ = false;
-  return fmt::format("{} stopped flapping: {} now; raised {}× while flapping", name_,
-                     (edges_.empty() ? active_before_edges_ : edges_.back().active) ? "active" : "cleared",
-                     raises_while_flapping_);
+  return stopped_text(edges_.empty() ? active_before_edges_ : edges_.back().active);
 }
 
 }  // namespace ocp

@@ -147,7 +147,7 @@ Status FramedConnection::admit_to_write_queue(std::size_t bytes) {
   const std::size_t queued = stream_->queued_bytes();
   if (queued + bytes <= options_.write_queue_limit_bytes) return Ok{};
   CloseReason reason{PeerError::not_reading,
-                     fmt::format("peer not reading: {} bytes already queued for it (limit {})", queued,
+                     fmt::format("{} bytes already queued for it (limit {})", queued,
                                  options_.write_queue_limit_bytes)};
   close(reason);
   return reason;
@@ -194,10 +194,24 @@ void FramedConnection::handle_bytes(std::string_view bytes) {
         if (options_.events != nullptr && options_.events->active()) {
           publish_frame(last_byte_at_, FrameDirection::in, options_.inbound_kind, declared_length, {}, true);
         }
-        logger_.warn("{} {}: dropped oversized frame of {} bytes (limit {}); connection kept",
-                     options_.label, peer_, declared_length, options_.payload_limit_bytes);
+        warn_oversized(declared_length);
         return open_;
       });
+}
+
+void FramedConnection::warn_oversized(std::uint32_t declared_length) {
+  // A peer can send nothing but oversized frames, tens of thousands a second: the first of a
+  // run is told in full, the rest are counted (a line every period, and at the close).
+  const SimTime now = executor_.now();
+  if (auto summary = oversized_warnings_.summary(now)) say_oversized(*summary);
+  if (oversized_warnings_.occurred(now)) {
+    logger_.warn("{} {}: dropped oversized frame of {} bytes (limit {}); connection kept", options_.label, peer_,
+                 declared_length, options_.payload_limit_bytes);
+  }
+}
+
+void FramedConnection::say_oversized(const RepeatedWarning::Summary& summary) {
+  logger_.warn("{} {}: dropped {}", options_.label, peer_, summary.text("more oversized frames"));
 }
 
 void FramedConnection::handle_payload(std::string_view payload) {
@@ -259,6 +273,7 @@ void FramedConnection::finish(const CloseReason& plain_reason) {
   // The owner usually drops its reference inside on_closed; stay alive until we return.
   const auto self = shared_from_this();
   open_ = false;
+  if (auto summary = oversized_warnings_.flush(executor_.now())) say_oversized(*summary);
   if (read_timer_ != 0) {
     executor_.cancel(read_timer_);
     read_timer_ = 0;

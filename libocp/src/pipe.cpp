@@ -76,6 +76,10 @@ class PipeEnd final : public ByteStream, public std::enable_shared_from_this<Pip
 
   bool is_open() const override { return open_; }
   std::string peer_name() const override { return peer_name_; }
+  // The other end closed (or is gone) and its close has not reached this end's reader yet.
+  bool peer_hung_up() const override {
+    return open_ && (peer_closed_ || peer_end_ == nullptr || !peer_end_->open_);
+  }
 
  private:
   void notify_peer_of_close() {

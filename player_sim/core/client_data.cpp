@@ -10,6 +10,16 @@
 #include "player_impl.hpp"
 
 namespace ocp {
+namespace {
+
+// Said with the last name a WarnedNames remembers, so the summaries that follow make sense.
+std::string remembering_no_more(const WarnedNames& names) {
+  if (!names.full()) return {};
+  return fmt::format(" ({} names warned about: further unknown names are only counted, every {})",
+                     names.capacity(), format_span(RepeatedWarning::default_period));
+}
+
+}  // namespace
 
 void PlayerCore::Impl::on_client_data(ClientSource source, const ClientOcpShared& data) {
   ++stats.client_messages_received;
@@ -33,14 +43,14 @@ void PlayerCore::Impl::on_client_data(ClientSource source, const ClientOcpShared
 }
 
 void PlayerCore::Impl::apply_client_data(ClientSource source, const ClientOcpShared& data) {
+  const SimTime now = executor.now();
   if (data.active_vehicle) {
     if (vehicles.contains(*data.active_vehicle)) {
-      warned_unknown_active.reset();
-    } else if (warned_unknown_active != data.active_vehicle) {
+      warned_unknown_active.clear();
+    } else if (warned_unknown_active.first_time(*data.active_vehicle, now)) {
       // Once per episode: a client repeats its selection in every message (100 Hz).
-      warned_unknown_active = data.active_vehicle;
-      logger.warn("active_vehicle '{}' from {} is not a linked vehicle; no vehicle is active",
-                  *data.active_vehicle, client_source_name(source));
+      logger.warn("active_vehicle '{}' from {} is not a linked vehicle; no vehicle is active{}",
+                  *data.active_vehicle, client_source_name(source), remembering_no_more(warned_unknown_active));
     }
     selected_vehicle = data.active_vehicle;
   }
@@ -48,9 +58,9 @@ void PlayerCore::Impl::apply_client_data(ClientSource source, const ClientOcpSha
     const auto found = vehicles.find(name);
     if (found == vehicles.end()) {
       ++stats.unknown_vehicle_entries;
-      if (warned_unknown_entries.insert(name).second) {
-        logger.warn("client_user_data for unknown vehicle '{}' from {} ignored", name,
-                    client_source_name(source));
+      if (warned_unknown_entries.first_time(name, now)) {
+        logger.warn("client_user_data for unknown vehicle '{}' from {} ignored{}", name,
+                    client_source_name(source), remembering_no_more(warned_unknown_entries));
       }
       continue;
     }
@@ -71,6 +81,18 @@ void PlayerCore::Impl::apply_client_data(ClientSource source, const ClientOcpSha
   }
 }
 
+void PlayerCore::Impl::summarise_repeated_warnings(SimTime now) {
+  if (auto summary = warned_unknown_entries.summary(now)) {
+    logger.warn("… and {} ignored", summary->text("more client_user_data entries for unknown vehicle names"));
+  }
+  if (auto summary = warned_unknown_active.summary(now)) {
+    logger.warn("… and {}", summary->text("more unknown active_vehicle names"));
+  }
+  if (auto summary = warned_unknown_senders.summary(now)) {
+    logger.warn("… and {} dropped", summary->text("more messages from unknown vehicle names"));
+  }
+}
+
 void PlayerCore::Impl::stop_all_client_data() {
   // User data and every external echo stop; no fallback to self-echo (see echo_pair).
   // ocp_disable_gamepad and the selected vehicle keep their values on purpose.
@@ -88,6 +110,12 @@ std::optional<AckPair> PlayerCore::Impl::echo_pair(const VehicleLink& link) cons
 
 void PlayerCore::Impl::accept_client(std::shared_ptr<ByteStream> stream) {
   if (!stream) return;
+  if (client && client->peer_hung_up()) {
+    // Gone already, its close not read yet (see StreamerCore's accept_vehicle): not connected.
+    const std::shared_ptr<FramedConnection> gone = client;   // on_client_closed resets ours
+    gone->close(CloseReason{PeerError::closed_by_peer,
+                            fmt::format("it had hung up already when {} connected", stream->peer_name())});
+  }
   if (client && client->is_open()) {
     ++stats.client_connections_refused;
     const CloseReason reason{LocalError::already_connected,
@@ -116,7 +144,7 @@ void PlayerCore::Impl::accept_client(std::shared_ptr<ByteStream> stream) {
     return Ok{};
   };
   handlers.on_closed = [this](const CloseReason& reason) { on_client_closed(reason); };
-  client_too_large_warned = false;
+  client_too_large.reset();
   client = FramedConnection::open(executor, logger.child("tcp"), std::move(stream),
                                   std::move(options), counters, std::move(handlers));
 }
@@ -127,24 +155,30 @@ void PlayerCore::Impl::send_to_client(const VehicleOcpShared& shared) {
   const Status sent = client->send(client_json_buffer);
   if (sent) {
     ++stats.client_frames_sent;
-    if (client_too_large_warned) {
+    if (client_too_large) {
       // The episode of oversized frames is over; the next one is warned about again.
       logger.child("tcp").info("tcp client {}: VehicleOcpShared fits again after {} frames not sent",
-                               client->peer(), client_too_large_frames);
-      client_too_large_warned = false;
+                               client->peer(), client_too_large->frames);
+      client_too_large.reset();
     }
     return;
   }
   if (sent.error().code != LocalError::frame_too_large) return;
-  // Never send an oversized frame (SPEC §2); the client simply misses this one. One warning
-  // per episode (a run of oversized frames): a large fleet would otherwise log every frame.
+  // Never send an oversized frame (SPEC §2); the client misses this one. One warning per
+  // episode (a run of oversized frames): a large fleet would otherwise log every frame. The
+  // status line and the web view show the episode while it lasts (client_frame_too_large).
   ++stats.client_frames_too_large;
-  ++client_too_large_frames;
-  if (client_too_large_warned) return;
-  client_too_large_warned = true;
-  client_too_large_frames = 1;
-  logger.child("tcp").warn("tcp client {}: VehicleOcpShared not sent: {}", client->peer(),
-                           sent.error().message());
+  const bool first = !client_too_large;
+  if (first) client_too_large = ClientFrameTooLarge{0, max_payload_bytes, 0, 0};
+  client_too_large->bytes = client_json_buffer.size();
+  client_too_large->vehicles = shared.vehicle_feedback.size();
+  ++client_too_large->frames;
+  if (!first) return;
+  logger.child("tcp").warn(
+      "tcp client {}: VehicleOcpShared not sent: {} bytes is over the {}-byte frame limit (SPEC §2), so the "
+      "client receives nothing until it fits again. Make it smaller: fewer vehicles ({} linked), smaller "
+      "vehicle_user_data, fewer cameras",
+      client->peer(), client_too_large->bytes, max_payload_bytes, client_too_large->vehicles);
 }
 
 Status PlayerCore::Impl::write_raw_to_client(std::string bytes, std::vector<std::size_t> cuts, Micros gap) {
@@ -170,6 +204,7 @@ Status PlayerCore::Impl::write_raw_to_client(std::string bytes, std::vector<std:
 void PlayerCore::Impl::on_client_closed(const CloseReason& reason) {
   ++stats.client_connections_closed;
   last_client_close_reason = reason;
+  client_too_large.reset();   // nothing is sent without a client
   client.reset();  // the connection keeps itself alive until its callback returns
 }
 

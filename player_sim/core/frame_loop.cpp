@@ -67,6 +67,7 @@ void PlayerCore::Impl::on_frame() {
 
   if (client && client->is_open()) send_to_client(last_shared);
   for (const SharedListener& listener : shared_listeners) listener(last_shared);
+  summarise_repeated_warnings(now);
 }
 
 // Rebuilding VehicleOcpShared from scratch every frame (a fresh map, every name, fault list

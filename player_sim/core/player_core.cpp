@@ -5,9 +5,16 @@
 #include <utility>
 #include <variant>
 
+#include <fmt/format.h>
+
 #include "player_impl.hpp"
 
 namespace ocp {
+
+std::string describe(const ClientFrameTooLarge& too_large) {
+  return fmt::format("VehicleOcpShared too large: {} B > {} B, not sent to the client ({} frames)",
+                     too_large.bytes, too_large.limit, too_large.frames);
+}
 
 Micros player_frame_period(const PlayerConfig& config) {
   double rate_hz = config.frame_rate_hz;
@@ -106,7 +113,7 @@ void PlayerCore::handle_link_message(const std::string& vehicle, LinkMessage&& m
   Impl& self = *impl_;
   const auto found = self.vehicles.find(vehicle);
   if (found == self.vehicles.end()) {
-    if (self.warned_unknown_senders.insert(vehicle).second) {
+    if (self.warned_unknown_senders.first_time(vehicle, self.executor.now())) {
       self.logger.warn("message from unknown vehicle '{}' dropped", vehicle);
     }
     return;
@@ -186,6 +193,13 @@ Status PlayerCore::write_raw_to_client(std::string bytes, std::vector<std::size_
 }
 
 bool PlayerCore::client_connected() const { return impl_->client && impl_->client->is_open(); }
+const std::optional<ClientFrameTooLarge>& PlayerCore::client_frame_too_large() const {
+  return impl_->client_too_large;
+}
+std::size_t PlayerCore::remembered_unknown_names() const {
+  return impl_->warned_unknown_entries.size() + impl_->warned_unknown_active.size() +
+         impl_->warned_unknown_senders.size();
+}
 const std::optional<CloseReason>& PlayerCore::last_client_close_reason() const {
   return impl_->last_client_close_reason;
 }

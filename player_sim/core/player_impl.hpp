@@ -7,11 +7,11 @@
 #include <map>
 #include <memory>
 #include <optional>
-#include <set>
 #include <string>
 #include <vector>
 
 #include "ocp/framed_connection.hpp"
+#include "ocp/log_limiter.hpp"
 #include "player/player_core.hpp"
 #include "source_lock.hpp"
 #include "vehicle_link.hpp"
@@ -32,6 +32,7 @@ struct PlayerCore::Impl {
   void on_client_data(ClientSource source, const ClientOcpShared& data);
   void apply_client_data(ClientSource source, const ClientOcpShared& data);
   void stop_all_client_data();
+  void summarise_repeated_warnings(SimTime now);   // every frame: the limiters' summaries
   std::optional<AckPair> echo_pair(const VehicleLink& link) const;
   void accept_client(std::shared_ptr<ByteStream> stream);
   void on_client_closed(const CloseReason& reason);
@@ -68,16 +69,17 @@ struct PlayerCore::Impl {
   VehicleOcpShared last_shared;
   std::vector<SharedListener> shared_listeners;
 
-  // Names already warned about, so a client or link repeating them at 100 Hz logs once.
-  std::set<std::string> warned_unknown_entries;
-  std::set<std::string> warned_unknown_senders;
-  std::optional<std::string> warned_unknown_active;  // until a linked vehicle is selected
+  // Names already warned about, so a client or link repeating them at 100 Hz logs once; at
+  // most WarnedNames::default_capacity each: a client sending ever-new names is summarised,
+  // not remembered (log_limiter.hpp).
+  WarnedNames warned_unknown_entries;
+  WarnedNames warned_unknown_senders;
+  WarnedNames warned_unknown_active;   // forgotten when a linked vehicle is selected
 
   std::shared_ptr<FramedConnection> client;      // the tcp source (:4001), one at a time
   std::optional<CloseReason> last_client_close_reason;
   std::string client_json_buffer;                // reused every frame
-  bool client_too_large_warned = false;          // in an episode of oversized frames: warned once
-  std::uint64_t client_too_large_frames = 0;     // frames not sent in the current episode
+  std::optional<ClientFrameTooLarge> client_too_large;   // an episode of oversized frames: warned once
   bool client_output_paused = false;             // conformance testing: no VehicleOcpShared to the tcp client
 };
 

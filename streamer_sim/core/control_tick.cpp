@@ -4,6 +4,7 @@
 // the steady-state path beyond what user data and camera names need.
 #include "ocp/frame.hpp"
 #include "ocp/json_codec.hpp"
+#include "ocp/log_limiter.hpp"
 #include "streamer_impl.hpp"
 
 namespace ocp {
@@ -19,6 +20,15 @@ void StreamerCore::Impl::on_control_tick(SimTime deadline) {
     send_control_message();
   }
   publish_latency_sample(deadline, now);
+  summarise_user_data_drops(now);
+}
+
+void StreamerCore::Impl::summarise_user_data_drops(SimTime now) {
+  if (!user_data_drops.in_episode()) return;
+  if (const auto summary = user_data_drops.summary(now)) {
+    logger.warn("control message over {} bytes: sent without client_user_data {}{}", max_payload_bytes,
+                summary->text("times"), summary->episode_ended ? " (none since)" : "");
+  }
 }
 
 void StreamerCore::Impl::evaluate_tick_faults(SimTime now) {
@@ -54,17 +64,26 @@ void StreamerCore::Impl::send_control_message() {
   encode_control_message(outgoing, json_buffer);
   Status sent = vehicle_connection->send(json_buffer, outgoing.ack);
   if (!sent && sent.error().code == LocalError::frame_too_large) {
-    // Only oversized client user data can do this; the vehicle still needs its control.
-    logger.warn("control message of {} bytes exceeds {} bytes: sent without client_user_data",
-                json_buffer.size(), max_payload_bytes);
+    // Only oversized client user data can do this; the vehicle still needs its control. The
+    // operator keeps sending that user data at 100 Hz: said once, then counted (one line a
+    // period while it goes on, see summarise_user_data_drops).
+    if (user_data_drops.occurred(executor.now())) {
+      logger.warn("control message of {} bytes exceeds {} bytes: sent without client_user_data (the "
+                  "operator's client_user_data for this vehicle is too large; repeats are counted, one "
+                  "line every {})",
+                  json_buffer.size(), max_payload_bytes, format_span(user_data_drops.period()));
+    }
     outgoing.client_user_data.reset();
     ++stats.control_user_data_dropped;
     encode_control_message(outgoing, json_buffer);
     sent = vehicle_connection->send(json_buffer, outgoing.ack);
   }
   if (!sent) {
-    logger.error("control message of {} bytes not sent: {}", json_buffer.size(),
-                 sent.error().message());
+    // A vehicle that stopped reading was just closed, and the close said why; anything
+    // else is a surprise worth its own line.
+    if (sent.error().code != PeerError::not_reading) {
+      logger.error("control message of {} bytes not sent: {}", json_buffer.size(), sent.error().message());
+    }
     return;
   }
   ++stats.control_frames_sent;

@@ -16,6 +16,7 @@
 #include "frame_loop.hpp"
 #include "latency_loop.hpp"
 #include "ocp/framed_connection.hpp"
+#include "ocp/log_limiter.hpp"
 #include "streamer/control_ticker.hpp"
 #include "streamer/streamer_core.hpp"
 
@@ -46,6 +47,7 @@ struct StreamerCore::Impl {
   void evaluate_tick_faults(SimTime now);
   void build_control_message(SimTime now);
   void send_control_message();
+  void summarise_user_data_drops(SimTime now);
 
   // feedback.cpp
   void on_frame_iteration(Micros took);
@@ -98,6 +100,7 @@ struct StreamerCore::Impl {
   bool control_output_paused = false;            // conformance: ticks write no control frame
   std::optional<Controller> last_sent_controller;
   std::vector<std::string> missing_cameras;      // as of the last evaluation
+  RepeatedWarning user_data_drops;               // control messages sent without oversized user data
 
   std::uint64_t feedback_sequence = 0;
 };

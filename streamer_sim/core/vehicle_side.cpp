@@ -15,6 +15,14 @@ namespace ocp {
 void StreamerCore::Impl::accept_vehicle(std::shared_ptr<ByteStream> stream) {
   if (!stream) return;
   const std::string peer = stream->peer_name();
+  if (vehicle_connection && vehicle_connection->peer_hung_up()) {
+    // The active vehicle has hung up, but its close still waits behind bytes not read yet
+    // (a Streamer stopped with SIGSTOP and resumed meets the new connection first): it is no
+    // longer connected, so it does not keep the newcomer out.
+    const std::shared_ptr<FramedConnection> gone = vehicle_connection;   // on_closed resets ours
+    gone->close(CloseReason{PeerError::closed_by_peer,
+                            fmt::format("it had hung up already when {} connected", peer)});
+  }
   if (vehicle_connection) {
     ++stats.connections_refused;
     const CloseReason reason{LocalError::already_connected,

@@ -148,14 +148,14 @@ TEST(Executables, BusyPortExitsOneNamingTheAddress) {
 
   ProcessRun result = run({streamer_sim, "--plugin-param", "tcp_port", port, "--duration-s", "20"});
   EXPECT_EQ(result.exit_code, 1);
-  EXPECT_NE(result.output.find("address 127.0.0.1:" + port + " already in use"), std::string::npos)
+  EXPECT_NE(result.output.find("cannot start: another socket listens on 127.0.0.1:" + port + " (is another"), std::string::npos)
       << result.output;
 
   EXPECT_NE(result.output.find("pick another port with --plugin-param tcp_port N"), std::string::npos) << result.output;
 
   result = run({player_sim, "--plugin-param", "ocp_player_tcp_port", port, "--duration-s", "20"});
   EXPECT_EQ(result.exit_code, 1);
-  EXPECT_NE(result.output.find("address 127.0.0.1:" + port + " already in use"), std::string::npos)
+  EXPECT_NE(result.output.find("cannot start: another socket listens on 127.0.0.1:" + port + " (is another"), std::string::npos)
       << result.output;
   EXPECT_NE(result.output.find("pick another port with --plugin-param ocp_player_tcp_port N"), std::string::npos)
       << result.output;

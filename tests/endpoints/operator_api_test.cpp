@@ -10,6 +10,7 @@
 #include "endpoint_fixture.hpp"
 #include "operator_peer.hpp"
 #include "player_app/player_simulation.hpp"
+#include "player_app/webview/messages.hpp"
 
 namespace ocp {
 namespace {
@@ -211,6 +212,39 @@ TEST_F(OperatorApi, MalformedJsonClosesTheClient) {
   EXPECT_EQ(player().last_client_close_reason()->code, PeerError::not_an_object);
 }
 
+// Issue #19 item 7: from 17 vehicles up every VehicleOcpShared is over 16 KiB, so the :4001
+// client gets nothing (SPEC §2). One WARN was all the user saw; now the status line says it
+// every second, and the web view status carries it for the dashboard.
+TEST_F(OperatorApi, TwentyVehiclesMakeVehicleOcpSharedTooLargeAndTheStatusLineSaysSo) {
+  std::vector<std::string> vehicles;
+  for (int k = 1; k <= 20; ++k) vehicles.push_back("truck-" + std::to_string(k));
+  start(vehicles);
+  TcpClient client(io_);
+  ASSERT_TRUE(client.connect(simulation_->port()));
+  ASSERT_TRUE(run_until(io_, [&] { return player().client_frame_too_large().has_value(); }));
+  const ClientFrameTooLarge too_large = *player().client_frame_too_large();
+  EXPECT_GT(too_large.bytes, 16384u);
+  EXPECT_EQ(too_large.vehicles, 20u);
+
+  const std::string line = simulation_->status_line();
+  EXPECT_NE(line.find("VehicleOcpShared too large: "), std::string::npos) << line;
+  EXPECT_NE(line.find(" B > 16384 B, not sent to the client ("), std::string::npos) << line;
+  const auto* warning = log_.find(LogLevel::warn, "VehicleOcpShared not sent");
+  ASSERT_NE(warning, nullptr);
+  EXPECT_NE(warning->message.find("fewer vehicles (20 linked)"), std::string::npos) << warning->message;
+
+  // The web view's status object (ocp_webview_status) as the dashboard reads it.
+  webview::Status status;
+  status.client_frame_too_large = webview::status_of(too_large);
+  const std::string json = webview::encode_status(status);
+  EXPECT_NE(json.find(R"("client_frame_too_large":{"bytes":)" + std::to_string(too_large.bytes) +
+                      R"(,"limit":16384,"vehicles":20,"text":"VehicleOcpShared too large: )"),
+            std::string::npos)
+      << json;
+  EXPECT_NE(json.find("Reduce the vehicles (20), their vehicle_user_data or cameras."), std::string::npos) << json;
+  EXPECT_EQ(webview::encode_status(webview::Status{}).find("client_frame_too_large"), std::string::npos);
+}
+
 TEST_F(OperatorApi, PortInUseIsAClearError) {
   start();
   PlayerSimOptions options;
@@ -219,8 +253,7 @@ TEST_F(OperatorApi, PortInUseIsAClearError) {
   const Status status = second.start();
   ASSERT_FALSE(status.ok());
   EXPECT_EQ(status.error().code, std::errc::address_in_use);
-  EXPECT_EQ(status.error().detail,
-            "address 127.0.0.1:" + std::to_string(simulation_->port()) + " already in use");
+  EXPECT_EQ(status.error().detail, "another socket listens on 127.0.0.1:" + std::to_string(simulation_->port()));
 }
 
 }  // namespace

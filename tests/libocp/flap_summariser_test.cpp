@@ -3,6 +3,7 @@
 // line when it stops.
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -73,6 +74,49 @@ TEST(FlapSummariser, ANewPatternIsSummarisedAgain) {
   flap(flaps, log, 10'000, 20'000, 900, 100);  // 1 raise/s, active 90 %
   ASSERT_EQ(log.lines.size(), 2u) << ::testing::PrintToString(log.lines);
   EXPECT_EQ(log.lines[1], "HighLatency flapping: raised 5× in the last 5 s, active 90 % of the time");
+}
+
+}  // namespace
+}  // namespace ocp
+
+namespace ocp {
+namespace {
+
+// Issue #19 item 8: "VehicleNoResponse flapping: raised 1× in the last 5 s, active 0 %" — after
+// a pause in which nobody called on_steady (the process was stopped), the next edge found one
+// raise in the window and still called it flapping. A single raise is never flapping.
+TEST(FlapSummariser, AnEdgeAfterALongPauseEndsTheFlappingInsteadOfCallingOneRaiseFlapping) {
+  FlapSummariser flaps("VehicleNoResponse");
+  Log log;
+  flap(flaps, log, 0, 5000, 60, 40);
+  ASSERT_TRUE(flaps.flapping());
+  const auto verdict = flaps.on_edge(true, at_ms(20'000));   // nothing in between
+  EXPECT_TRUE(verdict.log_edge);
+  ASSERT_TRUE(verdict.summary.has_value());
+  EXPECT_EQ(*verdict.summary, "VehicleNoResponse stopped flapping: active now; raised 50× while flapping");
+  EXPECT_FALSE(flaps.flapping());
+  EXPECT_TRUE(flaps.on_edge(false, at_ms(20'010)).log_edge);
+}
+
+TEST(FlapSummariser, AShareThatIsNeitherNoneNorAllIsNotRoundedToIt) {
+  FlapSummariser flaps("HighLatency");
+  std::optional<std::string> summary;
+  for (std::int64_t ms = 0; ms <= 3000; ms += 1000) {   // 4 raises of 1 ms each in 3 s
+    summary = flaps.on_edge(true, at_ms(ms)).summary;
+    if (!summary) {
+      EXPECT_FALSE(flaps.on_edge(false, at_ms(ms + 1)).summary.has_value());
+    }
+  }
+  ASSERT_TRUE(summary.has_value());
+  EXPECT_EQ(*summary, "HighLatency flapping: raised 4× in the last 3 s, active <1 % of the time");
+
+  FlapSummariser mostly_on("HighLatency");
+  for (std::int64_t ms = 0; ms <= 3000; ms += 1000) {   // cleared for 1 ms a second
+    summary = mostly_on.on_edge(true, at_ms(ms)).summary;
+    if (!summary) (void)mostly_on.on_edge(false, at_ms(ms + 999));
+  }
+  ASSERT_TRUE(summary.has_value());
+  EXPECT_EQ(*summary, "HighLatency flapping: raised 4× in the last 3 s, active >99 % of the time");
 }
 
 }  // namespace

@@ -137,6 +137,31 @@ TEST(FramedConnection, OversizedInboundFrameIsDrainedCountedAndTheConnectionKept
   EXPECT_TRUE(fixture.close_reasons.empty());
 }
 
+// A peer sending nothing but oversized frames (as fast as loopback goes: tens of thousands a
+// second) logs one line, then a count every 5 s, then one at the close — not a line a frame.
+TEST(FramedConnection, AFloodOfOversizedFramesIsLoggedOnceThenCounted) {
+  Fixture fixture(Micros{0});
+  const std::string oversized = frame_of(std::string(max_payload_bytes + 1, 'x'));
+  for (int k = 0; k < 10'000; ++k) {   // one a millisecond for 10 s
+    fixture.ends.a->write(oversized);
+    fixture.executor.run_until(SimTime{(k + 1) * 1000});
+  }
+  for (int k = 0; k < 3; ++k) fixture.ends.a->write(oversized);   // and a last few
+  fixture.executor.run_until(SimTime{10'002'000});
+  EXPECT_EQ(fixture.oversized, 10'003u);
+  ASSERT_NE(fixture.connection, nullptr);
+  fixture.connection->close(CloseReason{LocalError::shut_down, "test over"});
+  std::vector<std::string> lines;
+  for (const auto& line : fixture.log.lines()) {
+    if (line.message.find("oversized") != std::string::npos) lines.push_back(line.message);
+  }
+  ASSERT_EQ(lines.size(), 4u) << ::testing::PrintToString(lines);
+  EXPECT_EQ(lines[0], "widget pipe:peer: dropped oversized frame of 16385 bytes (limit 16384); connection kept");
+  EXPECT_EQ(lines[1], "widget pipe:peer: dropped 4999 more oversized frames in the last 5 s");
+  EXPECT_EQ(lines[2], "widget pipe:peer: dropped 5000 more oversized frames in the last 5 s");
+  EXPECT_EQ(lines[3].rfind("widget pipe:peer: dropped 3 more oversized frames in the last ", 0), 0u) << lines[3];
+}
+
 TEST(FramedConnection, PayloadErrorClosesWithItsReason) {
   Fixture fixture;
   fixture.executor.call_at(SimTime{7000}, [&] { fixture.ends.a->write(frame_of("bad") + frame_of("never")); });

@@ -82,8 +82,10 @@ TEST(TcpServer, PortInUseIsAClearError) {
   const Status status = second.listen({.port = first.port()});
   ASSERT_FALSE(status.ok());
   EXPECT_EQ(status.error().code, std::errc::address_in_use);
-  EXPECT_EQ(status.error().detail,
-            "address 127.0.0.1:" + std::to_string(first.port()) + " already in use");
+  EXPECT_EQ(status.error().detail, "another socket listens on 127.0.0.1:" + std::to_string(first.port()));
+  // Said once (issue #19 item 8: "Address already in use: address … already in use").
+  EXPECT_EQ(status.error().message(),
+            "Address already in use: another socket listens on 127.0.0.1:" + std::to_string(first.port()));
   EXPECT_FALSE(second.listening());
   EXPECT_EQ(second.port(), 0);
 }

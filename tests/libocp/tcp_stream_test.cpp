@@ -3,7 +3,9 @@
 #include <boost/asio/connect.hpp>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
+#include <array>
 #include <chrono>
+#include <filesystem>
 #include <functional>
 #include <string>
 #include <vector>
@@ -157,6 +159,84 @@ TEST(TcpStream, AbortedPeerIsReportedAsReset) {
   client.close();
   ASSERT_TRUE(run_within_wait_limit(io, [&] { return !at_server.closes.empty(); }));
   EXPECT_EQ(at_server.closes, std::vector<std::string>{"connection reset"});
+}
+
+// Descriptors this process has open now (the directory listing's own is in every count).
+std::size_t open_descriptors() {
+  std::size_t count = 0;
+  for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator("/proc/self/fd")) ++count;
+  return count;
+}
+
+// Issue #19 item 3: a close while writes were in flight shut the socket only once they
+// finished, so a peer that never reads kept it — ESTABLISHED, MBs queued, one descriptor —
+// until it left. Now the bytes get the grace, then the connection is reset.
+TEST(TcpStream, ClosingTowardsAPeerThatNeverReadsReleasesTheSocketAfterTheGrace) {
+  asio::io_context io;
+  tcp::acceptor acceptor(io, tcp::endpoint(asio::ip::make_address("127.0.0.1"), 0));
+  tcp::socket never_reads(io);
+  never_reads.open(tcp::v4());
+  never_reads.set_option(asio::socket_base::receive_buffer_size(4096));
+  never_reads.connect(acceptor.local_endpoint());
+  tcp::socket server_socket(io);
+  acceptor.accept(server_socket);
+  const std::size_t descriptors_before = open_descriptors();
+  auto server = make_tcp_stream(std::move(server_socket), TcpStreamOptions{std::chrono::milliseconds(300)});
+  server->set_handlers(ByteStreamHandlers{});
+  // Write as FramedConnection does up to its write-queue limit (1 MiB): the kernel's buffers
+  // fill up, the rest waits in the stream's queue.
+  const std::string chunk(64 * 1024, 'x');
+  ASSERT_TRUE(run_within_wait_limit(io, [&] {
+    if (server->queued_bytes() < (std::size_t{1} << 20)) server->write(chunk);
+    return server->queued_bytes() >= (std::size_t{1} << 20);
+  }));
+  testing::run_for(io, std::chrono::milliseconds(50));
+  ASSERT_GT(server->queued_bytes(), 0u) << "the peer must not have taken it all";
+
+  const auto closed_at = std::chrono::steady_clock::now();
+  server->close();
+  ASSERT_TRUE(run_within_wait_limit(io, [&] { return open_descriptors() == descriptors_before - 1; }))
+      << "the server's descriptor is still open";
+  EXPECT_GE(std::chrono::steady_clock::now() - closed_at, std::chrono::milliseconds(300)) << "the grace was kept";
+  // The peer sees the reset (after whatever bytes it still had).
+  never_reads.non_blocking(true);
+  boost::system::error_code error;
+  std::array<char, 65536> buffer{};
+  ASSERT_TRUE(run_within_wait_limit(io, [&] {
+    never_reads.read_some(asio::buffer(buffer), error);
+    return error && error != asio::error::would_block;
+  }));
+  EXPECT_EQ(error, asio::error::connection_reset) << error.message();
+  never_reads.close();
+  EXPECT_EQ(open_descriptors(), descriptors_before - 2);
+}
+
+TEST(TcpStream, ClosingTowardsAPeerThatReadsDeliversEverythingThenEof) {
+  Connection connection;
+  Received at_client;
+  connection.client->set_handlers(at_client.handlers());
+  const std::string big(4 << 20, 'y');   // more than the kernel takes at once
+  connection.server->write(big);
+  connection.server->close();
+  ASSERT_TRUE(run_within_wait_limit(connection.io, [&] { return !at_client.closes.empty(); }));
+  EXPECT_EQ(at_client.bytes.size(), big.size());
+  EXPECT_EQ(at_client.closes, std::vector<std::string>{"connection closed by peer"});
+}
+
+// Issue #19 item 8: the kernel knows the peer has hung up before the close is read (here:
+// nobody reads at all) — a server asked to take a new connection can tell.
+TEST(TcpStream, APeerThatHungUpIsKnownBeforeItsCloseIsRead) {
+  Connection connection;
+  EXPECT_FALSE(connection.server->peer_hung_up());
+  connection.client->write("unread");
+  connection.client->close();
+  ASSERT_TRUE(run_within_wait_limit(connection.io, [&] { return connection.server->peer_hung_up(); }));
+  EXPECT_TRUE(connection.server->is_open());
+  Received at_server;
+  connection.server->set_handlers(at_server.handlers());
+  ASSERT_TRUE(run_within_wait_limit(connection.io, [&] { return !at_server.closes.empty(); }));
+  EXPECT_EQ(at_server.bytes, "unread");
+  EXPECT_FALSE(connection.server->peer_hung_up());   // closed now: nothing left to tell
 }
 
 TEST(TcpStream, PeerNameIsAddressAndPort) {

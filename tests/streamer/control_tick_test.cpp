@@ -150,6 +150,51 @@ TEST(StreamerControlTick, OversizedClientUserDataIsDroppedButControlStillFlows) 
   for (const auto& payload : vehicle.raw_payloads) EXPECT_LE(payload.size(), max_payload_bytes);
 }
 
+std::vector<std::string> lines_with(const StreamerHarness& harness, std::string_view needle) {
+  std::vector<std::string> found;
+  for (const auto& line : harness.log.lines()) {
+    if (line.message.find(needle) != std::string::npos) found.push_back(line.message);
+  }
+  return found;
+}
+
+// Issue #19 item 6: one ~16 KB user data made this line 100 times a second, on and on (the
+// Player keeps the client's last user data after the client left). Now: once, then a count
+// every 5 s while it lasts, and one last count when it ends.
+TEST(StreamerControlTick, OversizedClientUserDataIsWarnedOnceThenCounted) {
+  StreamerHarness harness;
+  harness.connect_vehicle().echo = true;   // stays connected
+  harness.core.start();
+  harness.executor.run_until(ms(5));
+  OperatorControl huge = harness.control_returning(harness.pair_issued_at(ms(0)), driving_controller());
+  huge.client_user_data = RawJson{"\"" + std::string(16'500, 'u') + "\""};
+  harness.send_control(std::move(huge));
+  harness.executor.run_until(ms(10'015));
+  EXPECT_EQ(harness.core.stats().control_user_data_dropped, 1001u);   // ticks at 10 … 10 010 ms
+  std::vector<std::string> lines = lines_with(harness, "sent without client_user_data");
+  ASSERT_EQ(lines.size(), 3u) << ::testing::PrintToString(lines);
+  EXPECT_NE(lines[0].find("control message of 1"), std::string::npos) << lines[0];
+  EXPECT_NE(lines[0].find("exceeds 16384 bytes"), std::string::npos) << lines[0];
+  EXPECT_EQ(lines[1], "control message over 16384 bytes: sent without client_user_data 500 times in the last 5 s");
+  EXPECT_EQ(lines[2], "control message over 16384 bytes: sent without client_user_data 500 times in the last 5 s");
+
+  // User data that fits ends the episode: at most one last count, then silence; the next
+  // episode is told in full again.
+  harness.send_control(harness.control_returning(harness.pair_issued_at(ms(10'000)), driving_controller()));
+  harness.executor.run_until(ms(30'000));
+  const std::uint64_t dropped = harness.core.stats().control_user_data_dropped;
+  lines = lines_with(harness, "sent without client_user_data");
+  ASSERT_EQ(lines.size(), dropped == 1001u ? 3u : 4u) << ::testing::PrintToString(lines);
+  OperatorControl again = harness.control_returning(harness.pair_issued_at(ms(29'990)), driving_controller());
+  again.client_user_data = RawJson{"\"" + std::string(16'500, 'u') + "\""};
+  harness.send_control(std::move(again));
+  harness.executor.run_until(ms(30'100));
+  const std::size_t before = lines.size();
+  lines = lines_with(harness, "sent without client_user_data");
+  ASSERT_EQ(lines.size(), before + 1) << ::testing::PrintToString(lines);
+  EXPECT_NE(lines.back().find("control message of 1"), std::string::npos) << lines.back();
+}
+
 TEST(StreamerControlTick, NoControlMessageRaisedAtFirstTickAfter1000MsOfSilence) {
   StreamerHarness harness;
   harness.connect_vehicle();

@@ -221,6 +221,13 @@ TEST(StreamerHostileVehicle, AVehicleThatNeverReadsIsDisconnectedAndTheStreamerC
   EXPECT_LE(most_queued, config.vehicle_write_queue_limit_bytes);
   EXPECT_TRUE(harness.core.faults().contains(FaultId::VehicleNoResponse));
   EXPECT_TRUE(harness.log.contains(LogLevel::warn, "peer not reading"));
+  // The reason is said once, by the close (issue #19 item 3), not again as a send error.
+  std::size_t saying_it = 0;
+  for (const auto& line : harness.log.lines()) {
+    if (line.message.find("peer not reading") != std::string::npos) ++saying_it;
+  }
+  EXPECT_EQ(saying_it, 2u) << "closing …, and vehicle disconnected (…)";
+  EXPECT_FALSE(harness.log.contains(LogLevel::error, "not sent"));
 
   TestVehicle& next = harness.connect_vehicle("pipe:next-vehicle");
   next.echo = true;

@@ -25,6 +25,32 @@ TEST(StreamerVehicleConnection, SecondConnectionIsRefusedWhileTheFirstKeepsWorki
   EXPECT_EQ(harness.core.vehicle_peer(), "pipe:vehicle-a");
 }
 
+// Issue #19 item 8: a Streamer stopped (SIGSTOP) and resumed meets the vehicle client's new
+// connection before it has read the old one's close, and said "refused … already connected"
+// for a peer that had hung up. A peer that has hung up is not connected: the newcomer is taken.
+TEST(StreamerVehicleConnection, APeerThatHungUpDoesNotKeepTheNextOneOut) {
+  StreamerHarness harness;
+  TestVehicle& first = harness.connect_vehicle("pipe:vehicle-a");
+  first.echo = true;
+  harness.core.start();
+  harness.executor.run_until(ms(100));
+  first.close();                                            // its close is not read yet …
+  TestVehicle& second = harness.connect_vehicle("pipe:vehicle-b");   // … when this one comes
+  second.echo = true;
+  harness.executor.run_until(ms(200));
+
+  EXPECT_FALSE(harness.logged("refused"));
+  EXPECT_EQ(harness.core.stats().connections_refused, 0u);
+  EXPECT_EQ(harness.core.stats().connections_accepted, 2u);
+  EXPECT_EQ(harness.core.stats().connections_closed, 1u);
+  EXPECT_EQ(harness.core.stats().last_close_reason,
+            (CloseReason{PeerError::closed_by_peer, "it had hung up already when pipe:vehicle-b connected"}));
+  EXPECT_FALSE(second.closed_by_peer());
+  EXPECT_TRUE(harness.core.vehicle_connected());
+  EXPECT_EQ(harness.core.vehicle_peer(), "pipe:vehicle-b");
+  EXPECT_EQ(second.received.size(), 10u);   // ticks at 110 … 200 ms
+}
+
 TEST(StreamerVehicleConnection, ReconnectStartsCleanWithoutStaleControlMessages) {
   StreamerHarness harness;
   TestVehicle& first = harness.connect_vehicle("pipe:vehicle-a");

@@ -325,15 +325,28 @@ TEST(VehicleClientProtocol, ReportsNotAnOcpServerWhenTheFirstFrameIsOtherJson) {
   EXPECT_NE(world.disconnects[0].find("not an OCP control message"), std::string::npos) << world.disconnects[0];
 }
 
-TEST(VehicleClientProtocol, ReportsNotAnOcpServerWhenNothingArrivesWithinTwoSeconds) {
+// Issue #19 item 8: a Streamer stopped with SIGSTOP still completes connects, then says
+// nothing; silence is not proof of "not an OCP server", so it is not called that.
+TEST(VehicleClientProtocol, SaysNoDataFromTheServerWhenNothingArrivesWithinTwoSeconds) {
   ClientWorld world;
   world.executor.run_until(ms(2000) - Micros{1});
   EXPECT_TRUE(world.client->connected());
   world.executor.run_until(ms(2000));
   EXPECT_FALSE(world.client->connected());
   ASSERT_EQ(world.disconnects.size(), 1u);
-  EXPECT_EQ(world.client->stats().last_disconnect_kind, DisconnectKind::not_an_ocp_server);
-  EXPECT_NE(world.disconnects[0].find("no control message within 2 s"), std::string::npos);
+  EXPECT_EQ(world.client->stats().last_disconnect_kind, DisconnectKind::server_silent);
+  EXPECT_EQ(world.disconnects[0], "no data from the server for 2 s after connecting (is it stopped or hung?)");
+  EXPECT_EQ(world.disconnects[0].find("not an OCP server"), std::string::npos);
+}
+
+TEST(VehicleClientProtocol, APartOfAFirstFrameIsNotCalledNotAnOcpServer) {
+  ClientWorld world;
+  world.streamer->send_raw(testing::length_prefix(200) + R"({"ack_time":)");
+  world.executor.run_until(ms(2000));
+  ASSERT_EQ(world.disconnects.size(), 1u);
+  EXPECT_EQ(world.client->stats().last_disconnect_kind, DisconnectKind::server_silent);
+  EXPECT_EQ(world.disconnects[0],
+            "no whole control message from the server for 2 s after connecting (16 bytes arrived: part of a frame)");
 }
 
 TEST(VehicleClientProtocol, ClosesWhenControlMessagesStopForTwoSeconds) {

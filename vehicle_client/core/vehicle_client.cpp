@@ -71,6 +71,7 @@ void VehicleClient::attach(std::shared_ptr<ByteStream> stream) {
   decoder_.reset();
   sniffer_ = FramingSniffer(first_frame_implausible_from);
   seen_valid_control_ = false;
+  bytes_at_attach_ = stats_.bytes_received;
   echo_pair_.reset();
   last_response_time_.reset();
   ++stats_.connections;
@@ -251,8 +252,17 @@ void VehicleClient::on_silence_check() {
   const SimTime now = executor_.now();
   const double limit_s = std::chrono::duration<double>(config_.server_silence_limit).count();
   if (!seen_valid_control_) {
-    close_with(DisconnectKind::not_an_ocp_server,
-               fmt::format("not an OCP server: no control message within {:g} s of connecting", limit_s));
+    // Only bytes that are not OCP framing make it "not an OCP server", and those have closed
+    // the connection already (check_first_header, handle_payload). Silence says nothing
+    // about what the server is: a Streamer stopped with SIGSTOP still completes connects.
+    const std::uint64_t received = stats_.bytes_received - bytes_at_attach_;
+    close_with(DisconnectKind::server_silent,
+               received == 0
+                   ? fmt::format("no data from the server for {:g} s after connecting (is it stopped or hung?)",
+                                 limit_s)
+                   : fmt::format("no whole control message from the server for {:g} s after connecting "
+                                 "({} bytes arrived: part of a frame)",
+                                 limit_s, received));
     return;
   }
   const SimTime deadline = *stats_.last_control_time + config_.server_silence_limit;

@@ -224,6 +224,13 @@
                `commands would be a source conflict — the controls are disabled.`;
       kind = "warn";
     }
+    // The :4001 TCP client gets no VehicleOcpShared while it is over 16 KiB (SPEC §2); this
+    // page still does, so say it here.
+    const tooLarge = status.client_frame_too_large;
+    if (tooLarge) {
+      banner = (banner ? banner + " " : "") + tooLarge.text;
+      kind = kind || "warn";
+    }
     el.banner.textContent = banner;
     el.banner.className = `banner ${kind}` + (banner ? "" : " hidden");
     const blocked = status.client_data_stopped || (source && source !== "webview");

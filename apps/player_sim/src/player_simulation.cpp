@@ -133,6 +133,9 @@ std::string PlayerSimulation::status_line() {
     client += fmt::format(" (source {}{})", client_source_name(*source),
                           core.client_data_stopped() ? ", client data STOPPED by a source conflict" : "");
   }
+  // SPEC §2 keeps a VehicleOcpShared over 16 KiB off the wire, so the client gets nothing:
+  // said here, every second, not only in the one warning of the episode.
+  if (const auto& too_large = core.client_frame_too_large()) client += " | " + describe(*too_large);
   std::string line = fmt::format(
       "status: operator client {} | feedback out {:.0f}/s ({} total) | client msgs in {:.0f}/s ({} total)",
       client, sim_app::per_second(stats.client_frames_sent, previous_.client_frames_sent, elapsed),

@@ -4,7 +4,10 @@
 #include <rapidjson/stringbuffer.h>
 #include <rapidjson/writer.h>
 
+#include <fmt/format.h>
+
 #include "player_app/webview/messages.hpp"
+#include "player/player_core.hpp"
 
 namespace ocp::webview {
 namespace {
@@ -63,6 +66,16 @@ bool is_keep_alive(const ClientOcpShared& data) {
   return true;
 }
 
+std::string describe(const Status::ClientFrameTooLarge& too_large) {
+  return fmt::format("VehicleOcpShared too large: {} B > {} B, not sent to the operator TCP client, which "
+                     "receives nothing until it fits. Reduce the vehicles ({}), their vehicle_user_data or cameras.",
+                     too_large.bytes, too_large.limit, too_large.vehicles);
+}
+
+Status::ClientFrameTooLarge status_of(const ocp::ClientFrameTooLarge& too_large) {
+  return Status::ClientFrameTooLarge{too_large.bytes, too_large.limit, too_large.vehicles};
+}
+
 std::string encode_status(const Status& status) {
   rapidjson::StringBuffer buffer;
   rapidjson::Writer<rapidjson::StringBuffer> writer(buffer);
@@ -79,6 +92,20 @@ std::string encode_status(const Status& status) {
   writer.EndArray();
   writer.Key("webview_clients");
   writer.Uint64(status.webview_clients);
+  // {"bytes": 19574, "limit": 16384, "vehicles": 20, "text": "…"}; absent while it fits.
+  if (const auto& too_large = status.client_frame_too_large) {
+    writer.Key("client_frame_too_large");
+    writer.StartObject();
+    writer.Key("bytes");
+    writer.Uint64(too_large->bytes);
+    writer.Key("limit");
+    writer.Uint64(too_large->limit);
+    writer.Key("vehicles");
+    writer.Uint64(too_large->vehicles);
+    writer.Key("text");
+    write_string(writer, describe(*too_large));
+    writer.EndObject();
+  }
   writer.EndObject();
   return {buffer.GetString(), buffer.GetSize()};
 }

@@ -35,6 +35,11 @@ class ByteStream {
   // also those the peer has not read). A writer that limits its queue checks this: it is how
   // a peer that stopped reading is detected before it can grow our memory.
   virtual std::size_t queued_bytes() const { return 0; }
+  // The peer has already closed (or reset) the connection, but that is not delivered yet: its
+  // close still waits behind bytes not read, or the event loop has not run since (a process
+  // that was stopped, then resumed, finds it so). A server taking one connection at a time
+  // asks before it refuses a newcomer for the sake of this one.
+  virtual bool peer_hung_up() const { return false; }
 };
 
 }  // namespace ocp

@@ -9,7 +9,10 @@
 // changes by `rate_change_factor` or the active share by `share_change_points` (looked at
 // on an edge, at most once per window); and one line when the condition has not changed for a whole window
 // ("HighLatency stopped flapping: active now; raised 85× while flapping"), after which edges
-// are logged one by one again. Only the log is limited: callers still act on every edge.
+// are logged one by one again. The same line ends it when an edge finds fewer than
+// `raises_to_flap` raises in the window (on_steady was not called for a while: a fault raised
+// once is never summarised as "flapping"). A share that is neither 0 nor 100 % is never shown
+// as such ("<1 %", ">99 %"). Only the log is limited: callers still act on every edge.
 //
 //   FlapSummariser flaps("HighLatency");
 //   on an edge:      if (auto v = flaps.on_edge(active, now); v.log_edge) log the edge;
@@ -59,8 +62,9 @@ class FlapSummariser {
   };
   void forget_before(SimTime cutoff);
   Pattern pattern(SimTime now) const;
-  std::optional<std::string> resummarise(SimTime now);
+  Verdict resummarise(SimTime now, bool active);
   std::string summary_text(const Pattern& pattern) const;
+  std::string stopped_text(bool active_now) const;
 
   std::string name_;
   Options options_;

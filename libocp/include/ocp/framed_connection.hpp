@@ -4,7 +4,8 @@
 //   * frames are deframed; each complete payload goes to `on_payload`, which decodes and
 //     dispatches it and returns an Error to close the connection with that reason (malformed
 //     JSON, not an object, a missing or mistyped field);
-//   * an inbound frame over the limit is drained, counted and logged; the connection is kept;
+//   * an inbound frame over the limit is drained, counted and logged (the first of a run in
+//     full, the rest counted: a line every 5 s and one at the close); the connection is kept;
 //   * the stream ending inside a frame closes it with the decoder's truncated_frame reason;
 //   * no byte for `read_timeout` (between frames as well as inside one) closes it;
 //   * `send` frames an already-encoded payload and refuses (LocalError::frame_too_large) to
@@ -46,6 +47,7 @@
 #include "ocp/frame.hpp"
 #include "ocp/framing_diagnosis.hpp"
 #include "ocp/log.hpp"
+#include "ocp/log_limiter.hpp"
 
 namespace ocp {
 
@@ -124,6 +126,9 @@ class FramedConnection : public std::enable_shared_from_this<FramedConnection> {
   void close(CloseReason reason);
 
   bool is_open() const { return open_; }
+  // Open here, but the peer has hung up already (ByteStream::peer_hung_up): its close has not
+  // been read yet. A one-connection server closes it rather than refuse a newcomer for it.
+  bool peer_hung_up() const { return open_ && stream_->peer_hung_up(); }
   const std::string& peer() const { return peer_; }
 
  private:
@@ -133,6 +138,8 @@ class FramedConnection : public std::enable_shared_from_this<FramedConnection> {
   void handle_bytes(std::string_view bytes);
   void handle_payload(std::string_view payload);
   void handle_peer_closed(const std::string& transport_reason);
+  void warn_oversized(std::uint32_t declared_length);
+  void say_oversized(const RepeatedWarning::Summary& summary);
   void arm_read_timer(SimTime deadline);
   void on_read_timer();
   void finish(const CloseReason& reason);
@@ -157,6 +164,7 @@ class FramedConnection : public std::enable_shared_from_this<FramedConnection> {
   SimTime last_byte_at_{};    // when the latest read returned: the time of the frames it carried
   std::optional<AckPair> inbound_pair_;   // set by the handler of the payload being handled
   Executor::TimerId read_timer_ = 0;
+  RepeatedWarning oversized_warnings_;   // "dropped oversized frame": once, then counted
 };
 
 }  // namespace ocp

@@ -15,12 +15,14 @@
 
 #include "ocp/byte_stream.hpp"
 #include "ocp/error.hpp"
+#include "ocp/tcp_stream.hpp"
 
 namespace ocp {
 
 struct TcpServerOptions {
   std::uint16_t port = 0;       // 0 = an ephemeral port chosen by the system (see port())
   bool allow_remote = false;    // false: 127.0.0.1; true: 0.0.0.0 (ocp_tcp_allow_remote)
+  TcpStreamOptions stream{};    // every accepted stream's (the close grace)
 };
 
 // "127.0.0.1:4000" or "0.0.0.0:4000".
@@ -38,7 +40,8 @@ class TcpServer {
 
   // Binds (SO_REUSEADDR on, so a port in TIME_WAIT is reusable) and starts accepting.
   // A port another socket listens on fails with std::errc::address_in_use and the detail
-  // "address 127.0.0.1:4000 already in use"; other failures name the address and the cause.
+  // "another socket listens on 127.0.0.1:4000" (message(): "Address already in use: another
+  // socket listens on 127.0.0.1:4000"); other failures name the address and the cause.
   [[nodiscard]] Status listen(const TcpServerOptions& options);
   // Stops accepting and closes the listening socket. Accepted streams are not touched.
   // Idempotent; listen() may be called again afterwards.

@@ -21,6 +21,12 @@ Error bind_error(std::errc code, std::string detail) {
   return Error{std::make_error_code(code), std::move(detail)};
 }
 
+// The code says "Address already in use"; the detail says where and why, without repeating
+// it (Error::message() is "<code>: <detail>"; the executables print the detail alone).
+Error address_in_use(const std::string& address) {
+  return bind_error(std::errc::address_in_use, "another socket listens on " + address);
+}
+
 Error system_error(const boost::system::error_code& error, std::string detail) {
   return Error{std::error_code(error.value(), std::system_category()),
                std::move(detail) + ": " + error.message()};
@@ -59,12 +65,13 @@ struct TcpServer::State : std::enable_shared_from_this<TcpServer::State> {
     // Copy: the handler may call stop(), which clears on_accept.
     const AcceptHandler handler = on_accept;
     accept_next();
-    if (handler) handler(make_tcp_stream(std::move(socket)));
+    if (handler) handler(make_tcp_stream(std::move(socket), stream_options));
   }
 
   tcp::acceptor acceptor;
   boost::asio::steady_timer retry_timer;
   AcceptHandler on_accept;
+  TcpStreamOptions stream_options;
   bool stopped = true;
   std::uint16_t port = 0;
   std::string address;
@@ -92,24 +99,21 @@ Status TcpServer::listen(const TcpServerOptions& options) {
   state->acceptor.set_option(tcp::acceptor::reuse_address(true), error);
   if (error) return system_error(error, "cannot set SO_REUSEADDR on " + address);
   state->acceptor.bind(endpoint, error);
-  if (error == boost::asio::error::address_in_use) {
-    return bind_error(std::errc::address_in_use, "address " + address + " already in use");
-  }
+  if (error == boost::asio::error::address_in_use) return address_in_use(address);
   if (error == boost::asio::error::access_denied) {
     return bind_error(std::errc::permission_denied,
                       "not allowed to listen on " + address + " (ports below 1024 need privileges)");
   }
   if (error) return system_error(error, "cannot bind " + address);
   state->acceptor.listen(boost::asio::socket_base::max_listen_connections, error);
-  if (error == boost::asio::error::address_in_use) {
-    return bind_error(std::errc::address_in_use, "address " + address + " already in use");
-  }
+  if (error == boost::asio::error::address_in_use) return address_in_use(address);
   if (error) return system_error(error, "cannot listen on " + address);
 
   state->port = state->acceptor.local_endpoint(error).port();
   if (error) return system_error(error, "cannot read the bound port of " + address);
   state->address = endpoint.address().to_string() + ":" + std::to_string(state->port);
   state->on_accept = on_accept_;
+  state->stream_options = options.stream;
   state->stopped = false;
   state->accept_next();
   state_ = std::move(state);

@@ -1,6 +1,13 @@
 #include "ocp/tcp_stream.hpp"
 
+#include <linux/sockios.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <sys/ioctl.h>
+#include <sys/socket.h>
+
 #include <array>
+#include <boost/asio/steady_timer.hpp>
 #include <boost/asio/write.hpp>
 #include <string>
 
@@ -27,10 +34,12 @@ std::string describe_close(const error_code& error) {
 // round trip when both share a core (docs/benchmarks.md, "Loop"). What the socket does not
 // take, and every write while one is in flight, is coalesced into one buffer for the single
 // async_write in flight, so order is kept. Every pending operation holds a shared_ptr to the
-// stream, so it outlives them.
+// stream, so it outlives them. A close waits at most close_grace for the peer to take what is
+// queued, then resets the connection (tcp_stream.hpp).
 class TcpStream final : public ByteStream, public std::enable_shared_from_this<TcpStream> {
  public:
-  explicit TcpStream(asio::ip::tcp::socket socket) : socket_(std::move(socket)) {
+  TcpStream(asio::ip::tcp::socket socket, TcpStreamOptions options)
+      : socket_(std::move(socket)), options_(options), close_timer_(socket_.get_executor()) {
     error_code error;
     socket_.non_blocking(true, error);   // write_some below must never block
     const auto remote = socket_.remote_endpoint(error);
@@ -67,13 +76,37 @@ class TcpStream final : public ByteStream, public std::enable_shared_from_this<T
       return;
     }
     open_ = false;
-    // Bytes already accepted by write() still go out; the socket closes once they have.
-    if (!writing_) {
-      shut_down();
+    // Bytes already accepted by write() still go out, within the grace; the socket closes
+    // once they have, or is reset when the grace is over (on_close_grace_over).
+    if (writing_) {
+      arm_close_timer();
+    } else {
+      finish_close();
     }
   }
 
   bool is_open() const override { return open_; }
+
+  // The kernel knows before we read it: after the peer's FIN the socket is in CLOSE_WAIT,
+  // after its RST in CLOSE — even while bytes it sent before are still unread.
+  bool peer_hung_up() const override {
+    if (!open_) return false;
+    tcp_info info{};
+    socklen_t size = sizeof(info);
+    if (::getsockopt(const_cast<asio::ip::tcp::socket&>(socket_).native_handle(), IPPROTO_TCP, TCP_INFO, &info,
+                     &size) != 0) {
+      return false;
+    }
+    switch (info.tcpi_state) {
+      case TCP_CLOSE_WAIT:
+      case TCP_LAST_ACK:
+      case TCP_CLOSING:
+      case TCP_CLOSE:
+        return true;
+      default:
+        return false;
+    }
+  }
   std::string peer_name() const override { return peer_name_; }
   std::size_t queued_bytes() const override { return pending_.size() + in_flight_.size(); }
 
@@ -138,8 +171,65 @@ class TcpStream final : public ByteStream, public std::enable_shared_from_this<T
     if (!pending_.empty()) {
       write_pending();
     } else if (!open_) {
+      finish_close();
+    }
+  }
+
+  // Bytes the kernel holds for the peer (not sent, or not acknowledged yet).
+  std::size_t unsent_in_kernel() {
+    int bytes = 0;
+    if (::ioctl(socket_.native_handle(), SIOCOUTQ, &bytes) != 0 || bytes < 0) return 0;
+    return static_cast<std::size_t>(bytes);
+  }
+
+  // Closed locally and our queue is empty. With nothing left in the kernel either, the socket
+  // closes now; otherwise the peer gets a FIN after the data and the rest of the grace.
+  void finish_close() {
+    if (shut_down_) {
+      return;
+    }
+    if (unsent_in_kernel() == 0) {
+      shut_down();
+      return;
+    }
+    error_code ignored;
+    socket_.shutdown(asio::ip::tcp::socket::shutdown_send, ignored);
+    arm_close_timer();
+  }
+
+  void arm_close_timer() {
+    if (close_timer_armed_) {
+      return;
+    }
+    close_timer_armed_ = true;
+    close_timer_.expires_after(options_.close_grace);
+    close_timer_.async_wait([self = shared_from_this()](const error_code& error) {
+      if (!error) {
+        self->on_close_grace_over();
+      }
+    });
+  }
+
+  void on_close_grace_over() {
+    if (shut_down_) {
+      return;
+    }
+    if (writing_ || unsent_in_kernel() > 0) {
+      reset();
+    } else {
       shut_down();
     }
+  }
+
+  // The peer did not take what we had for it within the grace: RST (SO_LINGER 0) frees the
+  // kernel's buffers with the descriptor, and closing cancels our write in flight (its
+  // handler frees our queue).
+  void reset() {
+    shut_down_ = true;
+    pending_.clear();
+    error_code ignored;
+    socket_.set_option(asio::socket_base::linger(true, 0), ignored);
+    socket_.close(ignored);
   }
 
   void report_close(const error_code& error) {
@@ -159,6 +249,9 @@ class TcpStream final : public ByteStream, public std::enable_shared_from_this<T
       return;
     }
     shut_down_ = true;
+    if (close_timer_armed_) {
+      close_timer_.cancel();
+    }
     error_code ignored;
     socket_.shutdown(asio::ip::tcp::socket::shutdown_both, ignored);
     socket_.close(ignored);
@@ -167,6 +260,8 @@ class TcpStream final : public ByteStream, public std::enable_shared_from_this<T
   static constexpr std::size_t read_buffer_bytes = 64 * 1024;
 
   asio::ip::tcp::socket socket_;
+  TcpStreamOptions options_;
+  asio::steady_timer close_timer_;   // the grace of a close with bytes still to go out
   std::string peer_name_;
   std::shared_ptr<const ByteStreamHandlers> handlers_ = std::make_shared<const ByteStreamHandlers>();
   // Not zeroed: only the bytes a read stores are ever looked at, and untouched pages stay out
@@ -178,12 +273,13 @@ class TcpStream final : public ByteStream, public std::enable_shared_from_this<T
   bool writing_ = false;
   bool open_ = true;
   bool shut_down_ = false;
+  bool close_timer_armed_ = false;
 };
 
 }  // namespace
 
-std::shared_ptr<ByteStream> make_tcp_stream(boost::asio::ip::tcp::socket socket) {
-  auto stream = std::make_shared<TcpStream>(std::move(socket));
+std::shared_ptr<ByteStream> make_tcp_stream(boost::asio::ip::tcp::socket socket, TcpStreamOptions options) {
+  auto stream = std::make_shared<TcpStream>(std::move(socket), options);
   stream->set_no_delay(true);
   return stream;
 }

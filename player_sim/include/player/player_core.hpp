@@ -95,6 +95,17 @@ struct PlayerStats {
   std::uint64_t unknown_vehicle_entries = 0;
 };
 
+// The :4001 client's VehicleOcpShared is over the frame limit (SPEC §2: never sent), so the
+// client receives nothing until it fits again — e.g. from 17 vehicles up with the defaults.
+struct ClientFrameTooLarge {
+  std::size_t bytes = 0;          // the latest VehicleOcpShared payload
+  std::size_t limit = 0;          // the payload limit (16 384)
+  std::uint64_t frames = 0;       // frames not sent since the episode began
+  std::size_t vehicles = 0;       // vehicle entries in it
+};
+// "VehicleOcpShared too large: 19574 B > 16384 B, not sent to the client (42 frames)"
+std::string describe(const ClientFrameTooLarge& too_large);
+
 class PlayerCore {
  public:
   PlayerCore(Executor& executor, PlayerConfig config, Logger logger);
@@ -168,6 +179,12 @@ class PlayerCore {
   std::optional<std::string> active_vehicle() const;
   std::optional<AckPair> latest_sei(const std::string& vehicle) const;
   bool client_connected() const;        // a tcp client is attached
+  // While the tcp client's VehicleOcpShared is too large to send; nullopt when it fits (or
+  // there is no client).
+  const std::optional<ClientFrameTooLarge>& client_frame_too_large() const;
+  // Names the "unknown vehicle" warnings remember so as to warn once each: bounded
+  // (WarnedNames, ocp/log_limiter.hpp), whatever names a client sends.
+  std::size_t remembered_unknown_names() const;
   const std::optional<CloseReason>& last_client_close_reason() const;
   // Everything the Player does, as typed events: sender FaultEvents per vehicle, GamepadChange,
   // ActiveVehicleChange, SourceLocked / SourceConflict, and the :4001 client's WireFrames and

@@ -49,14 +49,17 @@
 //   cleared when the next normal iteration completes (the next frame deadline after the stall).
 // * VehicleNoResponse: active exactly while no vehicle is connected (from start()).
 // * Connections: one active; a second accepted stream is closed at once ("refused vehicle
-//   connection from <new>: <active> is already connected"). Control frames are encoded per
+//   connection from <new>: <active> is already connected") — unless the active one's peer has
+//   already hung up (ByteStream::peer_hung_up: its close is still queued, e.g. after the
+//   process was stopped), which is then closed and the new one accepted. Control frames are encoded per
 //   tick straight into the active connection, so nothing built for a previous connection
 //   reaches a new one; the first frame a new vehicle gets is the first tick after accept.
 // * Bad vehicle input (SPEC §2): an inbound frame > 16 KiB is drained, counted and logged, the
 //   connection kept; malformed JSON, non-object, missing/wrong-typed field or EOF inside a
 //   frame closes it with the codec's Error::message() as the close reason (stats + log).
 // * A control message that would exceed 16 KiB (only huge client_user_data can do that) is
-//   sent without client_user_data, with a warning.
+//   sent without client_user_data, with a warning: once, then a count every 5 s while the
+//   operator keeps sending it (ocp/log_limiter.hpp RepeatedWarning).
 // * Vehicle read timeout: the connection is closed when no byte arrived for
 //   vehicle_read_timeout (between frames as well as inside one).
 // * A vehicle that stops reading is closed (PeerError::not_reading) once the control frames

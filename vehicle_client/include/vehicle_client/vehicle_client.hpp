@@ -49,8 +49,9 @@ struct VehicleClientConfig {
   double start_heading_deg = 0.0;           // compass heading at start
   Micros response_period{10'000};           // longest gap between two responses
   Micros model_step{10'000};                // safety + model integration step
-  // No control message for this long after attach (or since the last one) → close: either
-  // "not an OCP server" (nothing valid ever arrived) or "server stopped sending".
+  // No control message for this long after attach (or since the last one) → close: "no data
+  // from the server" (not a byte arrived: a stopped or hung server, whatever it is), "not an
+  // OCP server" (bytes arrived that are not OCP framing) or "server stopped sending".
   Micros server_silence_limit{2'000'000};
   std::size_t user_data_limit_bytes = 4096; // hard cap on encoded user_data (<< 16 KiB)
   Misbehaviour misbehave;
@@ -62,9 +63,9 @@ enum class DisconnectKind : std::uint8_t {
   none,
   peer_closed,        // the server closed or the transport failed
   protocol_error,     // a frame the codec rejected after a valid control message was seen
-  not_an_ocp_server,  // bad frame length or non-OCP data before any valid control message,
-                      // or no control message within server_silence_limit of attaching
-  server_silent,      // control messages stopped for server_silence_limit
+  not_an_ocp_server,  // bad frame length or non-OCP data before any valid control message
+  server_silent,      // control messages stopped for server_silence_limit, or none came
+                      // within it of attaching (no byte at all, or only part of a frame)
 };
 std::string_view disconnect_kind_name(DisconnectKind kind);
 
@@ -155,6 +156,7 @@ class VehicleClient {
   VehicleClientStats stats_;
   FlapSummariser fault_flaps_{"Streamer-reported fault"};  // the log line, not the decisions
   bool seen_valid_control_ = false;
+  std::uint64_t bytes_at_attach_ = 0;          // stats_.bytes_received when this connection began
   std::optional<AckPair> echo_pair_;           // the pair responses carry
   std::optional<SimTime> last_response_time_;
   Executor::TimerId keepalive_timer_ = 0;

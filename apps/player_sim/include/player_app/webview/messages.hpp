@@ -3,7 +3,8 @@
 //   {"name": "<message name>", "data": <any JSON>}
 // Browser → Player: ocp_client_user_data (ClientOcpShared without the pair, SPEC §4.2).
 // Player → browser: ocp_vehicle_user_data (VehicleOcpShared, SPEC §4.1, every Player frame),
-//                   ocp_webview_status (the client-data source lock, on connect and on change),
+//                   ocp_webview_status (the client-data source lock, whether the :4001 client's
+//                   VehicleOcpShared is too large to send; on connect and on change),
 //                   ocp_webview_error (why a message of this page was dropped; first of a kind).
 #include <cstddef>
 #include <optional>
@@ -13,6 +14,10 @@
 
 #include "ocp/error.hpp"
 #include "ocp/messages.hpp"
+
+namespace ocp {
+struct ClientFrameTooLarge;   // player/player_core.hpp
+}
 
 namespace ocp::webview {
 
@@ -48,9 +53,23 @@ struct Status {
   std::optional<std::string> active_vehicle;  // the vehicle that gets gamepad input now
   std::vector<std::string> vehicles;
   std::size_t webview_clients = 0;
+  // The :4001 TCP client's VehicleOcpShared is over the frame limit, so that client receives
+  // nothing (SPEC §2; PlayerCore::client_frame_too_large). The web view itself still gets it.
+  struct ClientFrameTooLarge {
+    std::size_t bytes = 0;      // the latest VehicleOcpShared
+    std::size_t limit = 0;      // 16 384
+    std::size_t vehicles = 0;   // vehicle entries in it
+    bool operator==(const ClientFrameTooLarge&) const = default;
+  };
+  std::optional<ClientFrameTooLarge> client_frame_too_large;   // not in the JSON while it fits
   bool operator==(const Status&) const = default;
 };
 std::string encode_status(const Status& status);    // the "data" object
+// For a page and the log: "VehicleOcpShared too large: 19574 B > 16384 B, not sent to the
+// operator TCP client, … Reduce the vehicles (20), their vehicle_user_data or cameras."
+std::string describe(const Status::ClientFrameTooLarge& too_large);
+// The Player's view of it (PlayerCore::client_frame_too_large), as the status carries it.
+Status::ClientFrameTooLarge status_of(const ocp::ClientFrameTooLarge& too_large);
 
 std::string encode_error(std::string_view kind, std::string_view detail);   // the "data" object
 
