@@ -297,13 +297,16 @@ TEST_F(WebviewHostile, RefusalsAreLoggedOncePerEpisodeWithACount) {
 
 // --- Message size -------------------------------------------------------------------------
 
-TEST_F(WebviewHostile, A36KiBMessageInOneFrameIsTakenIn) {
+TEST_F(WebviewHostile, MessagesOf36To63KiBInOneFrameAreTakenIn) {
   start();
   WsClient page(io_);
   ASSERT_TRUE(page.connect(io_, port_));
-  page.send(keep_alive_of_size(36 * 1024));
-  ASSERT_TRUE(run_until(io_, [&] { return stats().keep_alives + stats().messages_dropped >= 1; }));
-  EXPECT_EQ(stats().keep_alives, 1u);
+  // Each counted once, however the reads cut it (counting the buffer on every read made
+  // 36 KiB anything from 60 to 84 KiB, depending on how the bytes arrived).
+  const std::vector<std::size_t> sizes{36 * 1024, 48 * 1024, 63 * 1024};
+  for (const std::size_t size : sizes) page.send(keep_alive_of_size(size));
+  ASSERT_TRUE(run_until(io_, [&] { return stats().keep_alives + stats().messages_dropped >= sizes.size(); }));
+  EXPECT_EQ(stats().keep_alives, sizes.size());
   EXPECT_EQ(stats().messages_dropped, 0u);
   EXPECT_FALSE(page.closed());
 }
