@@ -278,7 +278,7 @@ TEST_F(WebviewHostile, AMalformedAllowedOriginFailsListen) {
 
 TEST_F(WebviewHostile, RefusalsAreLoggedOncePerEpisodeWithACount) {
   WebviewLimits limits;
-  limits.refusal_episode_gap = 1s;
+  limits.refusal_episode_gap = 2s;
   start(limits);
   for (int i = 0; i < 5; ++i) {
     WsClient page(io_);
@@ -419,15 +419,15 @@ TEST_F(WebviewHostile, SlowlorisConnectionsHoldingEverySlotDoNotStopAGoodGet) {
 
 TEST_F(WebviewHostile, ATricklingRequestIsClosedAtItsDeadlineASilentOneAfterTheIdleTimeout) {
   WebviewLimits limits;
-  limits.header_timeout = 1500ms;
-  limits.header_idle_timeout = 500ms;
-  limits.refusal_episode_gap = 2s;   // both timeouts, a second apart, are one episode
+  limits.header_timeout = 1800ms;
+  limits.header_idle_timeout = 600ms;   // 12 trickled bytes apart: a loaded machine keeps it busy
+  limits.refusal_episode_gap = 2500ms;   // both timeouts, 1.2 s apart, are one episode
   start(limits);
   const auto begin = std::chrono::steady_clock::now();
   const auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count(); };
   RawPeer trickler(io_), stalled(io_), silent(io_);
   ASSERT_TRUE(trickler.connect(port_));
-  trickler.trickle(endless_request(port_), 100ms);   // a byte every 100 ms: never idle
+  trickler.trickle(endless_request(port_), 50ms);   // a byte every 50 ms: never idle
   ASSERT_TRUE(stalled.connect(port_));
   stalled.write("GET / HTTP/1.1\r\nHost: 127.0.0.1:" + std::to_string(port_) + "\r\n");
   ASSERT_TRUE(silent.connect(port_));
@@ -439,11 +439,11 @@ TEST_F(WebviewHostile, ATricklingRequestIsClosedAtItsDeadlineASilentOneAfterTheI
     return stalled_at > 0 && silent_at > 0 && trickler_at > 0;
   }, 10s));
   std::printf("closed after: silent %.2f s, stalled %.2f s, trickling %.2f s\n", silent_at, stalled_at, trickler_at);
-  EXPECT_GE(stalled_at, 0.45);
-  EXPECT_LT(stalled_at, 1.4);
-  EXPECT_GE(silent_at, 0.45);
-  EXPECT_GE(trickler_at, 1.45);   // the deadline, not the idle timeout, closed it
-  EXPECT_LT(trickler_at, 5.0);
+  EXPECT_GE(stalled_at, 0.55);
+  EXPECT_LT(stalled_at, 1.7);     // the idle timeout, not the deadline, closed it
+  EXPECT_GE(silent_at, 0.55);
+  EXPECT_GE(trickler_at, 1.75);   // the deadline, not the idle timeout, closed it
+  EXPECT_LT(trickler_at, 6.0);
   EXPECT_EQ(stats().request_timeouts, 2u);   // a connection that never sent a byte is only idle
   EXPECT_EQ(episodes_opened_with("its request was not complete"), 1u);
   ASSERT_TRUE(run_until(io_, [&] { return log_.contains("2 connections closed: request not complete in time"); }));
