@@ -1,4 +1,4 @@
-// The web view endpoint: listener, admission (slots, reclaiming stalled requests), refusal
+// The web view endpoint: listener, admission (slots, reclaiming waiting connections), refusal
 // episodes, origins, Player hook-up, broadcast and message dispatch.
 #include <algorithm>
 #include <cctype>
@@ -40,7 +40,7 @@ std::string_view refusal_summary(Refusal kind) {
     case Refusal::origin: return "requests from a foreign Origin refused (403)";
     case Refusal::host: return "requests for a foreign Host refused (421)";
     case Refusal::busy: return "connections refused: no free slot (503)";
-    case Refusal::reclaimed: return "stalled connections closed to make room";
+    case Refusal::reclaimed: return "connections waiting for a request closed to make room";
     case Refusal::timeout: return "connections closed: request not complete in time";
     case Refusal::header_too_large: return "requests with headers over 8 KiB refused (431)";
     case Refusal::bad_request: return "requests not understood (400)";
@@ -248,18 +248,23 @@ std::size_t WebviewServer::Hub::connections_of(const std::string& remote_address
 // address's quota, the operator's own page load would be refused with it. The timeouts bound
 // how long a slowloris keeps a slot (header_timeout), not how soon it takes the slot back, and
 // more slots only raise the number of connections it needs. What a slowloris cannot fake is
-// speed: a real client sends its request the moment it connects. A connection whose request
-// is still incomplete after stalled_after is a slowloris or an idle keep-alive connection, and
-// closing the one that has waited longest (as nginx reuses its idle connections when it runs
-// out) lets the newcomer in; the newcomer's request completes long before it could be
-// reclaimed in turn. An attacker then keeps only the connections younger than stalled_after,
-// and an idle keep-alive connection closed this way costs its browser one reconnect.
+// speed: a real client sends its whole request the moment it connects. So when a limit is
+// reached, the connection that has waited longest for its request — a slowloris or an idle
+// keep-alive connection — is closed and the newcomer takes its place (as nginx reuses its
+// idle connections when it runs out). The newcomer is then the youngest: to push it out
+// before its request is in, an attacker must open as many connections as the limit within
+// that request's few milliseconds. Waiting for a grace period before reclaiming
+// (stalled_after > 0) is weaker than it looks: an attacker that reconnects faster than
+// limit / stalled_after keeps every connection younger than the grace, and then a real client
+// finds nothing to reclaim (measured: 300 reconnecting slowloris connections against a 2 s
+// grace got 2 of 3 page loads refused). An idle keep-alive connection closed this way costs
+// its browser one reconnect.
 bool WebviewServer::Hub::make_room(const std::string& remote_address) {
   for (;;) {
     const bool address_full = connections_of(remote_address) >= limits.max_connections_per_address;
     const bool all_full = http_connections >= limits.max_http_connections;
     if (!address_full && !all_full) return true;
-    // The oldest stalled request: of the same address when its quota is the limit reached.
+    // The longest wait for a request: of the same address when its quota is the limit reached.
     const SimTime stalled_before = executor.now() - std::chrono::duration_cast<Micros>(limits.stalled_after);
     std::shared_ptr<HttpSession> victim;
     for (const auto& [id, weak] : http_sessions) {

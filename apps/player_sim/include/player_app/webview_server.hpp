@@ -49,12 +49,13 @@ namespace ocp {
 struct WebviewLimits {
   std::size_t max_clients = 16;                 // WebSocket clients at once; more get HTTP 503
   // Plain HTTP connections at once. When they are all taken (or max_connections_per_address
-  // of one address are), the connection whose request has been incomplete the longest, if
-  // longer than stalled_after, is closed to make room; when there is none, the newcomer gets
-  // 503 and is closed (it never holds a slot). See Hub::make_room for why.
+  // of one address are), the connection that has waited longest for its request (a slowloris,
+  // an idle keep-alive connection), if for at least stalled_after, is closed to make room;
+  // when there is none (all are being answered or are WebSockets), the newcomer gets 503 and
+  // is closed (it never holds a slot). See Hub::make_room for why stalled_after is 0.
   std::size_t max_http_connections = 256;
   std::size_t max_connections_per_address = 32;   // HTTP and WebSocket connections of one address
-  std::chrono::milliseconds stalled_after{2'000};
+  std::chrono::milliseconds stalled_after{0};
   // A request (header and the small body GET/HEAD may carry) must arrive within
   // header_timeout, with no gap between reads longer than header_idle_timeout; an idle
   // keep-alive connection is closed after header_idle_timeout too.
