@@ -75,6 +75,16 @@ TEST(PlayerSimOptions, BadWebviewAndVehicleTcpValuesExitTwo) {
       {{"--vehicle", "truck-1", "--vehicle-tcp", "truck-1=70000"}, "expected a port number 0..65535, got '70000'"},
       {{"--vehicle", "truck-1", "--vehicle-tcp", "truck-1"}, "expected NAME=PORT"},
       {{"--vehicle", "truck-1", "--vehicle-tcp", "truck-1=-5"}, "expected a port number"},
+      {{"--webview-allow-origin", "localhost:8080"}, "--webview-allow-origin: expected an origin scheme://host[:port] (no '://'), got 'localhost:8080'"},
+      {{"--webview-allow-origin", "http://localhost:8080/"}, "(no path, query or fragment, not even '/'), got 'http://localhost:8080/'"},
+      {{"--webview-allow-origin", "http://localhost:8080/app"}, "no path"},
+      {{"--webview-allow-origin", "http://me@localhost"}, "no user info"},
+      {{"--webview-allow-origin", "http://localhost:99999"}, "the port is a number 1..65535"},
+      {{"--webview-allow-origin", "http://"}, "no host"},
+      {{"--webview-allow-origin", "*"}, "got '*'"},
+      {{"--webview-allow-origin", "null"}, "got 'null'"},
+      {{"--webview-allow-origin", ""}, "--webview-allow-origin"},
+      {{"--webview-allow-origin", "http://localhost:8080", "--webview-allow-origin", "ftp//x"}, "got 'ftp//x'"},
   };
   for (const auto& [arguments, expected] : cases) {
     const ProgramRun run = run_player_sim(arguments);
@@ -86,7 +96,7 @@ TEST(PlayerSimOptions, BadWebviewAndVehicleTcpValuesExitTwo) {
 TEST(PlayerSimOptions, HelpDocumentsTheWebviewOptions) {
   const ProgramRun run = run_player_sim({"--help"});
   EXPECT_EQ(run.exit_code, 0);
-  for (const char* option : {"--webview-port", "--webview-root", "--no-webview", "--vehicle-tcp"}) {
+  for (const char* option : {"--webview-port", "--webview-root", "--no-webview", "--webview-allow-origin", "--vehicle-tcp"}) {
     EXPECT_NE(run.output.find(option), std::string::npos) << option;
   }
 }
@@ -98,6 +108,16 @@ TEST(PlayerSimOptions, ServesTheWebviewAndAnExternalVehiclePortPickedByTheSystem
   EXPECT_NE(run.output.find("web view on http://127.0.0.1:"), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("vehicle API listening on 127.0.0.1:"), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("truck-1 (external vehicle client on 127.0.0.1:"), std::string::npos) << run.output;
+}
+
+TEST(PlayerSimOptions, AllowedOriginsAreNormalisedAndLogged) {
+  const ProgramRun run = run_player_sim({"--webview-port", "0", "--plugin-param", "ocp_player_tcp_port", "0",
+                                         "--webview-allow-origin", "HTTP://LocalHost:8080", "--webview-allow-origin",
+                                         "https://tools.example:443", "--duration-s", "0.3"});
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("web view: pages from http://localhost:8080, https://tools.example may use it too"),
+            std::string::npos)
+      << run.output;
 }
 
 }  // namespace

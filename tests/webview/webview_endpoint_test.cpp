@@ -162,21 +162,18 @@ TEST_F(WebviewEndpoint, BadMessagesAreDroppedLoggedOnceAndTheConnectionSurvives)
   page.send(R"({"name":"no_such_message","data":2})");
   page.send(R"({"data":{}})");
   page.send(R"({"name":"ocp_client_user_data","data":{"client_user_data":5}})");
-  page.send(std::string(webview::max_message_bytes + 1000, ' '));
-  page.send(R"({"name":"ocp_client_user_data","data":{"client_user_data":{"truck-1":{"user_data":")" +
-            std::string(300'000, 'x') + R"("}}}})");
   page.send("binary", /*binary=*/true);
-  ASSERT_TRUE(run_until(io_, [&] { return simulation_->webview()->stats().messages_dropped >= 27; }));
-  EXPECT_EQ(simulation_->webview()->stats().messages_dropped, 27u);
+  ASSERT_TRUE(run_until(io_, [&] { return simulation_->webview()->stats().messages_dropped >= 25; }));
+  EXPECT_EQ(simulation_->webview()->stats().messages_dropped, 25u);
   ASSERT_TRUE(wait_frames(page, 10));   // still connected, still served
   EXPECT_FALSE(page.closed());
   EXPECT_FALSE(simulation_->player().locked_source().has_value());
 
   EXPECT_EQ(log_lines_with("malformed message dropped"), 1u);
   EXPECT_EQ(log_lines_with("unknown name message dropped: 'no_such_message'"), 1u);
-  EXPECT_EQ(log_lines_with("oversized message dropped"), 1u);
   EXPECT_EQ(log_lines_with("binary message dropped"), 1u);
-  EXPECT_EQ(page.count(webview::error_name), 4u);   // the page is told once per kind
+  EXPECT_EQ(page.count(webview::error_name), 3u);   // the page is told once per kind
+  // (A message over 64 KiB closes the page with 1009: webview_hostile_test.cpp.)
 
   // A good message afterwards still goes through.
   page.send(client_data(R"({"ok":true})"));
@@ -231,6 +228,7 @@ TEST_F(WebviewEndpoint, ClientsOverTheCapAreRefused) {
   EXPECT_FALSE(third.connect(io_, simulation_->webview_port()));
   EXPECT_EQ(simulation_->webview()->stats().websocket_refused, 1u);
   EXPECT_TRUE(log_.contains("2 web view clients already connected"));
+  EXPECT_EQ(third.handshake_status(), 503u);
   ASSERT_TRUE(wait_frames(first, 5));
 }
 
@@ -253,7 +251,7 @@ TEST_F(WebviewEndpoint, ServesStaticFilesWithContentTypesAndRefusesTraversal) {
     EXPECT_EQ(reply.body.find("do not serve"), std::string::npos) << target;
   }
   EXPECT_EQ(testing::http_get(io_, port, "/%zz").status, 400u);
-  EXPECT_EQ(log_lines_with("further refusals are logged at debug level"), 1u);
+  EXPECT_EQ(log_lines_with("more of these are counted"), 1u);   // one episode of refused paths
   EXPECT_GE(simulation_->webview()->stats().paths_refused, 6u);
 }
 

@@ -10,12 +10,14 @@
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
+#include <algorithm>
 #include <deque>
 #include <filesystem>
 #include <fstream>
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "tcp_peers.hpp"
@@ -33,6 +35,11 @@ class WsClient {
  public:
   explicit WsClient(boost::asio::io_context& io) : ws_(io) {}
 
+  // The handshake's Host (default "127.0.0.1:PORT", as a browser sends it) and Origin (sent
+  // when not empty; a browser always sends one, non-browser clients often none).
+  std::string host;
+  std::string origin;
+
   // Connects and completes the handshake (runs the io_context meanwhile). `read`: false makes
   // a page that never reads (for the slow-reader test).
   bool connect(boost::asio::io_context& io, std::uint16_t port, bool read = true, int receive_buffer_bytes = 0) {
@@ -42,20 +49,32 @@ class WsClient {
     boost::system::error_code error;
     socket.connect({boost::asio::ip::address_v4::loopback(), port}, error);
     if (error) return false;
+    if (!origin.empty()) {
+      ws_.set_option(websocket::stream_base::decorator(
+          [origin = origin](websocket::request_type& request) { request.set(http::field::origin, origin); }));
+    }
     bool done = false;
-    ws_.async_handshake("127.0.0.1", "/ws", [&](beast::error_code handshake_error) {
-      done = true;
-      handshake_error_ = handshake_error;
-    });
+    ws_.async_handshake(response_, host.empty() ? "127.0.0.1:" + std::to_string(port) : host, "/ws",
+                        [&](beast::error_code handshake_error) {
+                          done = true;
+                          handshake_error_ = handshake_error;
+                        });
     if (!run_until(io, [&] { return done; }) || handshake_error_) return false;
     if (read) read_next();
     return true;
   }
+  // The handshake's answer: 101 when it succeeded.
+  unsigned handshake_status() const { return response_.result_int(); }
 
-  void send(std::string text, bool binary = false) {
-    queue_.push_back({std::move(text), binary});
+  // `fragment_bytes` > 0: the message goes out in frames of that size; 0: as one frame.
+  void send(std::string text, bool binary = false, std::size_t fragment_bytes = 0) {
+    queue_.push_back({std::move(text), binary, fragment_bytes});
     if (!writing_) write_next();
   }
+  // Everything queued has been written.
+  bool sent_all() const { return queue_.empty() && !writing_; }
+  // Why the server closed (after closed()): the close frame's code, 0 without one.
+  unsigned close_code() const { return closed_ ? static_cast<unsigned>(ws_.reason().code) : 0; }
 
   // Messages of that name received so far, as their "data" JSON.
   std::vector<std::string> data_of(std::string_view name) const {
@@ -73,6 +92,7 @@ class WsClient {
   struct Outgoing {
     std::string text;
     bool binary;
+    std::size_t fragment_bytes;
   };
 
   void read_next() {
@@ -95,20 +115,40 @@ class WsClient {
     }
     writing_ = true;
     ws_.binary(queue_.front().binary);
-    ws_.async_write(boost::asio::buffer(queue_.front().text), [this](beast::error_code error, std::size_t) {
-      queue_.pop_front();
-      if (error) {
-        closed_ = true;
-        queue_.clear();
-        writing_ = false;
-        return;
-      }
-      write_next();
-    });
+    if (queue_.front().fragment_bytes == 0) {
+      ws_.auto_fragment(false);
+      ws_.async_write(boost::asio::buffer(queue_.front().text),
+                      [this](beast::error_code error, std::size_t) { written(error); });
+      return;
+    }
+    write_fragment(0);
+  }
+
+  void write_fragment(std::size_t offset) {
+    const Outgoing& message = queue_.front();
+    const std::size_t size = std::min(message.fragment_bytes, message.text.size() - offset);
+    const bool last = offset + size == message.text.size();
+    ws_.async_write_some(last, boost::asio::buffer(message.text.data() + offset, size),
+                         [this, offset, size, last](beast::error_code error, std::size_t) {
+                           if (error || last) return written(error);
+                           write_fragment(offset + size);
+                         });
+  }
+
+  void written(beast::error_code error) {
+    queue_.pop_front();
+    if (error) {
+      closed_ = true;
+      queue_.clear();
+      writing_ = false;
+      return;
+    }
+    write_next();
   }
 
   websocket::stream<beast::tcp_stream> ws_;
   beast::flat_buffer buffer_;
+  websocket::response_type response_;
   beast::error_code handshake_error_;
   std::deque<Outgoing> queue_;
   bool writing_ = false;
@@ -122,14 +162,17 @@ struct HttpReply {
   std::string body;
 };
 
-// GET `target` verbatim (no normalisation, unlike curl or a browser).
-inline HttpReply http_get(boost::asio::io_context& io, std::uint16_t port, const std::string& target) {
+// GET `target` verbatim (no normalisation, unlike curl or a browser), with Host
+// 127.0.0.1:PORT and the extra `headers` (name, value).
+inline HttpReply http_get(boost::asio::io_context& io, std::uint16_t port, const std::string& target,
+                          const std::vector<std::pair<std::string, std::string>>& headers = {}) {
   beast::tcp_stream stream(io);
   boost::system::error_code error;
   stream.socket().connect({boost::asio::ip::address_v4::loopback(), port}, error);
   if (error) return {};
   http::request<http::empty_body> request{http::verb::get, target, 11};
-  request.set(http::field::host, "127.0.0.1");
+  request.set(http::field::host, "127.0.0.1:" + std::to_string(port));
+  for (const auto& [name, value] : headers) request.set(name, value);
   beast::flat_buffer buffer;
   http::response<http::string_body> response;
   bool done = false;

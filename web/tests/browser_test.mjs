@@ -7,10 +7,15 @@
 // 2. A fresh player_sim: a minimal page using only the SDK shim listens, the loop closes by the
 //    auto-echo and the source stays unlocked; then a :4001 client takes the source and the
 //    dashboard shows the lock banner; screenshot.
+// 3. Other origins: a page served by a tiny node server on another 127.0.0.1 port cannot open
+//    the web view's WebSocket (403), one from an origin given with --webview-allow-origin can,
+//    the dashboard still can (from 127.0.0.1 and from localhost), and a DNS-rebound name
+//    (evil.example mapped to 127.0.0.1 by Chromium's resolver rules) gets 421.
 // Every port is chosen by the system (0) and read from player_sim's log; every wait is bounded;
 // child processes are killed on every path.
 import { spawn } from "node:child_process";
 import fs from "node:fs";
+import http from "node:http";
 import net from "node:net";
 import path from "node:path";
 import { chromium } from "playwright-core";
@@ -184,12 +189,83 @@ async function minimalPageScenario(browser) {
   check(await stopPlayerSim(sim) === 0, "player_sim exits 0 on SIGTERM");
 }
 
+// A page that tries the WebSocket named in its ?ws= query and records what happened in
+// window.result: "open" (and the first message), or "error"/"closed" (never opened).
+const WEBSOCKET_PROBE_PAGE = `<!doctype html><title>probe</title><script>
+  window.result = "pending";
+  const socket = new WebSocket(new URLSearchParams(location.search).get("ws"));
+  socket.onopen = () => { window.result = "open"; };
+  socket.onmessage = (event) => { if (!window.firstMessage) window.firstMessage = String(event.data); };
+  socket.onerror = () => { if (window.result === "pending") window.result = "error"; };
+  socket.onclose = (event) => { window.closeCode = event.code; if (window.result === "pending") window.result = "closed"; };
+</script>`;
+
+// Serves WEBSOCKET_PROBE_PAGE on 127.0.0.1, on a port chosen by the system.
+function startProbeServer() {
+  return new Promise((resolve, reject) => {
+    const server = http.createServer((request, response) => {
+      response.writeHead(200, { "content-type": "text/html; charset=utf-8" });
+      response.end(WEBSOCKET_PROBE_PAGE);
+    });
+    server.once("error", reject);
+    server.listen(0, "127.0.0.1", () => {
+      cleanups.push(() => server.close());
+      resolve(server.address().port);
+    });
+  });
+}
+
+async function probe(browser, pageUrl, webviewPort) {
+  const page = await browser.newPage();
+  await page.goto(`${pageUrl}/?ws=${encodeURIComponent(`ws://127.0.0.1:${webviewPort}/ws`)}`);
+  const result = await waitFor(`the WebSocket from ${pageUrl} to open or fail`,
+                               () => page.evaluate(() => (window.result !== "pending" ? window.result : null)));
+  const firstMessage = result !== "open" ? null
+    : await waitFor("the first message", () => page.evaluate(() => window.firstMessage || null));
+  await page.close();
+  return { result, firstMessage };
+}
+
+async function originScenario(browser) {
+  const foreignPort = await startProbeServer();
+  const allowedPort = await startProbeServer();
+  const sim = await startPlayerSim(["--vehicle", "truck-1", "--webview-allow-origin", `http://127.0.0.1:${allowedPort}`]);
+
+  const foreign = await probe(browser, `http://127.0.0.1:${foreignPort}`, sim.webview);
+  check(foreign.result !== "open", `a page from another origin cannot open the WebSocket (${foreign.result})`);
+  await waitFor("the refusal in the log", () =>
+    sim.output().includes(`refused with 403: Origin 'http://127.0.0.1:${foreignPort}' is not this web view's`));
+  check(true, "player_sim logs the refused Origin");
+
+  const allowed = await probe(browser, `http://127.0.0.1:${allowedPort}`, sim.webview);
+  check(allowed.result === "open", `a page from an origin given with --webview-allow-origin connects (${allowed.result})`);
+  check(allowed.firstMessage.includes("ocp_webview_status"), "the allowed page is served like the dashboard");
+
+  for (const host of ["127.0.0.1", "localhost"]) {
+    const dashboard = await browser.newPage();
+    await dashboard.goto(`http://${host}:${sim.webview}/dashboard/`);
+    await waitFor(`the dashboard at ${host} to get the status`,
+                  () => dashboard.evaluate(() => !!(window.dashboard && window.dashboard.status)));
+    check(true, `the dashboard served from http://${host}:${sim.webview} still connects`);
+    await dashboard.close();
+  }
+
+  const rebound = await browser.newPage();
+  const response = await rebound.goto(`http://evil.example:${sim.webview}/dashboard/`);
+  check(response.status() === 421, `a DNS-rebound name (evil.example → 127.0.0.1) gets ${response.status()}, not the page`);
+  await rebound.close();
+  check(await stopPlayerSim(sim) === 0, "player_sim exits 0 on SIGTERM");
+}
+
 let browser = null;
 let failed = 0;
 try {
-  browser = await chromium.launch({ executablePath: CHROMIUM, headless: true, args: ["--no-sandbox"] });
+  // evil.example resolves to 127.0.0.1 in this browser only: a DNS rebinding without a DNS server.
+  browser = await chromium.launch({ executablePath: CHROMIUM, headless: true,
+                                    args: ["--no-sandbox", "--host-resolver-rules=MAP evil.example 127.0.0.1"] });
   await dashboardScenario(browser);
   await minimalPageScenario(browser);
+  await originScenario(browser);
 } catch (error) {
   failed = 1;
   console.error(`not ok - ${error.stack || error}`);

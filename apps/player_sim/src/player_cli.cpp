@@ -5,6 +5,7 @@
 
 #include "ocp/cli_checks.hpp"
 #include "player_app/vehicle_tcp_option.hpp"
+#include "player_app/webview_server.hpp"
 #include "sim_app/exit_codes.hpp"
 
 namespace ocp {
@@ -19,6 +20,7 @@ PlayerSimOptions PlayerCli::simulation_options() const {
     WebviewOptions webview;   // allow_remote follows ocp_tcp_allow_remote (PlayerSimulation)
     webview.port = static_cast<std::uint16_t>(webview_port);
     webview.root = webview_root;
+    webview.allowed_origins = webview_allowed_origins;
     options.webview = webview;
   }
   return options;
@@ -45,6 +47,18 @@ std::optional<int> parse_player_cli(int argc, const char* const* argv, PlayerCli
   app.add_option("--webview-root", cli.webview_root, "folder of the web view's static files (default: the built-in dashboard)")
       ->capture_default_str()->check(CLI::ExistingDirectory)->group("Web view");
   app.add_flag("--no-webview", cli.no_webview, "do not serve the web view")->group("Web view");
+  app.add_option("--webview-allow-origin", cli.webview_allowed_origins,
+                 "ORIGIN (scheme://host[:port], e.g. http://localhost:8080): pages served from it may use the web "
+                 "view too (repeatable; by default only the web view's own pages may)")
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            auto origin = parse_webview_origin(text);
+            if (!origin) return origin.error().detail;
+            text = *origin;
+            return std::string();
+          },
+          "ORIGIN"))
+      ->group("Web view");
   if (auto exit_code = sim_app::parse_command_line(app, argc, argv, cli.common)) return exit_code;
 
   if (cli.vehicles.empty()) cli.vehicles.push_back("vehicle");

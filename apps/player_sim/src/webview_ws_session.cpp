@@ -5,18 +5,14 @@
 #include "webview_hub.hpp"
 
 namespace ocp {
-namespace {
-
-constexpr std::size_t read_chunk_bytes = 16 * 1024;
-
-}  // namespace
 
 WebsocketSession::WebsocketSession(std::shared_ptr<WebviewServer::Hub> hub, tcp::socket socket, std::string peer,
-                                   std::uint64_t id)
+                                   std::uint64_t id, ConnectionSlot slot)
     : hub_(std::move(hub)),
       ws_(std::move(socket)),
       peer_(std::move(peer)),
       id_(id),
+      slot_(std::move(slot)),
       drops_(hub_->logger, peer_),
       rate_(hub_->limits.max_messages_per_second, hub_->limits.max_messages_per_second) {}
 
@@ -29,8 +25,13 @@ void WebsocketSession::start(http::request<http::string_body> request) {
   // Pings find pages that vanished without a close (a killed browser) within ~30 s.
   timeouts.idle_timeout = std::chrono::seconds(30);
   timeouts.keep_alive_pings = true;
+  // The opening handshake's request is already read and the close handshake is a frame each
+  // way: a peer that takes longer (after a 1009, say) is not worth its slot.
+  timeouts.handshake_timeout = std::chrono::seconds(5);
   ws_.set_option(timeouts);
-  ws_.read_message_max(hub_->limits.hard_message_limit_bytes);
+  // Beast counts the message across its frames and, over the limit, fails the read with
+  // message_too_big after closing with 1009 (RFC 6455 §7.4.1) itself.
+  ws_.read_message_max(webview::max_message_bytes);
   ws_.async_accept(request, [self = shared_from_this()](beast::error_code error) {
     if (self->closed_) return;
     if (error) {
@@ -47,9 +48,7 @@ void WebsocketSession::start(http::request<http::string_body> request) {
 }
 
 void WebsocketSession::read() {
-  ws_.async_read_some(buffer_, read_chunk_bytes, [self = shared_from_this()](beast::error_code error, std::size_t) {
-    self->on_read(error);
-  });
+  ws_.async_read(buffer_, [self = shared_from_this()](beast::error_code error, std::size_t) { self->on_read(error); });
 }
 
 void WebsocketSession::on_read(beast::error_code error) {
@@ -59,35 +58,26 @@ void WebsocketSession::on_read(beast::error_code error) {
     return;
   }
   if (error == websocket::error::message_too_big) {
-    close("message over " + std::to_string(hub_->limits.hard_message_limit_bytes) + " bytes; disconnected");
+    ++hub_->stats.messages_dropped;
+    close("a message over " + std::to_string(webview::max_message_bytes) +
+          " bytes; closed with 1009 (message too big)");
     return;
   }
   if (error) {
     close("connection lost: " + error.message());
     return;
   }
-  message_bytes_ += buffer_.size();
-  if (!discarding_ && message_bytes_ > webview::max_message_bytes) discarding_ = true;
-  // An oversized message is drained chunk by chunk, never held whole.
-  if (discarding_) buffer_.consume(buffer_.size());
-  if (ws_.is_message_done()) {
-    const SimTime now = hub_->executor.now();
-    if (!rate_.admit(now)) {
-      drop(webview::DropKind::flood,
-           "more than " + std::to_string(static_cast<long>(hub_->limits.max_messages_per_second)) + " messages a second");
-    } else if (discarding_) {
-      drop(webview::DropKind::oversized, std::to_string(message_bytes_) + " bytes, limit " +
-                                             std::to_string(webview::max_message_bytes));
-    } else if (ws_.got_binary()) {
-      drop(webview::DropKind::binary, "binary message; the web view protocol is JSON text");
-    } else {
-      const auto data = buffer_.cdata();
-      hub_->on_message(*this, std::string_view(static_cast<const char*>(data.data()), data.size()));
-    }
-    buffer_.consume(buffer_.size());
-    message_bytes_ = 0;
-    discarding_ = false;
+  const SimTime now = hub_->executor.now();
+  if (!rate_.admit(now)) {
+    drop(webview::DropKind::flood,
+         "more than " + std::to_string(static_cast<long>(hub_->limits.max_messages_per_second)) + " messages a second");
+  } else if (ws_.got_binary()) {
+    drop(webview::DropKind::binary, "binary message; the web view protocol is JSON text");
+  } else {
+    const auto data = buffer_.cdata();
+    hub_->on_message(*this, std::string_view(static_cast<const char*>(data.data()), data.size()));
   }
+  buffer_.consume(buffer_.size());
   if (!closed_) read();
 }
 
@@ -132,6 +122,7 @@ void WebsocketSession::close(const std::string& reason) {
   closed_ = true;
   queue_.clear();
   hub_->sessions.erase(id_);
+  slot_.release();
   drops_.flush();
   if (open_) {
     ++hub_->stats.websocket_closed;

@@ -22,6 +22,7 @@ struct PlayerCli {
   int webview_port = 4002;
   std::string webview_root;                         // default: the built-in dashboard
   bool no_webview = false;
+  std::vector<std::string> webview_allowed_origins;   // --webview-allow-origin, normalised
 
   PlayerSimOptions simulation_options() const;
 };
