@@ -39,6 +39,7 @@ class WsClient {
   // when not empty; a browser always sends one, non-browser clients often none).
   std::string host;
   std::string origin;
+  std::string address = "127.0.0.1";   // where to connect (any 127/8 address is this machine)
 
   // Connects and completes the handshake (runs the io_context meanwhile). `read`: false makes
   // a page that never reads (for the slow-reader test).
@@ -47,14 +48,14 @@ class WsClient {
     socket.open(tcp::v4());
     if (receive_buffer_bytes > 0) socket.set_option(boost::asio::socket_base::receive_buffer_size(receive_buffer_bytes));
     boost::system::error_code error;
-    socket.connect({boost::asio::ip::address_v4::loopback(), port}, error);
+    socket.connect({boost::asio::ip::make_address_v4(address), port}, error);
     if (error) return false;
     if (!origin.empty()) {
       ws_.set_option(websocket::stream_base::decorator(
           [origin = origin](websocket::request_type& request) { request.set(http::field::origin, origin); }));
     }
     bool done = false;
-    ws_.async_handshake(response_, host.empty() ? "127.0.0.1:" + std::to_string(port) : host, "/ws",
+    ws_.async_handshake(response_, host.empty() ? address + ":" + std::to_string(port) : host, "/ws",
                         [&](beast::error_code handshake_error) {
                           done = true;
                           handshake_error_ = handshake_error;

@@ -259,6 +259,29 @@ TEST_F(WebviewHostile, TheWebviewsOwnOriginsAndClientsWithoutOriginConnect) {
   EXPECT_EQ(testing::http_get(io_, port_, "/", {{"Origin", own()}}).status, 200u);
 }
 
+TEST_F(WebviewHostile, WithRemoteAccessTheAddressAConnectionCameToIsItsOwnHost) {
+  WebviewOptions options;
+  options.port = 0;
+  options.allow_remote = true;   // 0.0.0.0: 127.0.0.2 stands for the machine's LAN address here
+  options.root = root_.root;
+  server_ = std::make_unique<WebviewServer>(executor_, options, Logger(executor_, "player:webview", log_.sink()));
+  ASSERT_TRUE(server_->listen().ok());
+  port_ = server_->port();
+  WsClient remote(io_), rebound(io_), crossed(io_);
+  remote.address = "127.0.0.2";   // Host 127.0.0.2:PORT, as a browser elsewhere sends it
+  remote.origin = "http://127.0.0.2:" + std::to_string(port_);
+  EXPECT_TRUE(remote.connect(io_, port_));
+  EXPECT_EQ(remote.handshake_status(), 101u);
+  rebound.address = "127.0.0.2";
+  rebound.host = "evil.example:" + std::to_string(port_);
+  EXPECT_FALSE(rebound.connect(io_, port_));
+  EXPECT_EQ(rebound.handshake_status(), 421u);
+  crossed.address = "127.0.0.2";   // a Host naming another address of the machine is not this connection's
+  crossed.host = "127.0.0.3:" + std::to_string(port_);
+  EXPECT_FALSE(crossed.connect(io_, port_));
+  EXPECT_EQ(crossed.handshake_status(), 421u);
+}
+
 TEST_F(WebviewHostile, AnAllowedOriginConnectsAndOnlyThatOne) {
   start({}, {"http://localhost:8080", "HTTPS://Tools.Example"});
   WsClient allowed(io_), secure(io_), other_port(io_);
