@@ -229,12 +229,14 @@ void FramedConnection::handle_peer_closed(const std::string& transport_reason) {
   if (!open_) return;
   const Status end = decoder_.finish();
   if (!end) {
-    logger_.warn("{} {}: stream ended inside a frame ({}): {}", options_.label, peer_,
-                 transport_reason, end.error().message());
+    if (may_log()) {
+      logger_.warn("{} {}: stream ended inside a frame ({}): {}", options_.label, peer_, transport_reason,
+                   end.error().message());
+    }
     finish(end.error());
     return;
   }
-  logger_.info("{} {}: peer closed the connection ({})", options_.label, peer_, transport_reason);
+  if (may_log()) logger_.info("{} {}: peer closed the connection ({})", options_.label, peer_, transport_reason);
   finish(CloseReason{PeerError::closed_by_peer, transport_reason});
 }
 
@@ -259,9 +261,13 @@ void FramedConnection::on_read_timer() {
                                                          to_whole_ms(options_.read_timeout))});
 }
 
+bool FramedConnection::may_log() const {
+  return options_.log_budget == nullptr || options_.log_budget->admit(logger_, executor_.now());
+}
+
 void FramedConnection::close(CloseReason reason) {
   if (!open_) return;
-  logger_.warn("closing {} connection {}: {}", options_.label, peer_, reason.message());
+  if (may_log()) logger_.warn("closing {} connection {}: {}", options_.label, peer_, reason.message());
   finish(reason);
 }
 

@@ -74,4 +74,27 @@ bool WarnedNames::first_time(std::string_view name, SimTime now) {
   return false;
 }
 
+ConnectionLogBudget::ConnectionLogBudget(std::size_t lines_per_period, Micros period)
+    : lines_per_period_(lines_per_period), period_(period) {}
+
+bool ConnectionLogBudget::admit(const Logger& logger, SimTime now) {
+  if (now - window_start_ >= period_) {
+    window_start_ = now;
+    written_in_window_ = 0;
+  }
+  if (written_in_window_ >= lines_per_period_) {
+    if (suppressed_ == 0) suppressed_since_ = now;
+    ++suppressed_;
+    ++suppressed_total_;
+    return false;
+  }
+  ++written_in_window_;
+  if (suppressed_ > 0) {
+    logger.warn("{} connection lines not written in the last {} (a connection storm?)", suppressed_,
+                format_span(now - suppressed_since_));
+    suppressed_ = 0;
+  }
+  return true;
+}
+
 }  // namespace ocp

@@ -122,7 +122,7 @@ void PlayerCore::Impl::accept_client(std::shared_ptr<ByteStream> stream) {
                              fmt::format("client {} is already connected (one client at a time)",
                                          client->peer())};
     const std::string peer = stream->peer_name();
-    logger.warn("tcp client {} refused: {}", peer, reason.detail);
+    if (connection_log.admit(logger, executor.now())) logger.warn("tcp client {} refused: {}", peer, reason.detail);
     stream->close();
     if (events.active()) {
       publish(ConnectionEvent{Wire::operator_, ConnectionChange::refused, peer, &reason});
@@ -130,9 +130,10 @@ void PlayerCore::Impl::accept_client(std::shared_ptr<ByteStream> stream) {
     return;
   }
   ++stats.client_connections_accepted;
-  logger.info("tcp client {} connected", stream->peer_name());
+  if (connection_log.admit(logger, executor.now())) logger.info("tcp client {} connected", stream->peer_name());
   FramedConnection::Options options =
       FramedConnection::server_options(Wire::operator_, config.client_read_timeout, events, component());
+  options.log_budget = &connection_log;
   FramedConnection::Counters counters;
   counters.oversized_frames_dropped = &stats.client_oversized_frames;
   counters.bytes_out = &stats.client_bytes_out;

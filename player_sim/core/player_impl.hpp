@@ -77,6 +77,7 @@ struct PlayerCore::Impl {
   WarnedNames warned_unknown_active;   // forgotten when a linked vehicle is selected
 
   std::shared_ptr<FramedConnection> client;      // the tcp source (:4001), one at a time
+  ConnectionLogBudget connection_log;            // connection storms do not flood the log
   std::optional<CloseReason> last_client_close_reason;
   std::string client_json_buffer;                // reused every frame
   std::optional<ClientFrameTooLarge> client_too_large;   // an episode of oversized frames: warned once

@@ -80,6 +80,7 @@ struct StreamerCore::Impl {
   SimTime start_time{};
 
   // Vehicle side.
+  ConnectionLogBudget connection_log;            // connection storms do not flood the log
   std::shared_ptr<FramedConnection> vehicle_connection;
   std::optional<AckPair> echoed_pair;            // latest pair echoed by the vehicle (→ SEI)
   std::optional<VehicleUserData> vehicle_data;   // latest vehicle user data …

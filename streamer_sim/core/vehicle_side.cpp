@@ -27,7 +27,7 @@ void StreamerCore::Impl::accept_vehicle(std::shared_ptr<ByteStream> stream) {
     ++stats.connections_refused;
     const CloseReason reason{LocalError::already_connected,
                              fmt::format("{} is already connected", vehicle_connection->peer())};
-    logger.warn("refused vehicle connection from {}: {}", peer, reason.detail);
+    if (connection_log.admit(logger, executor.now())) logger.warn("refused vehicle connection from {}: {}", peer, reason.detail);
     stream->close();
     if (events.active()) {
       events.publish(Event{executor.now(), component(),
@@ -36,13 +36,14 @@ void StreamerCore::Impl::accept_vehicle(std::shared_ptr<ByteStream> stream) {
     return;
   }
   ++stats.connections_accepted;
-  logger.info("vehicle connected: {}", peer);
+  if (connection_log.admit(logger, executor.now())) logger.info("vehicle connected: {}", peer);
   // Nothing built for a previous connection survives: frames are encoded per tick straight
   // into the active connection, and the old connection (with anything its transport still
   // held) was dropped when it closed.
   FramedConnection::Options options =
       FramedConnection::server_options(Wire::vehicle, config.vehicle_read_timeout, events, component());
   options.write_queue_limit_bytes = config.vehicle_write_queue_limit_bytes;
+  options.log_budget = &connection_log;
   FramedConnection::Counters counters;
   counters.bytes_in = &stats.vehicle_bytes_in;
   counters.bytes_out = &stats.vehicle_bytes_out;
@@ -77,7 +78,7 @@ void StreamerCore::Impl::on_vehicle_closed(const CloseReason& reason) {
   const std::string peer = vehicle_connection->peer();
   ++stats.connections_closed;
   stats.last_close_reason = reason;
-  logger.info("vehicle disconnected: {} ({})", peer, reason.message());
+  if (connection_log.admit(logger, executor.now())) logger.info("vehicle disconnected: {} ({})", peer, reason.message());
   // Keep the connection object alive until this callback unwinds: the stream callback that
   // led here holds its own reference, so resetting our pointer is safe.
   vehicle_connection.reset();

@@ -7,8 +7,8 @@ JSON nesting, never-reading peers, connection storms, slowloris and WebSocket ga
 each peer it checks that
   * the server's open fds and resident memory are back within a stated bound of the baseline,
   * a good client is served normally,
-and at the end that no log line repeated more than once a second (digits ignored, so one line
-per connection of a storm counts as a repeat). Standard library only; every wait is bounded.
+and at the end that no log line came more than once a second, counted over any 5 s (digits
+ignored, so one line per connection of a storm counts as a repeat). Standard library only; every wait is bounded.
 Exit 0 when every check passed, 1 otherwise (a ✗ line says which, expected against actual).
 
 usage: hostile_peers.py STREAMER_SIM PLAYER_SIM [--only NAME]
@@ -281,18 +281,28 @@ def settle(server, baseline_fds, baseline_rss):
     return server.fds(), server.rss_kib()
 
 
+FLOOD_WINDOW_S = 5.0   # a line may come once a second, counted over any 5 s: a short burst
+                       # (a fault raised and cleared a few times before it is summarised as
+                       # flapping) is no flood; one line per connection of a storm is
+
+
 def repeated_lines(server):
-    """Lines (digits ignored) said more than once within one second, with their count."""
+    """Lines (digits ignored) said more than once a second over some 5 s, with their count."""
     with server.lock:
         lines = list(server.lines)
-    seen = collections.Counter()
+    times = collections.defaultdict(list)
     for at, text in lines:
         text = re.sub(r"^\[\s*[\d.]+\]\s*", "", text)
-        seen[(re.sub(r"\d+", "#", text), int(at))] += 1
+        times[re.sub(r"\d+", "#", text)].append(at)
     worst = {}
-    for (text, _), count in seen.items():
-        if count > 1:
-            worst[text] = max(worst.get(text, 0), count)
+    for text, ats in times.items():
+        start = 0
+        for end in range(len(ats)):
+            while ats[end] - ats[start] >= FLOOD_WINDOW_S:   # a window of 5 s, its end excluded
+                start += 1
+            count = end - start + 1
+            if count > FLOOD_WINDOW_S:
+                worst[text] = max(worst.get(text, 0), count)
     return worst
 
 
@@ -356,9 +366,9 @@ def main():
             floods = repeated_lines(server)
             ok = not floods
             results.append(ok)
-            print(f"{'✓' if ok else '✗'} {label}: no log line repeated within a second", flush=True)
+            print(f"{'✓' if ok else '✗'} {label}: no log line more than once a second", flush=True)
             for text, count in sorted(floods.items(), key=lambda item: -item[1])[:8]:
-                print(f"    expected ≤ 1 a second, actual {count}: {text[:160]}", flush=True)
+                print(f"    expected ≤ {FLOOD_WINDOW_S:g} in {FLOOD_WINDOW_S:g} s, actual {count}: {text[:160]}", flush=True)
     finally:
         streamer.stop()
         player.stop()

@@ -5,7 +5,9 @@
 #include <string>
 #include <vector>
 
+#include "captured_log.hpp"
 #include "ocp/log_limiter.hpp"
+#include "ocp/virtual_executor.hpp"
 
 namespace ocp {
 namespace {
@@ -111,6 +113,37 @@ TEST(WarnedNames, RemembersAtMostItsCapacityAndSummarisesTheRest) {
   EXPECT_FALSE(names.first_time("ghost-0", limiter_ms(30'000)));
   names.clear();
   EXPECT_TRUE(names.first_time("ghost-0", limiter_ms(30'000)));
+}
+
+}  // namespace
+}  // namespace ocp
+
+namespace ocp {
+namespace {
+
+// A connection storm: 1 000 connections in 2 s, three lines each. Two lines a second are
+// written, and the count of the rest before the next written line; a quiet connection later
+// is told again.
+TEST(ConnectionLogBudget, AStormWritesTwoLinesASecondAndCountsTheRest) {
+  VirtualExecutor executor;
+  testing::CapturedLog log;
+  const Logger logger(executor, "server", log.sink());
+  ConnectionLogBudget budget;   // 2 lines a second
+  std::size_t written = 0;
+  for (std::int64_t i = 0; i < 1000; ++i) {
+    const SimTime at = SimTime{i * 2'000};
+    for (int line = 0; line < 3; ++line) written += budget.admit(logger, at);
+  }
+  EXPECT_EQ(written, 4u);                        // 2 s of storm: 2 lines in each second
+  EXPECT_EQ(budget.suppressed_total(), 2996u);
+  ASSERT_EQ(log.lines().size(), 1u);             // the count, before the second second's first line
+  EXPECT_NE(log.lines()[0].message.find("1498 connection lines not written in the last"), std::string::npos)
+      << log.lines()[0].message;
+  // A connection 10 s later: told again, the count first.
+  EXPECT_TRUE(budget.admit(logger, SimTime{12'000'000}));
+  EXPECT_TRUE(budget.admit(logger, SimTime{12'000'000}));
+  ASSERT_EQ(log.lines().size(), 2u);
+  EXPECT_NE(log.lines()[1].message.find("1498 connection lines"), std::string::npos) << log.lines()[1].message;
 }
 
 }  // namespace

@@ -70,6 +70,8 @@ class FramedConnection : public std::enable_shared_from_this<FramedConnection> {
     Wire wire = Wire::vehicle;
     WireMessageKind inbound_kind = WireMessageKind::vehicle_response;
     WireMessageKind outbound_kind = WireMessageKind::control;
+    // Shared by a server's connections (nullptr: every line written): see log_limiter.hpp.
+    ConnectionLogBudget* log_budget = nullptr;
   };
 
   // Where the connection adds what it counts. Each member points into the owner's stats, so
@@ -132,6 +134,7 @@ class FramedConnection : public std::enable_shared_from_this<FramedConnection> {
   const std::string& peer() const { return peer_; }
 
  private:
+  bool may_log() const;   // the server's ConnectionLogBudget admits a line (or there is none)
   FramedConnection(Executor& executor, Logger logger, std::shared_ptr<ByteStream> stream,
                    Options options, Counters counters, Handlers handlers);
   void start();

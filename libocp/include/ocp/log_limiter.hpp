@@ -25,6 +25,7 @@
 #include <string>
 #include <string_view>
 
+#include "ocp/log.hpp"
 #include "ocp/time.hpp"
 
 namespace ocp {
@@ -97,6 +98,31 @@ class WarnedNames {
   std::size_t capacity_;
   std::set<std::string, std::less<>> names_;
   RepeatedWarning overflow_;
+};
+
+// ConnectionLogBudget — the lines a server writes about each connection (accepted, refused,
+// closed and why), which a connection storm turns into a flood. At most `lines_per_period`
+// such lines are written a period, one server's connections together; the rest are counted,
+// and the count is said before the next line that is written ("… 297 connection lines not
+// written in the last 1.2 s"). Two lines a second tell the first connection of a storm (it
+// connected, and how it ended), so no line of it repeats within a second.
+class ConnectionLogBudget {
+ public:
+  explicit ConnectionLogBudget(std::size_t lines_per_period = 2, Micros period = Micros{1'000'000});
+
+  // True: write this line. False: it was counted instead. A count due is written to `logger`
+  // first.
+  [[nodiscard]] bool admit(const Logger& logger, SimTime now);
+  std::uint64_t suppressed_total() const { return suppressed_total_; }
+
+ private:
+  std::size_t lines_per_period_;
+  Micros period_;
+  SimTime window_start_{0};
+  std::size_t written_in_window_ = 0;
+  std::uint64_t suppressed_ = 0;
+  SimTime suppressed_since_{0};
+  std::uint64_t suppressed_total_ = 0;
 };
 
 }  // namespace ocp
