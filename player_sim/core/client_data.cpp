@@ -204,6 +204,9 @@ Status PlayerCore::Impl::write_raw_to_client(std::string bytes, std::vector<std:
 
 void PlayerCore::Impl::on_client_closed(const CloseReason& reason) {
   ++stats.client_connections_closed;
+  if (client && connection_log.admit(logger, executor.now())) {
+    logger.info("tcp client {} disconnected ({})", client->peer(), reason.message());
+  }
   last_client_close_reason = reason;
   client_too_large.reset();   // nothing is sent without a client
   client.reset();  // the connection keeps itself alive until its callback returns

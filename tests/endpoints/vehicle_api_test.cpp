@@ -172,7 +172,8 @@ TEST_F(VehicleApi, PortInUseIsAClearError) {
   const Status status = second.start();
   ASSERT_FALSE(status.ok());
   EXPECT_EQ(status.error().code, std::errc::address_in_use);
-  EXPECT_EQ(status.error().detail, "another socket listens on 127.0.0.1:" + std::to_string(port()));
+  EXPECT_EQ(status.error().detail.rfind("another socket listens on 127.0.0.1:" + std::to_string(port()) + " (", 0), 0u)
+      << status.error().detail;
   EXPECT_FALSE(second.world().running());
   // The first one is unaffected.
   EchoingVehicle vehicle(io_);

@@ -14,7 +14,7 @@ namespace {
 
 Error listen_error(const boost::system::error_code& error, const std::string& address) {
   if (error == boost::asio::error::address_in_use) {
-    return Error{std::make_error_code(std::errc::address_in_use), "address " + address + " already in use"};
+    return Error{std::make_error_code(std::errc::address_in_use), "another socket listens on " + address};
   }
   return Error{std::error_code(error.value(), std::system_category()),
                "web view cannot listen on " + address + ": " + error.message()};
@@ -292,6 +292,7 @@ webview::Status WebviewServer::Hub::current_status() const {
   status.client_data_stopped = player->client_data_stopped();
   status.active_vehicle = player->active_vehicle();
   status.vehicles = player->vehicles();
+  if (const auto& too_large = player->client_frame_too_large()) status.client_frame_too_large = webview::status_of(*too_large);
   return status;
 }
 

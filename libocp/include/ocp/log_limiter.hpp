@@ -104,11 +104,12 @@ class WarnedNames {
 // closed and why), which a connection storm turns into a flood. At most `lines_per_period`
 // such lines are written a period, one server's connections together; the rest are counted,
 // and the count is said before the next line that is written ("… 297 connection lines not
-// written in the last 1.2 s"). Two lines a second tell the first connection of a storm (it
-// connected, and how it ended), so no line of it repeats within a second.
+// written in the last 1.2 s"). Three lines a second tell the whole story of the first
+// connection of a storm (connected; closing and why; disconnected), and no line of it repeats
+// within a second.
 class ConnectionLogBudget {
  public:
-  explicit ConnectionLogBudget(std::size_t lines_per_period = 2, Micros period = Micros{1'000'000});
+  explicit ConnectionLogBudget(std::size_t lines_per_period = 3, Micros period = Micros{1'000'000});
 
   // True: write this line. False: it was counted instead. A count due is written to `logger`
   // first.
