@@ -1,10 +1,9 @@
 // ocp_conformance: command line only; everything else is in the conformance library.
 //   ocp_conformance vehicle|operator [options] [-- CMD ARGS…]
 // Exit codes: 0 every MUST case passed (or failed as the baseline expects), 1 a failure,
-// 2 a harness error (bad options, port in use, client could not be launched).
+// 2 a harness error (bad options, port in use, client could not be launched), 130 Ctrl-C.
 #include <CLI/CLI.hpp>
 #include <signal.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -17,15 +16,11 @@
 #include "conformance/vehicle_cases.hpp"
 #include "ocp/cli_parse.hpp"
 #include "ocp/cli_checks.hpp"
+#include "ocp/interrupt.hpp"
 
 namespace {
 
 using namespace ocp::conformance;
-
-extern "C" void on_signal(int signal_number) {
-  kill_all_clients();   // async-signal-safe: the children never outlive us
-  _exit(128 + signal_number);
-}
 
 bool write_file(const std::string& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
@@ -149,8 +144,10 @@ int main(int argc, char** argv) {
     baseline = *loaded;
   }
   if (!complete_run_options(line, operator_suite)) return 2;
-  signal(SIGINT, on_signal);
-  signal(SIGTERM, on_signal);
+  // Ctrl-C stops the run after the finished cases are reported; a second one ends it at once,
+  // killing the launched clients first (async-signal-safe), so they never outlive us.
+  ocp::cli::install_interrupt_handlers(kill_all_clients);
+  line.options.stop_requested = ocp::cli::interrupt_requested;
   signal(SIGPIPE, SIG_IGN);
 
   const std::string client = client_description(line);
@@ -170,6 +167,5 @@ int main(int argc, char** argv) {
     std::cerr << "ocp_conformance: could not write a report\n";
     return 2;
   }
-  if (!summary.harness_error.empty()) return 2;
-  return exit_code(summary.results, baseline ? &*baseline : nullptr);
+  return run_exit_code(summary, baseline ? &*baseline : nullptr);
 }

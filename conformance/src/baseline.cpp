@@ -3,6 +3,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "ocp/interrupt.hpp"
+
 namespace ocp::conformance {
 
 Result<Baseline> load_baseline(const std::string& path) {
@@ -47,6 +49,12 @@ int exit_code(const std::vector<CaseResult>& results, const Baseline* baseline) 
     return 1;
   }
   return 0;
+}
+
+int run_exit_code(const RunSummary& summary, const Baseline* baseline) {
+  if (summary.interrupted) return ocp::cli::interrupted_exit_code;
+  if (!summary.harness_error.empty()) return 2;
+  return exit_code(summary.results, baseline);
 }
 
 }  // namespace ocp::conformance

@@ -65,12 +65,13 @@ std::string html_report(const ReportContext& report) {
                                  report.suite, style);
   html += fmt::format("<h1>OCP conformance — {} side</h1>\n<p>Client: <code>{}</code><br>{}; exit code {}</p>\n",
                       report.suite, markup_escape(report.client), markup_escape(verdict_counts(summary)),
-                      summary.harness_error.empty() ? exit_code(summary.results, nullptr) : 2);
+                      run_exit_code(summary, nullptr));
   for (const NamedCause& cause : named_causes(summary)) {
     std::string ids;
     for (const std::string& id : cause.case_ids) ids += (ids.empty() ? "" : ", ") + id;
     html += "<p class=\"failed\"><b>Cause found</b>: " + markup_escape(cause.cause) + " (in " + markup_escape(ids) + ")</p>\n";
   }
+  if (summary.interrupted) html += "<p class=\"failed\"><b>Interrupted</b> (Ctrl-C): " + markup_escape(interrupted_text(summary)) + "</p>\n";
   if (!summary.harness_error.empty()) html += "<p class=\"failed\">Harness error: " + markup_escape(summary.harness_error) + "</p>\n";
   html += "<table><tr><th>case</th><th>tier</th><th>verdict</th><th>ms</th><th>title</th></tr>\n";
   for (const CaseResult& result : summary.results) {

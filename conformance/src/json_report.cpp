@@ -25,9 +25,9 @@ std::string entry_json(const WireLogEntry& e, std::int64_t origin_us) {
 
 std::string index_json(const ReportContext& report) {
   const RunSummary& summary = *report.summary;
-  std::string out = fmt::format(R"({{"suite":"{}","client":"{}","duration_ms":{:.1f},"exit_code":{},"harness_error":"{}","cases":[)",
+  std::string out = fmt::format(R"({{"suite":"{}","client":"{}","duration_ms":{:.1f},"exit_code":{},"harness_error":"{}","interrupted":{},"cases":[)",
                                 report.suite, json_escape(report.client), summary.duration_ms,
-                                summary.harness_error.empty() ? exit_code(summary.results, nullptr) : 2, json_escape(summary.harness_error));
+                                run_exit_code(summary, nullptr), json_escape(summary.harness_error), summary.interrupted);
   bool first = true;
   for (const CaseResult& result : summary.results) {
     out += first ? "\n" : ",\n";

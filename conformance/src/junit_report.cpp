@@ -10,7 +10,7 @@ std::string junit_xml(const ReportContext& report) {
   std::size_t failures = 0;
   for (const CaseResult& result : summary.results) failures += result.verdict == Verdict::failed;
   std::string xml = fmt::format("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites><testsuite name=\"ocp_conformance.{}\" tests=\"{}\" failures=\"{}\" errors=\"{}\" time=\"{:.3f}\">\n",
-                                report.suite, summary.results.size(), failures, summary.harness_error.empty() ? 0 : 1, summary.duration_ms / 1000.0);
+                                report.suite, summary.results.size(), failures, int(!summary.harness_error.empty()) + int(summary.interrupted), summary.duration_ms / 1000.0);
   for (const CaseResult& result : summary.results) {
     xml += fmt::format("  <testcase classname=\"{}.{}\" name=\"{}\" time=\"{:.3f}\">\n", report.suite, tier_name(result.info.tier),
                        report::markup_escape(result.info.id), result.duration_ms / 1000.0);
@@ -27,6 +27,10 @@ std::string junit_xml(const ReportContext& report) {
   if (!summary.harness_error.empty()) {
     xml += fmt::format("  <testcase classname=\"{}\" name=\"harness\"><error message=\"{}\"/></testcase>\n", report.suite,
                        report::markup_escape(summary.harness_error));
+  }
+  if (summary.interrupted) {
+    xml += fmt::format("  <testcase classname=\"{}\" name=\"interrupted\"><error message=\"{}\"/></testcase>\n", report.suite,
+                       report::markup_escape(interrupted_text(summary)));
   }
   xml += "</testsuite></testsuites>\n";
   return xml;

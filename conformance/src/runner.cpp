@@ -27,8 +27,10 @@ struct Shared {
   const RunOptions& options;
   std::atomic<std::size_t> next{0};
   std::vector<CaseResult> results;
+  std::size_t reported = 0;   // results[0, reported) went to on_result, in case order
   std::mutex mutex;
   std::string harness_error;
+  bool interrupted = false;
 
   void fail(std::string error) {
     std::lock_guard lock(mutex);
@@ -36,7 +38,21 @@ struct Shared {
   }
   bool failed() {
     std::lock_guard lock(mutex);
-    return !harness_error.empty();
+    return !harness_error.empty() || interrupted;
+  }
+  void interrupt() {
+    std::lock_guard lock(mutex);
+    interrupted = true;
+  }
+  // Stores one result and reports every result whose predecessors are all done: with jobs > 1
+  // the lines still come out in case order.
+  void finish_case(std::size_t index, CaseResult result) {
+    std::lock_guard lock(mutex);
+    results[index] = std::move(result);
+    while (reported < results.size() && !results[reported].info.id.empty()) {
+      if (options.on_result) options.on_result(results[reported]);
+      ++reported;
+    }
   }
 };
 
@@ -132,6 +148,7 @@ CaseResult run_one(Shared& shared, StreamerHost& host, const VehicleCase& test_c
 void worker_main(Shared& shared, unsigned worker) {
   const RunOptions& options = shared.options;
   StreamerHost host;
+  if (options.stop_requested) host.stop_when(options.stop_requested);
   const std::uint16_t port = options.command.empty() ? options.port : (options.jobs > 1 ? 0 : options.port);
   if (auto status = host.listen(port); !status) {
     shared.fail("cannot listen on 127.0.0.1:" + std::to_string(port) + ": " + status.error().message());
@@ -143,10 +160,9 @@ void worker_main(Shared& shared, unsigned worker) {
     const std::size_t index = shared.next.fetch_add(1);
     if (index >= shared.cases.size()) break;
     try {
-      CaseResult result = run_one(shared, host, shared.cases[index], client, client_log, worker);
-      std::lock_guard lock(shared.mutex);
-      if (options.on_result) options.on_result(result);
-      shared.results[index] = std::move(result);
+      shared.finish_case(index, run_one(shared, host, shared.cases[index], client, client_log, worker));
+    } catch (const RunInterrupted&) {
+      shared.interrupt();
     } catch (const std::exception& error) {
       shared.fail(fmt::format("{}: harness error: {}", shared.cases[index].body.info.id, error.what()));
     }
@@ -171,6 +187,8 @@ RunSummary run_cases(const std::vector<VehicleCase>& cases, const RunOptions& op
   RunSummary summary;
   summary.duration_ms = ms_since(start);
   summary.harness_error = run.harness_error;
+  summary.interrupted = run.interrupted;
+  summary.cases_selected = cases.size();
   for (std::size_t i = 0; i < cases.size(); ++i) {
     if (!run.results[i].info.id.empty()) summary.results.push_back(std::move(run.results[i]));
   }

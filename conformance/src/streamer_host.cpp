@@ -100,6 +100,7 @@ EventBus& StreamerHost::client_events() { return operator_side_ ? world_->player
 bool StreamerHost::run_until(const std::function<bool()>& done, std::chrono::milliseconds timeout) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   while (!done()) {
+    if (stop_requested_ && stop_requested_()) throw RunInterrupted();
     const auto now = std::chrono::steady_clock::now();
     if (now >= deadline) return false;
     if (io_.stopped()) io_.restart();

@@ -30,6 +30,11 @@ std::string verdict_counts(const RunSummary& summary) {
                      must_failed);
 }
 
+std::string interrupted_text(const RunSummary& summary) {
+  return fmt::format("{} of {} case{} finished before Ctrl-C; the rest have no verdict", summary.results.size(),
+                     summary.cases_selected, summary.cases_selected == 1 ? "" : "s");
+}
+
 std::vector<NamedCause> named_causes(const RunSummary& summary) {
   std::vector<NamedCause> causes;
   for (const CaseResult& result : summary.results) {
@@ -63,6 +68,7 @@ void print_summary(std::ostream& out, const ReportContext& report) {
         << "          still failing (expected):" << list(d.still_failing) << "\n"
         << "          fixed (remove from the baseline):" << list(d.fixed) << "\n";
   }
+  if (summary.interrupted) out << "interrupted: " << interrupted_text(summary) << "\n";
   if (!summary.harness_error.empty()) out << "HARNESS ERROR: " << summary.harness_error << "\n";
 }
 

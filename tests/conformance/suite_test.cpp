@@ -276,6 +276,27 @@ TEST(ConformanceSuite, AClientThatExitsBeforeConnectingStopsTheRunAtOnce) {
   }
 }
 
+// Ctrl-C (here SIGINT from `timeout`, 4 s into the run): the cases finished so far are reported,
+// the run says "interrupted", index.json is marked, the exit code is 130, and the client is gone.
+TEST(ConformanceSuite, CtrlCReportsTheFinishedCasesAndExits130) {
+  const std::string dir = fresh_dir("interrupted");
+  const auto start = std::chrono::steady_clock::now();
+  const int code = run("timeout --preserve-status -s INT 4 " + harness + " vehicle --out " + dir + " --connect-timeout-s 60 -- " + reference +
+                           " 127.0.0.1:{port} --no-status",
+                       dir + "/out.txt");
+  const std::string output = read_file(dir + "/out.txt");
+  EXPECT_EQ(code, 130) << output;
+  EXPECT_NE(output.find("interrupted: "), std::string::npos) << output;
+  EXPECT_NE(output.find("finished before Ctrl-C"), std::string::npos) << output;
+  EXPECT_LT(seconds_since(start), 60.0) << output;   // the case in progress is cut short, not waited for
+  rapidjson::Document index;
+  index.Parse(read_file(dir + "/index.json").c_str());
+  ASSERT_TRUE(index.IsObject()) << output;
+  EXPECT_TRUE(index["interrupted"].GetBool());
+  EXPECT_EQ(index["exit_code"].GetInt(), 130);
+  EXPECT_LT(index["cases"].Size(), 16u);   // not every case ran
+}
+
 TEST(ConformanceSuite, AClientThatNeverConnectsStopsTheRunAfterTheConnectTimeout) {
   const auto start = std::chrono::steady_clock::now();
   const SuiteRun r = run_suite("never_connects", "--connect-timeout-s 1", "sleep 60");

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "conformance/case.hpp"
+#include "conformance/runner.hpp"
 #include "ocp/error.hpp"
 
 namespace ocp::conformance {
@@ -25,5 +26,7 @@ BaselineDiff diff_baseline(const Baseline& baseline, const std::vector<CaseResul
 
 // 0: every MUST case passed (or failed as the baseline expects); 1: otherwise.
 int exit_code(const std::vector<CaseResult>& results, const Baseline* baseline);
+// The whole run's: 130 interrupted (Ctrl-C), 2 harness error, else exit_code(results, baseline).
+int run_exit_code(const RunSummary& summary, const Baseline* baseline);
 
 }  // namespace ocp::conformance

@@ -21,6 +21,8 @@ struct ReportContext {
 
 // "16 cases in 21.3 s: 12 OK, 1 NON-STRICT, 0 INFORMATIONAL, 3 FAILED (3 of them MUST)".
 std::string verdict_counts(const RunSummary& summary);
+// "5 of 16 cases finished before Ctrl-C; the rest have no verdict".
+std::string interrupted_text(const RunSummary& summary);
 
 // Each named cause (Outcome::cause) once, with the cases that showed it, in case order.
 struct NamedCause {

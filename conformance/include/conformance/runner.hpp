@@ -24,13 +24,18 @@ struct RunOptions {
   // did) cannot be graded: the run stops with a harness error (exit 2). Scaled by timeout_scale.
   std::chrono::milliseconds connect_timeout{3'000};
   std::string client_log_dir;         // launched clients' output (one file each); "" → /dev/null
-  std::function<void(const CaseResult&)> on_result;   // progress, called from worker threads (serialized)
+  // Progress: each result in case order (with jobs > 1 a result waits for the cases before it).
+  std::function<void(const CaseResult&)> on_result;
+  // Ctrl-C: polled while cases wait; true stops the run. The case in progress gets no verdict.
+  std::function<bool()> stop_requested;
 };
 
 struct RunSummary {
   std::vector<CaseResult> results;    // in case order
   double duration_ms = 0.0;
   std::string harness_error;          // non-empty: the run could not be done (exit 2)
+  bool interrupted = false;           // stopped by Ctrl-C: `results` holds the cases finished before
+  std::size_t cases_selected = 0;
 };
 
 RunSummary run_cases(const std::vector<VehicleCase>& cases, const RunOptions& options);

@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -81,7 +82,10 @@ class StreamerHost {
   std::int64_t now_us() const { return executor_.now().count(); }
 
   // Runs the io_context until `done()` or `timeout` passed; returns done(). Never a sleep.
+  // Throws RunInterrupted as soon as the stop check (below) says so.
   bool run_until(const std::function<bool()>& done, std::chrono::milliseconds timeout);
+  // Every wait of a case goes through run_until, so this one check lets Ctrl-C cut any case short.
+  void stop_when(std::function<bool()> stop_requested) { stop_requested_ = std::move(stop_requested); }
   void run_for(std::chrono::milliseconds duration);
 
  private:
@@ -93,6 +97,12 @@ class StreamerHost {
   std::unique_ptr<World> world_;
   std::vector<HostedVehicle> vehicles_;
   bool operator_side_ = false;
+  std::function<bool()> stop_requested_;
+};
+
+// The run was interrupted (Ctrl-C) while a case waited: the case has no verdict.
+struct RunInterrupted : std::runtime_error {
+  RunInterrupted() : std::runtime_error("interrupted") {}
 };
 
 inline constexpr const char* host_vehicle_name = "vehicle";

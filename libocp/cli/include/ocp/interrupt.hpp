@@ -1,0 +1,42 @@
+#pragma once
+// Ctrl-C, the same in every tool (docs/usage.md, "Exit codes"): the first SIGINT or SIGTERM
+// asks the run to stop. The tool then finishes what it can report, prints "interrupted",
+// marks its reports `"interrupted": true` and exits 130. A second signal ends the process at
+// once (still 130), after an optional async-signal-safe cleanup such as killing launched clients.
+#include <signal.h>
+#include <unistd.h>
+
+#include <atomic>
+
+namespace ocp::cli {
+
+inline constexpr int interrupted_exit_code = 130;   // 128 + SIGINT, as a shell reports it
+
+namespace detail {
+inline std::atomic<int> interrupt_signals{0};
+inline void (*interrupt_cleanup)() = nullptr;
+
+extern "C" inline void on_interrupt_signal(int) {
+  if (interrupt_signals.fetch_add(1) == 0) return;
+  if (interrupt_cleanup) interrupt_cleanup();
+  _exit(interrupted_exit_code);
+}
+}  // namespace detail
+
+// `cleanup` runs only on the second signal, just before _exit: it must be async-signal-safe.
+inline void install_interrupt_handlers(void (*cleanup)() = nullptr) {
+  static_assert(std::atomic<int>::is_always_lock_free);
+  detail::interrupt_cleanup = cleanup;
+  struct sigaction action {};
+  action.sa_handler = detail::on_interrupt_signal;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
+inline bool interrupt_requested() { return detail::interrupt_signals.load() > 0; }
+
+// For tests, and for a tool that learns of the signal another way (an Asio signal_set).
+inline void request_interrupt() { detail::interrupt_signals.fetch_add(1); }
+
+}  // namespace ocp::cli
