@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <fstream>
@@ -17,6 +18,8 @@
 #include "ocp/faults.hpp"
 #include "svg_chart.hpp"
 #include "ocp/cli_checks.hpp"
+#include "ocp/exit_codes.hpp"
+#include "ocp/interrupt.hpp"
 
 namespace ocp::bench {
 
@@ -79,6 +82,9 @@ FleetPointResult run_in_child(const FleetPointOptions& options, double timeout_s
   }
   if (pid == 0) {
     close(fds[0]);
+    // The point itself does not watch for Ctrl-C: the parent kills it (below).
+    signal(SIGINT, SIG_DFL);
+    signal(SIGTERM, SIG_DFL);
     const FleetPointResult child_result = run_fleet_point(options);
     const auto* bytes = reinterpret_cast<const char*>(&child_result);
     std::size_t written = 0;
@@ -95,7 +101,12 @@ FleetPointResult run_in_child(const FleetPointOptions& options, double timeout_s
   std::size_t got = 0;
   const auto give_up = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
   bool timed_out = false;
+  bool interrupted = false;
   while (got < sizeof received) {
+    if (ocp::cli::interrupt_requested()) {
+      interrupted = true;
+      break;
+    }
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(give_up - std::chrono::steady_clock::now());
     if (left.count() <= 0) {
       timed_out = true;
@@ -108,13 +119,14 @@ FleetPointResult run_in_child(const FleetPointOptions& options, double timeout_s
     got += static_cast<std::size_t>(n);
   }
   close(fds[0]);
-  if (timed_out) kill(pid, SIGKILL);
+  if (timed_out || interrupted) kill(pid, SIGKILL);
   int status = 0;
   waitpid(pid, &status, 0);
   if (got == sizeof received) return received;
   std::snprintf(result.error, sizeof result.error, "%s",
-                timed_out ? fmt::format("did not finish within {:g} s (killed)", timeout_s).c_str()
-                          : fmt::format("child ended without a result (status {})", status).c_str());
+                interrupted ? "interrupted"
+                : timed_out ? fmt::format("did not finish within {:g} s (killed)", timeout_s).c_str()
+                            : fmt::format("child ended without a result (status {})", status).c_str());
   return result;
 }
 
@@ -154,9 +166,11 @@ void print_header(std::ostream& out) {
 // Control ticks that ran ÷ those due (N × 100 Hz over the window). A saturated executor
 // skips ticks more than a period late (PeriodicTimer, ControlTicker): the lateness
 // percentiles cover only the ticks that ran, so this is the column that shows saturation.
+// A window's two edges can both hold a tick of the same vehicle, one more than window × 100 Hz:
+// the share is capped at 1, since running every tick due is all a point can do.
 double ticks_run_share(const FleetPointResult& point) {
   const double due = point.window_s * point.vehicles * 100.0;
-  return due > 0 ? static_cast<double>(point.ticks) / due : 0.0;
+  return due > 0 ? std::min(1.0, static_cast<double>(point.ticks) / due) : 0.0;
 }
 
 void print_point(std::ostream& out, const FleetPointResult& point) {
@@ -316,29 +330,39 @@ int run_fleet(const FleetOptions& options) {
                     options.codec_floor ? floor_s : 0.0});
   }
   const int cores = usable_cores();
+  // Ctrl-C ends the curve after the points measured so far (the one in progress is killed);
+  // they are printed and written, marked interrupted, and the exit code is 130.
+  if (!options.in_process) ocp::cli::install_interrupt_handlers();
   print_header(std::cout);
   std::vector<FleetPointResult> points;
   for (const auto& point_options : plan) {
+    if (ocp::cli::interrupt_requested()) break;
     points.push_back(options.in_process ? run_fleet_point(point_options)
                                         : run_in_child(point_options, options.point_timeout_s));
     set_marginal_memory(points);
+    if (ocp::cli::interrupt_requested()) {
+      points.pop_back();   // killed half-way: no figures
+      break;
+    }
     print_point(std::cout, points.back());
     std::cout.flush();
   }
+  const bool interrupted = ocp::cli::interrupt_requested();
+  if (interrupted) std::cout << "interrupted: " << points.size() << " of " << plan.size() << " points measured before Ctrl-C\n";
   print_floors(std::cout, points, cores);
   if (options.unobserved) std::cout << "* unobserved: no event subscription, so no latency or fault figures\n";
-  int exit_code = 0;
+  int exit_code = interrupted ? ocp::cli::exit_interrupted : ocp::cli::exit_ok;
   if (!options.json_path.empty()) {
-    std::string json = fmt::format(R"({{"tool":"ocp_bench fleet","cores":{},"points":[)", cores);
+    std::string json = fmt::format(R"({{"tool":"ocp_bench fleet","cores":{},"interrupted":{},"points":[)", cores, interrupted);
     for (std::size_t index = 0; index < points.size(); ++index) json += (index ? "," : "") + point_json(points[index]);
     std::ofstream file(options.json_path);
     file << json << "]}\n";
-    if (!file) exit_code = 1;
+    if (!file) exit_code = ocp::cli::exit_usage_error;
   }
   if (!options.svg_path.empty()) {
     std::ofstream file(options.svg_path);
     file << scale_svg(points, cores);
-    if (!file) exit_code = 1;
+    if (!file) exit_code = ocp::cli::exit_usage_error;
   }
   return exit_code;
 }

@@ -22,6 +22,7 @@
 #include "streamer_app/streamer_simulation.hpp"
 #include "timer_client.hpp"
 #include "ocp/cli_checks.hpp"
+#include "ocp/exit_codes.hpp"
 
 namespace ocp::bench {
 
@@ -160,7 +161,7 @@ class LoopRun {
       executor_.call_at(start_ + phase, [this, reference] {
         if (auto status = reference->simulation->start(); !status) {
           std::cerr << "ocp_bench loop: cannot start a reference Streamer: " << status.error().detail << "\n";
-          finish(1);
+          finish(ocp::cli::exit_usage_error);
           return;
         }
         reference->recorder = std::make_unique<LoopRecorder>(reference->simulation->streamer().events(), start_);
@@ -168,11 +169,14 @@ class LoopRun {
     }
   }
 
-  // Ctrl-C ends the measurement early: a success once a client was measured at all.
+  // Ctrl-C ends the measurement early: the figures so far are reported, marked interrupted,
+  // and the run exits 130.
   void stop_on_signal() {
     signals_.emplace(io_, SIGINT, SIGTERM);
     signals_->async_wait([this](const boost::system::error_code& error, int) {
-      if (!error) finish(measure_start_ ? 0 : 1);
+      if (error) return;
+      interrupted_ = true;
+      finish(ocp::cli::exit_interrupted);
     });
   }
 
@@ -190,6 +194,7 @@ class LoopRun {
   // Every path ends the child and the references before the figures are read.
   LoopResult take_result() {
     LoopResult result;
+    result.interrupted = interrupted_;
     result.child_exit = launch_ ? child_.poll() : std::nullopt;
     child_.stop();
     if (bare_client_) bare_client_->stop();
@@ -225,12 +230,13 @@ class LoopRun {
     if (exit_code == 0 && !all_passed(result.gates)) exit_code = 1;
     if (!options_.json_path.empty() && !write_file(options_.json_path, to_json(result))) {
       std::cerr << "ocp_bench loop: cannot write " << options_.json_path << "\n";
-      exit_code = 1;
+      exit_code = ocp::cli::exit_usage_error;
     }
     if (!options_.html_path.empty() && !write_file(options_.html_path, to_html(result))) {
       std::cerr << "ocp_bench loop: cannot write " << options_.html_path << "\n";
-      exit_code = 1;
+      exit_code = ocp::cli::exit_usage_error;
     }
+    if (interrupted_) std::cerr << "ocp_bench loop: interrupted\n";
     return exit_code;
   }
 
@@ -247,8 +253,10 @@ class LoopRun {
   // 10 Hz: starts the window at the first connection, watches the child, prints progress.
   void housekeeping(SimTime now) {
     if (launch_ && child_.poll()) {
-      std::cerr << "\nocp_bench loop: the client exited with status " << *child_.poll() << "\n";
-      finish(1);
+      // Before it connected, the client could not be measured at all: a harness error.
+      std::cerr << "\nocp_bench loop: the client exited with status " << *child_.poll()
+                << (measure_start_ ? "" : " before it connected") << "\n";
+      finish(measure_start_ ? 1 : ocp::cli::exit_usage_error);
       return;
     }
     if (!measure_start_) {
@@ -276,7 +284,7 @@ class LoopRun {
       }
     } else if (now - start_ > connect_timeout_) {
       std::cerr << "ocp_bench loop: no vehicle client connected within " << options_.connect_timeout_s << " s\n";
-      finish(1);
+      finish(ocp::cli::exit_usage_error);
     }
   }
 
@@ -308,6 +316,7 @@ class LoopRun {
   std::unique_ptr<FloorEcho> floor_;
   ChildProcess child_;
   int exit_code_ = 0;
+  bool interrupted_ = false;
   std::optional<SimTime> measure_start_;
   std::optional<SimTime> measure_end_;
   bool stopped_ = false;
@@ -322,7 +331,7 @@ int run_loop(const LoopOptions& options) {
   // As the simulators do: no 50 µs default timer slack on the control tick's thread.
   prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
   LoopRun run(options);
-  if (!run.start_streamer() || !run.launch_client()) return 1;
+  if (!run.start_streamer() || !run.launch_client()) return ocp::cli::exit_usage_error;
   run.start_references_at_their_phases();
   run.stop_on_signal();
   run.measure();

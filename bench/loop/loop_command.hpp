@@ -31,8 +31,9 @@ struct LoopOptions {
 };
 
 CLI::App* add_loop_command(CLI::App& app, LoopOptions& options);
-// Exit code: 0 measured and every gate passed, 1 a gate failed or a runtime error (port busy,
-// no client, client exited early).
+// Exit code: 0 measured and every gate passed, 1 a gate failed or the client exited once
+// measured, 2 the run could not be done (port busy, no client, client exited before it
+// connected, a report not written), 130 Ctrl-C (the figures so far, marked interrupted).
 int run_loop(const LoopOptions& options);
 
 }  // namespace ocp::bench

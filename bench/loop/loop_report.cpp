@@ -80,6 +80,7 @@ void print_table(std::ostream& out, const LoopResult& result) {
   out << fmt::format("\nocp_bench loop: {:.1f} s on 127.0.0.1:{}{}\n", result.duration_s, result.port,
                      result.command.empty() ? "" : " — " + result.command);
   if (result.child_exit) out << fmt::format("client process exited early with status {}\n", *result.child_exit);
+  if (result.interrupted) out << "interrupted: Ctrl-C cut the measurement short; the figures cover what ran\n";
   print_client(out, result.client);
   if (result.bare_client) print_client(out, *result.bare_client);
   if (result.timer_client) print_client(out, *result.timer_client);
@@ -109,8 +110,8 @@ void print_table(std::ostream& out, const LoopResult& result) {
 std::string to_json(const LoopResult& result) {
   std::string json = fmt::format(R"({{"tool":"ocp_bench loop","command":{},"port":{},"duration_s":{},)",
                                  json_string(result.command), result.port, json_number(result.duration_s));
-  json += fmt::format(R"("child_exit":{},"faults_after_connect":{},"client":{})",
-                      result.child_exit ? std::to_string(*result.child_exit) : "null", result.faults_after_connect(),
+  json += fmt::format(R"("child_exit":{},"interrupted":{},"faults_after_connect":{},"client":{})",
+                      result.child_exit ? std::to_string(*result.child_exit) : "null", result.interrupted, result.faults_after_connect(),
                       client_json(result.client));
   if (result.floor_echo_us) json += fmt::format(R"(,"floor_echo_us":{})", json_summary(*result.floor_echo_us));
   if (result.bare_client) json += fmt::format(R"(,"bare_client":{})", client_json(*result.bare_client));

@@ -40,6 +40,7 @@ struct LoopResult {
   std::uint16_t port = 0;
   double duration_s = 0;
   std::optional<int> child_exit;     // the child's exit status when it ended before the bench
+  bool interrupted = false;          // Ctrl-C cut the measurement short
   ClientFigures client;
   std::optional<Summary> floor_echo_us;        // --compare: bare blocking-socket echo
   std::vector<double> floor_echo_delays_us;

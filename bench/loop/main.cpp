@@ -1,6 +1,6 @@
 // ocp_bench: measurement tools that drive the real cores and observe them through their event
-// streams. Subcommands: loop (a vehicle client against a Streamer), fleet (the scale curve). Exit codes: 0 done,
-// 1 runtime error, 2 usage error.
+// streams. Subcommands: loop (a vehicle client against a Streamer), fleet (the scale curve). Exit codes
+// (ocp/exit_codes.hpp): 0 done, 1 a gate failed, 2 usage or harness error (a busy port), 130 Ctrl-C.
 #include <CLI/CLI.hpp>
 #include <iostream>
 

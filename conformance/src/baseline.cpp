@@ -52,8 +52,8 @@ int exit_code(const std::vector<CaseResult>& results, const Baseline* baseline) 
 }
 
 int run_exit_code(const RunSummary& summary, const Baseline* baseline) {
-  if (summary.interrupted) return ocp::cli::interrupted_exit_code;
-  if (!summary.harness_error.empty()) return 2;
+  if (summary.interrupted) return ocp::cli::exit_interrupted;
+  if (!summary.harness_error.empty()) return ocp::cli::exit_usage_error;
   return exit_code(summary.results, baseline);
 }
 

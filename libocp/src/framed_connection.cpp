@@ -267,7 +267,14 @@ bool FramedConnection::may_log() const {
 
 void FramedConnection::close(CloseReason reason) {
   if (!open_) return;
-  if (may_log()) logger_.warn("closing {} connection {}: {}", options_.label, peer_, reason.message());
+  if (may_log()) {
+    // Our own stop (shutdown, restart) is a normal end: no warning.
+    if (reason.code == LocalError::shut_down) {
+      logger_.info("closing {} connection {}: {}", options_.label, peer_, reason.message());
+    } else {
+      logger_.warn("closing {} connection {}: {}", options_.label, peer_, reason.message());
+    }
+  }
   finish(reason);
 }
 

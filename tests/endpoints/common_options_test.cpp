@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "sim_app/common_options.hpp"
-#include "sim_app/exit_codes.hpp"
+#include "ocp/exit_codes.hpp"
 #include "sim_app/gamepad_script.hpp"
 
 namespace ocp::sim_app {
@@ -68,14 +68,14 @@ TEST(CommonOptions, UsageErrorsExitWithCodeTwo) {
   for (const auto& arguments : bad) {
     const Parsed parsed = parse(arguments);
     ASSERT_TRUE(parsed.exit_code.has_value()) << arguments[0];
-    EXPECT_EQ(*parsed.exit_code, exit_usage_error) << arguments[0];
+    EXPECT_EQ(*parsed.exit_code, ocp::cli::exit_usage_error) << arguments[0];
   }
 }
 
 TEST(CommonOptions, HelpExitsWithCodeZero) {
   const Parsed parsed = parse({"--help"});
   ASSERT_TRUE(parsed.exit_code.has_value());
-  EXPECT_EQ(*parsed.exit_code, exit_ok);
+  EXPECT_EQ(*parsed.exit_code, ocp::cli::exit_ok);
 }
 
 TEST(CommonOptions, LinkOptionsBecomeImpairmentsInMicroseconds) {

@@ -1,14 +1,19 @@
 // The built streamer_sim and player_sim executables, run as a user would: --help, bad options,
 // a busy port, --duration-s and SIGTERM, checked by exit code and output.
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <linux/joystick.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <boost/asio/io_context.hpp>
 #include <chrono>
 #include <cstdlib>
+#include <filesystem>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -110,6 +115,7 @@ bool can_connect(std::uint16_t port) {
 
 const std::string streamer_sim = OCP_STREAMER_SIM_PATH;
 const std::string player_sim = OCP_PLAYER_SIM_PATH;
+const std::string vehicle_client = OCP_VEHICLE_CLIENT_PATH;
 
 TEST(Executables, HelpExitsZeroAndListsThePluginParameters) {
   for (const auto& program : {streamer_sim, player_sim}) {
@@ -140,21 +146,21 @@ TEST(Executables, UnknownOptionOrBadValueExitsTwoWithAClearError) {
   }
 }
 
-TEST(Executables, BusyPortExitsOneNamingTheAddress) {
+TEST(Executables, BusyPortExitsTwoNamingTheAddress) {
   boost::asio::io_context io;
   TcpServer occupant(io, {});
   ASSERT_TRUE(occupant.listen({.port = 0}).ok());
   const std::string port = std::to_string(occupant.port());
 
   ProcessRun result = run({streamer_sim, "--plugin-param", "tcp_port", port, "--duration-s", "20"});
-  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_EQ(result.exit_code, 2);
   EXPECT_NE(result.output.find("cannot start: another socket listens on 127.0.0.1:" + port + " (is another"), std::string::npos)
       << result.output;
 
   EXPECT_NE(result.output.find("pick another port with --plugin-param tcp_port N"), std::string::npos) << result.output;
 
   result = run({player_sim, "--plugin-param", "ocp_player_tcp_port", port, "--duration-s", "20"});
-  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_EQ(result.exit_code, 2);
   EXPECT_NE(result.output.find("cannot start: another socket listens on 127.0.0.1:" + port + " (is another"), std::string::npos)
       << result.output;
   EXPECT_NE(result.output.find("pick another port with --plugin-param ocp_player_tcp_port N"), std::string::npos)
@@ -169,13 +175,13 @@ TEST(Executables, BusyWebviewOrVehicleTcpPortNamesItsOwnOption) {
   const std::string port = std::to_string(occupant.port());
 
   ProcessRun result = run({player_sim, "--plugin-param", "ocp_player_tcp_port", "0", "--webview-port", port, "--duration-s", "20"});
-  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_EQ(result.exit_code, 2);
   EXPECT_NE(result.output.find("pick another port with --webview-port N"), std::string::npos) << result.output;
   EXPECT_EQ(result.output.find("ocp_player_tcp_port N"), std::string::npos) << result.output;
 
   result = run({player_sim, "--plugin-param", "ocp_player_tcp_port", "0", "--no-webview", "--vehicle-tcp", "vehicle=" + port,
                 "--duration-s", "20"});
-  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_EQ(result.exit_code, 2);
   EXPECT_NE(result.output.find("pick another port with --vehicle-tcp vehicle=PORT"), std::string::npos) << result.output;
 }
 
@@ -202,6 +208,43 @@ TEST(Executables, DurationRunsPrintsStatusLinesAndExitsZero) {
   EXPECT_NE(result.output.find("status: operator client none"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("truck-2: simulated Streamer: latency"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("operator client sees: receiver_fault"), std::string::npos) << result.output;
+}
+
+// --gamepad js:DEVICE: a real joystick reaches the wire. A FIFO carrying js_event records stands
+// in for /dev/input/js0 (the reader cannot tell them apart); what it says must arrive in the
+// control messages that the vehicle client receives. A device that is not there is a usage error.
+TEST(Executables, JoystickDeviceDrivesTheControlMessages) {
+  ProcessRun missing = run({streamer_sim, "--gamepad", "js:/nonexistent/js9", "--duration-s", "1"});
+  EXPECT_EQ(missing.exit_code, 2) << missing.output;
+  EXPECT_NE(missing.output.find("no joystick device at '/nonexistent/js9'"), std::string::npos) << missing.output;
+
+  char pattern[] = "/tmp/ocp-js-XXXXXX";
+  ASSERT_NE(mkdtemp(pattern), nullptr);
+  const std::string directory = pattern, device = directory + "/js0", wire = directory + "/wire.jsonl";
+  ASSERT_EQ(mkfifo(device.c_str(), 0600), 0);
+  const int writer = ::open(device.c_str(), O_RDWR | O_CLOEXEC);   // never blocks; holds the events
+  ASSERT_GE(writer, 0);
+  for (const js_event event : {js_event{0, 1, JS_EVENT_BUTTON, 0}, js_event{0, -32767, JS_EVENT_AXIS, 0}}) {
+    ASSERT_EQ(::write(writer, &event, sizeof event), static_cast<ssize_t>(sizeof event));   // a pressed, left_x -1
+  }
+  const std::uint16_t port = free_port();
+  Process streamer = Process::spawn({streamer_sim, "--plugin-param", "tcp_port", std::to_string(port), "--gamepad", "js:" + device,
+                                     "--wire-log", wire, "--duration-s", "4"});
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (!can_connect(port) && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  const ProcessRun client = run({vehicle_client, "127.0.0.1:" + std::to_string(port), "--duration-s", "2", "--no-status"});
+  EXPECT_EQ(streamer.wait(), 0) << streamer.output();
+  std::ifstream in(wire);
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string frames = text.str();
+  // The payload is a JSON string inside each line, so its quotes come escaped.
+  EXPECT_NE(frames.find(R"(\"a\":true)"), std::string::npos) << streamer.output() << client.output;
+  EXPECT_NE(frames.find(R"(\"left_x\":-1)"), std::string::npos) << streamer.output();
+  ::close(writer);
+  std::filesystem::remove_all(directory);
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-// The Linux joystick reader (player_sim app layer: a device, so it is not part of player_core),
+// The Linux joystick reader (sim_app, the app layer: a device, so it is not part of player_core),
 // driven through a FIFO that carries js_event records.
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -11,10 +11,12 @@
 #include <string>
 
 #include "player/gamepad.hpp"
-#include "player_app/linux_joystick.hpp"
+#include "sim_app/linux_joystick.hpp"
 
 namespace ocp {
 namespace {
+
+using sim_app::LinuxJoystick;
 
 SimTime ms(std::int64_t value) { return SimTime{value * 1000}; }
 

@@ -11,7 +11,7 @@
 #include "ocp/number_text.hpp"
 #include "vehicle_app/options.hpp"
 #include "player_app/player_cli.hpp"
-#include "sim_app/exit_codes.hpp"
+#include "ocp/exit_codes.hpp"
 #include "streamer_app/streamer_cli.hpp"
 
 namespace ocp {
@@ -135,7 +135,7 @@ TEST(NumericOptions, EveryNumericOptionRejectsNonNumbersNegativesAndOutOfRange) 
       if (row.prefix[0] == "--camera" && value.starts_with("rear:")) words.back() = value;
       const Outcome outcome = parse(row.program, words);
       ASSERT_TRUE(outcome.exit_code.has_value()) << describe(row, value) << " was accepted";
-      EXPECT_EQ(*outcome.exit_code, sim_app::exit_usage_error) << describe(row, value);
+      EXPECT_EQ(*outcome.exit_code, ocp::cli::exit_usage_error) << describe(row, value);
       EXPECT_TRUE(outcome.errors.starts_with(std::string(name(row.program)) + ": "))
           << describe(row, value) << ": " << outcome.errors;
       // CLI11 takes "-inf" after a NAME of --plugin-param (which may stand alone) for an

@@ -174,6 +174,16 @@ TEST(FramedConnection, PayloadErrorClosesWithItsReason) {
   EXPECT_TRUE(fixture.peer.closed_by_peer());
 }
 
+// Our own stop is a normal end: the close is logged, but not as a warning.
+TEST(FramedConnection, OurOwnShutdownIsLoggedAsInfoNotWarning) {
+  Fixture fixture;
+  const CloseReason reason{LocalError::shut_down, "streamer stopped"};
+  fixture.connection->close(reason);
+  EXPECT_EQ(fixture.close_reasons, (std::vector<CloseReason>{reason}));
+  EXPECT_TRUE(fixture.log.contains(LogLevel::info, "closing widget connection pipe:peer: " + reason.message()));
+  EXPECT_FALSE(fixture.log.contains(LogLevel::warn, "closing widget connection"));
+}
+
 TEST(FramedConnection, EndOfStreamInsideAFrameClosesWithTheTruncationReason) {
   Fixture fixture;
   const std::string partial = partial_frame(10, frame_header_bytes + 3);

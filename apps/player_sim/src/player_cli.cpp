@@ -6,7 +6,7 @@
 #include "ocp/cli_checks.hpp"
 #include "player_app/vehicle_tcp_option.hpp"
 #include "player_app/webview_server.hpp"
-#include "sim_app/exit_codes.hpp"
+#include "ocp/exit_codes.hpp"
 
 namespace ocp {
 
@@ -66,13 +66,13 @@ std::optional<int> parse_player_cli(int argc, const char* const* argv, PlayerCli
   for (const auto& name : cli.vehicles) {
     if (name.empty() || !unique.insert(name).second) {
       std::cerr << "player_sim: --vehicle '" << name << "': names must be non-empty and unique\n";
-      return sim_app::exit_usage_error;
+      return cli::exit_usage_error;
     }
   }
   const auto vehicle_tcp_ports = parse_vehicle_tcp(cli.vehicle_tcp_texts, cli.vehicles);
   if (!vehicle_tcp_ports) {
     std::cerr << "player_sim: " << vehicle_tcp_ports.error().detail << "\n";
-    return sim_app::exit_usage_error;
+    return cli::exit_usage_error;
   }
   cli.vehicle_tcp_ports = *vehicle_tcp_ports;
   return std::nullopt;

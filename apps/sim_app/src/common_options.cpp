@@ -8,7 +8,7 @@
 #include "ocp/cli_checks.hpp"
 #include "ocp/cli_parse.hpp"
 #include "ocp/number_text.hpp"
-#include "sim_app/exit_codes.hpp"
+#include "ocp/exit_codes.hpp"
 
 namespace ocp::sim_app {
 
@@ -39,10 +39,11 @@ std::string help_footer() {
          "  latency_limit         500      1..3600000 ms: HighLatency above it\n"
          "\n"
          "--gamepad FILE: the recording format is described in docs/usage.md (\"Gamepad recordings\").\n"
+         "--gamepad js:/dev/input/js0: a real joystick (xpad layout); unplugged = no gamepad.\n"
          "--ack-time-offset high = 2^62 + 12345 (a client that passes ack_time through a double breaks).\n"
          "\n"
          "Exit codes: 0 normal end (--duration-s elapsed, SIGINT/SIGTERM, --help),\n"
-         "            1 could not start (e.g. port in use), 2 bad command line.\n"
+         "            2 bad command line, or could not start (e.g. a port in use).\n"
          "More: docs/usage.md\n";
 }
 
@@ -119,7 +120,7 @@ void add_common_options(CLI::App& app, CommonOptions& options) {
                  "format: docs/trace-format.md, \"frame\" events; capped at 1 GiB")
       ->group(general);
   app.add_option("--gamepad", options.gamepad_text,
-                 "simulated operator gamepad: idle, drive, or a recording file")
+                 "operator gamepad: idle, drive, a recording file, or js:DEVICE (a real joystick)")
       ->capture_default_str()->group(general);
   app.add_option("--seed", options.seed, "seed for every random choice (link jitter and loss)")
       ->type_name("N")->capture_default_str()->check(cli::whole())->group(general);
@@ -197,7 +198,7 @@ std::optional<int> parse_command_line(CLI::App& app, int argc, const char* const
   if (auto status = finish_common_options(options); !status) {
     std::cerr << app.get_name() << ": " << status.error().detail
               << "\nRun with --help for the options.\n";
-    return exit_usage_error;
+    return cli::exit_usage_error;
   }
   options.warnings = plugin_param_warnings(app.get_name(), options);
   for (const auto& warning : options.warnings) std::cerr << app.get_name() << ": warning: " << warning << "\n";

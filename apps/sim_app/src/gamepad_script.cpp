@@ -1,7 +1,11 @@
 #include "sim_app/gamepad_script.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <numbers>
+#include <string_view>
+
+#include "sim_app/linux_joystick.hpp"
 
 namespace ocp::sim_app {
 
@@ -13,6 +17,7 @@ constexpr Millis start_press_length{200};
 constexpr Millis steering_period{2'800};   // one full swing per loop, back to straight
 constexpr double steering_amplitude = 0.4;
 constexpr double throttle_trigger = -0.5;   // raw trigger: -1 released, +1 fully pressed
+constexpr std::string_view joystick_prefix = "js:";
 
 }  // namespace
 
@@ -49,6 +54,17 @@ Result<GamepadScript> parse_gamepad_script(const std::string& text) {
     script.recording = drive_recording();
     return script;
   }
+  if (text.starts_with(joystick_prefix)) {
+    script.joystick_device = text.substr(joystick_prefix.size());
+    // A typo must not look like an unplugged joystick: the device has to be there at start.
+    std::error_code error;
+    if (script.joystick_device.empty() || !std::filesystem::exists(script.joystick_device, error)) {
+      return Error{std::make_error_code(std::errc::no_such_device),
+                   "--gamepad '" + text + "': no joystick device at '" + script.joystick_device +
+                       "' (plug it in, or check the path: ls /dev/input/js*)"};
+    }
+    return script;
+  }
   auto recording = load_recording_file(text);
   if (!recording) {
     return Error{recording.error().code,
@@ -60,6 +76,10 @@ Result<GamepadScript> parse_gamepad_script(const std::string& text) {
 }
 
 void apply_gamepad_script(Gamepad& gamepad, const GamepadScript& script, SimTime start) {
+  if (!script.joystick_device.empty()) {
+    gamepad.set_source(std::make_shared<LinuxJoystick>(script.joystick_device)->as_source());
+    return;
+  }
   if (script.recording.states.empty()) {
     gamepad.set_idle();
     return;

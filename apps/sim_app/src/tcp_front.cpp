@@ -28,7 +28,7 @@ void TcpFront::stop() {
 }
 
 std::unique_ptr<TcpFront> vehicle_api_front(AsioExecutor& executor, World& world, std::string vehicle, Logger logger) {
-  std::string detail = "(vehicle " + vehicle + ")";
+  std::string detail = "for vehicle \"" + vehicle + "\"";   // the default name is "vehicle" too
   return std::make_unique<TcpFront>(
       executor, "vehicle API", std::move(detail),
       [&world, vehicle = std::move(vehicle)](std::shared_ptr<ByteStream> stream) {

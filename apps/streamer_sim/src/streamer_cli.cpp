@@ -3,7 +3,7 @@
 #include <iostream>
 
 #include "ocp/cli_checks.hpp"
-#include "sim_app/exit_codes.hpp"
+#include "ocp/exit_codes.hpp"
 
 namespace ocp {
 
@@ -28,7 +28,7 @@ std::optional<int> parse_streamer_cli(int argc, const char* const* argv, Streame
   if (auto exit_code = sim_app::parse_command_line(app, argc, argv, cli.common)) return exit_code;
   if (cli.vehicle.empty()) {
     std::cerr << "streamer_sim: --vehicle must not be empty\n";
-    return sim_app::exit_usage_error;
+    return cli::exit_usage_error;
   }
   return std::nullopt;
 }

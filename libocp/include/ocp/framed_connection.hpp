@@ -124,7 +124,8 @@ class FramedConnection : public std::enable_shared_from_this<FramedConnection> {
   // the inbound WireFrame event (published right after on_payload returns) reuses it instead
   // of decoding the payload a second time.
   void note_inbound_pair(const AckPair& pair) { inbound_pair_ = pair; }
-  // Closes with `reason` (logged as a warning), closes the stream, reports on_closed.
+  // Closes with `reason` (logged as a warning; our own shut_down as info), closes the stream,
+  // reports on_closed.
   void close(CloseReason reason);
 
   bool is_open() const { return open_; }

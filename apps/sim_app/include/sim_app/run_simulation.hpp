@@ -12,7 +12,7 @@
 #include "ocp/log.hpp"
 #include "sim_app/common_options.hpp"
 #include "sim_app/console.hpp"
-#include "sim_app/exit_codes.hpp"
+#include "ocp/exit_codes.hpp"
 #include "sim_app/real_time_runner.hpp"
 #include "sim_app/wire_log.hpp"
 
@@ -31,13 +31,13 @@ template <class Simulation>
     auto opened = WireLog::open(common.wire_log_path, simulation.world().events(), logger);
     if (!opened) {
       std::cerr << program << ": --wire-log: " << opened.error().detail << "\n";
-      return exit_usage_error;
+      return cli::exit_usage_error;
     }
     wire_log = std::move(*opened);
   }
   if (auto status = simulation.start(); !status) {
     std::cerr << program << ": cannot start: " << status.error().detail << "\n";
-    return exit_runtime_error;
+    return cli::exit_usage_error;   // a busy port: the setup needs a change, as with a bad option
   }
   StatusTicker status(runner.executor(), Millis{1000},
                       [&] { logger.info("{}", simulation.status_line()); });

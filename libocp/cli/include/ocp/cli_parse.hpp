@@ -5,9 +5,9 @@
 #include <iostream>
 #include <optional>
 
-namespace ocp::cli {
+#include "ocp/exit_codes.hpp"
 
-inline constexpr int usage_error_exit_code = 2;
+namespace ocp::cli {
 
 // nullopt: parsed, go on. Otherwise the exit code to return from main.
 inline std::optional<int> parse_or_exit_code(CLI::App& app, int argc, const char* const* argv) {
@@ -19,7 +19,7 @@ inline std::optional<int> parse_or_exit_code(CLI::App& app, int argc, const char
     return app.exit(help);
   } catch (const CLI::ParseError& error) {
     std::cerr << app.get_name() << ": " << error.what() << "\nRun with --help for more information.\n";
-    return usage_error_exit_code;
+    return exit_usage_error;
   }
   return std::nullopt;
 }

@@ -8,9 +8,9 @@
 
 #include <atomic>
 
-namespace ocp::cli {
+#include "ocp/exit_codes.hpp"
 
-inline constexpr int interrupted_exit_code = 130;   // 128 + SIGINT, as a shell reports it
+namespace ocp::cli {
 
 namespace detail {
 inline std::atomic<int> interrupt_signals{0};
@@ -19,7 +19,7 @@ inline void (*interrupt_cleanup)() = nullptr;
 extern "C" inline void on_interrupt_signal(int) {
   if (interrupt_signals.fetch_add(1) == 0) return;
   if (interrupt_cleanup) interrupt_cleanup();
-  _exit(interrupted_exit_code);
+  _exit(exit_interrupted);
 }
 }  // namespace detail
 

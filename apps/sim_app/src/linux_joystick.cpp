@@ -1,5 +1,5 @@
 // Non-blocking reader for Linux joystick devices (see linux_joystick.hpp).
-#include "player_app/linux_joystick.hpp"
+#include "sim_app/linux_joystick.hpp"
 
 #include <fcntl.h>
 #include <linux/joystick.h>
@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <cerrno>
 
-namespace ocp {
+namespace ocp::sim_app {
 
 LinuxJoystick::LinuxJoystick(std::string path) : path_(std::move(path)) { try_open(); }
 
@@ -101,4 +101,4 @@ void LinuxJoystick::apply_button(std::uint8_t number, bool pressed) {
   }
 }
 
-}  // namespace ocp
+}  // namespace ocp::sim_app

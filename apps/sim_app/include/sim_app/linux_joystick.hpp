@@ -15,7 +15,7 @@
 #include "ocp/messages.hpp"
 #include "player/gamepad.hpp"
 
-namespace ocp {
+namespace ocp::sim_app {
 
 class LinuxJoystick : public std::enable_shared_from_this<LinuxJoystick> {
  public:
@@ -46,4 +46,4 @@ class LinuxJoystick : public std::enable_shared_from_this<LinuxJoystick> {
   Controller state_;
 };
 
-}  // namespace ocp
+}  // namespace ocp::sim_app
