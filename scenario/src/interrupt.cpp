@@ -8,7 +8,7 @@ namespace {
 
 volatile std::sig_atomic_t interrupt_flag = 0;
 
-extern "C" void on_interrupt_signal(int) { interrupt_flag = 1; }
+void on_interrupt_signal(int) { interrupt_flag = 1; }
 
 }  // namespace
 
