@@ -86,7 +86,9 @@ class Judge {
     const std::string before = list == nullptr ? "" : state_before(*list, e);
     if (!found) {
       v.actual = std::string("never ") + edge + " after " + e.after_label;
-      if (!e.raised && active_at(observations_, e.vehicle, e.fault, scenario_.duration)) v.actual += " (still active at the end)";
+      if (!e.raised && active_at(observations_, e.vehicle, e.fault, scenario_.duration)) {
+        v.actual += run_.interrupted ? " (still active when the run was interrupted)" : " (still active at the end)";
+      }
       if (!before.empty()) v.actual = before + "; " + v.actual;
       if (!ran_past(e.after + e.max)) cut_short(v);
       return;

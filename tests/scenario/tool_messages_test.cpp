@@ -205,7 +205,7 @@ expect:
 // Virtual time with --repeat: SIGTERM during the second seed or later keeps the seeds finished
 // so far, summarised.
 TEST_F(ToolTest, SigtermDuringRepeatKeepsTheFinishedSeeds) {
-  const std::string file = write("long.yaml", R"(duration: 20min
+  const std::string file = write("long.yaml", R"(duration: 5min
 world: {gamepad: drive, vehicles: [{name: truck-1}]}
 expect:
   thresholds: {latency_ms: ["count > 0"]}
