@@ -86,14 +86,14 @@ INSTANTIATE_TEST_SUITE_P(
       return name;
     });
 
-TEST(ScenarioMessages, HoursAreAUnit) {
+TEST(ScenarioFileMessages, HoursAreAUnit) {
   EXPECT_EQ(parse_duration_text("1h"), Micros{3'600'000'000});
   EXPECT_EQ(parse_duration_text("1.5h"), Micros{5'400'000'000});
   const Scenario scenario = parse_scenario("duration: 2h\nworld: {vehicles: [{name: a}]}\n" + some_expectation, "long.yaml");
   EXPECT_EQ(scenario.duration, Micros{7'200'000'000});
 }
 
-TEST(ScenarioMessages, AMissingFileGivesTheSystemError) {
+TEST(ScenarioFileMessages, AMissingFileGivesTheSystemError) {
   try {
     load_scenario("/nonexistent/foo.yaml");
     FAIL() << "no error";

@@ -141,7 +141,7 @@ INSTANTIATE_TEST_SUITE_P(
     });
 
 // A virtual-time run told to stop stops there, and every report says so.
-TEST(InterruptedRun, StopsAndMarksItsReports) {
+TEST(InterruptedVirtualRun, StopsAndMarksItsReports) {
   test::Outcome outcome{parse_scenario(test::one_vehicle(R"(expect:
   thresholds:
     latency_ms: ["count > 0"]
@@ -167,7 +167,7 @@ TEST(InterruptedRun, StopsAndMarksItsReports) {
 }
 
 // Slices of 100 ms change nothing: a run that is not interrupted is the run it always was.
-TEST(InterruptedRun, NeverInterruptedIsTheSameRun) {
+TEST(InterruptedVirtualRun, NeverInterruptedIsTheSameRun) {
   const std::string text = test::one_vehicle("expect:\n  thresholds:\n    latency_ms: [\"count > 0\"]\n", "3s");
   RunOptions polled;
   polled.interrupted = [] { return false; };
