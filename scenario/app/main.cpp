@@ -1,6 +1,7 @@
 // ocp_scenario: runs scenario files in virtual time and judges their expectations.
 //   ocp_scenario run FILE… | DIR [--seed N] [--repeat K] [--junit FILE] [--out DIR] [--list]
-// Exit codes: 0 every expectation passed, 1 an expectation failed, 2 bad file or harness error.
+// Exit codes: 0 every expectation passed, 1 an expectation failed, 2 bad command line, bad file
+// or harness error, 130 interrupted (SIGINT / SIGTERM: the reports so far are written).
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -10,10 +11,13 @@
 #include <fstream>
 #include <iostream>
 
+#include "scenario/interrupt.hpp"
+#include "scenario/metrics.hpp"
 #include "scenario/parse.hpp"
 #include "scenario/reports.hpp"
 #include "scenario/runner.hpp"
 #include "scenario/verdicts.hpp"
+#include "ocp/cli_checks.hpp"
 #include "ocp/cli_parse.hpp"
 #include "world/seeds.hpp"
 
@@ -22,7 +26,7 @@ using namespace ocp::scenario;
 
 namespace {
 
-constexpr int exit_pass = 0, exit_fail = 1, exit_error = 2;
+constexpr int exit_pass = 0, exit_fail = 1, exit_error = 2, exit_interrupted = interrupted_exit_code;
 
 std::vector<std::string> expand(const std::vector<std::string>& inputs) {
   std::vector<std::string> files;
@@ -61,7 +65,8 @@ struct ToolOptions {
 void add_run_command(CLI::App& app, ToolOptions& options) {
   CLI::App* run = app.add_subcommand("run", "run scenario files (or every *.yaml in a folder)");
   run->add_option("files", options.inputs, "scenario files or folders")->required();
-  run->add_option("--seed", options.seed, "override every file's seed");
+  // As in the simulators: a sign, a fraction or a number past 2^64-1 is refused, not wrapped.
+  run->add_option("--seed", options.seed, "override every file's seed")->type_name("N")->check(ocp::cli::whole());
   run->add_option("--repeat", options.repeat, "run each file K times with seeds derived from its seed")->check(CLI::Range(1u, 100000u));
   run->add_option("--junit", options.junit, "write JUnit XML (one testsuite per run, one testcase per expectation)");
   run->add_option("--out", options.out_dir, "results folder (trace.jsonl, summary.json, report.html per run)")->capture_default_str();
@@ -108,6 +113,7 @@ RunResult run_once(const Scenario& scenario, const ToolOptions& tool, std::uint6
   options.seed = run_seed;
   options.trace = !tool.no_trace;
   options.trace_payloads = tool.trace_payloads;
+  options.interrupted = interrupt_requested;
   if (!tool.realtime) return run_scenario(scenario, options);
   RealTimeOptions real_time;
   real_time.tcp_port = tool.tcp_port;
@@ -115,12 +121,14 @@ RunResult run_once(const Scenario& scenario, const ToolOptions& tool, std::uint6
     std::printf("%s: waiting for a vehicle client on %s\n", vehicle.c_str(), address.c_str());
     std::fflush(stdout);
   };
-  return run_scenario_realtime(scenario, options, real_time);
+  RunResult result = run_scenario_realtime(scenario, options, real_time);
+  catch_interrupts();   // the real-time runner's signal handling put the default action back
+  return result;
 }
 
 // What the closing line adds up over every run.
 struct Tally {
-  std::size_t passed = 0, failed = 0, runs_failed = 0;
+  std::size_t passed = 0, failed = 0, not_judged = 0, runs_failed = 0;
   double simulated_s = 0;
 };
 
@@ -129,16 +137,23 @@ struct Tally {
 void print_run(const RunReport& report, std::uint64_t run_seed, Tally& tally) {
   const RunResult& result = *report.run;
   const bool ok = all_passed(report.verdicts);
-  const double sim_s = static_cast<double>(result.duration.count()) / 1e6;
+  const double sim_s = static_cast<double>(result.ran.count()) / 1e6;
   tally.simulated_s += sim_s;
-  std::printf("\n%s %s  seed %llu  %.1fs simulated in %.3fs wall (%.0f:1), %.3fs CPU (%.0f:1)\n", ok ? "✓" : "✗",
+  const char* mark = result.interrupted ? "○" : ok ? "✓" : "✗";
+  std::printf("\n%s %s  seed %llu  %.1fs simulated in %.3fs wall (%.0f:1), %.3fs CPU (%.0f:1)%s\n", mark,
               report.scenario->path.c_str(), static_cast<unsigned long long>(run_seed), sim_s, result.wall_seconds,
               result.wall_seconds > 0 ? sim_s / result.wall_seconds : 0.0, result.cpu_seconds,
-              result.cpu_seconds > 0 ? sim_s / result.cpu_seconds : 0.0);
+              result.cpu_seconds > 0 ? sim_s / result.cpu_seconds : 0.0,
+              result.interrupted ? ("  interrupted at " + format_seconds(result.ran)).c_str() : "");
   std::cout << console_verdicts(report);
   if (!ok) std::cout << "  reproduce: " << report.reproduce << "\n";
-  for (const Verdict& verdict : report.verdicts) (verdict.passed ? tally.passed : tally.failed)++;
-  tally.runs_failed += ok ? 0 : 1;
+  bool failed = false;
+  for (const Verdict& verdict : report.verdicts) {
+    failed = failed || (!verdict.passed && !verdict.interrupted);
+    if (verdict.interrupted) ++tally.not_judged;
+    else (verdict.passed ? tally.passed : tally.failed)++;
+  }
+  tally.runs_failed += failed ? 1 : 0;
 }
 
 // trace.jsonl, summary.json and report.html in OUT/<scenario>[/seed-N] (a folder per seed
@@ -160,16 +175,19 @@ bool write_run_results(const ToolOptions& tool, const RunReport& report, std::ui
 }
 
 // Each file `repeat` times: the first run with the file's seed (or --seed), the others with
-// seeds derived from it, so that every run can be reproduced alone.
+// seeds derived from it, so that every run can be reproduced alone. Ctrl-C stops the run in
+// progress: its reports (marked interrupted) and those of the finished runs are written.
 int run_every_scenario(const std::vector<Scenario>& scenarios, const ToolOptions& tool) {
   const auto wall_start = std::chrono::steady_clock::now();
+  catch_interrupts();
   std::vector<RunResult> runs;
   runs.reserve(scenarios.size() * tool.repeat);   // RunReport points into it
   std::vector<RunReport> reports;
   Tally tally;
+  bool interrupted = false;
   for (const Scenario& scenario : scenarios) {
     const std::uint64_t base_seed = tool.seed.value_or(scenario.seed);
-    for (unsigned k = 0; k < tool.repeat; ++k) {
+    for (unsigned k = 0; k < tool.repeat && !interrupted; ++k) {
       const std::uint64_t run_seed = k == 0 ? base_seed : ocp::derive_seed(base_seed, "repeat:" + std::to_string(k));
       try {
         runs.push_back(run_once(scenario, tool, run_seed));
@@ -184,14 +202,25 @@ int run_every_scenario(const std::vector<Scenario>& scenarios, const ToolOptions
       print_run(report, run_seed, tally);
       if (!write_run_results(tool, report, run_seed)) return exit_error;
       reports.push_back(std::move(report));
+      interrupted = result.interrupted || interrupt_requested();
     }
+    if (interrupted) break;
   }
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  std::printf("\nchecks: %zu passed, %zu failed; runs: %zu, %zu failed; %.1fs simulated in %.2fs wall; results in %s\n",
-              tally.passed, tally.failed, reports.size(), tally.runs_failed, tally.simulated_s, wall_s, tool.out_dir.c_str());
-  if (!tool.junit.empty() && !write_file(tool.junit, junit_xml(reports))) {
+  if (tool.repeat > 1) std::cout << repeat_summary(reports);
+  std::printf("\nchecks: %zu passed, %zu failed", tally.passed, tally.failed);
+  if (tally.not_judged > 0) std::printf(", %zu not judged (interrupted)", tally.not_judged);
+  std::printf("; runs: %zu, %zu failed; %.1fs simulated in %.2fs wall; results in %s\n", reports.size(), tally.runs_failed,
+              tally.simulated_s, wall_s, tool.out_dir.c_str());
+  if (!tool.junit.empty() && !write_file(tool.junit, junit_xml(reports, interrupted))) {
     std::cerr << "error: cannot write " << tool.junit << "\n";
     return exit_error;
+  }
+  if (interrupted) {
+    std::printf("interrupted: %zu run(s) written to %s, marked \"interrupted\": true where cut short\n", reports.size(),
+                tool.out_dir.c_str());
+    std::fflush(stdout);
+    return exit_interrupted;
   }
   return tally.failed == 0 ? exit_pass : exit_fail;
 }

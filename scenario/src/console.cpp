@@ -6,10 +6,11 @@ namespace ocp::scenario {
 std::string console_verdicts(const RunReport& report) {
   std::string out;
   for (const Verdict& verdict : report.verdicts) {
-    out += verdict.passed ? "  ✓ " : "  ✗ ";
+    out += verdict.passed ? "  ✓ " : verdict.interrupted ? "  ○ " : "  ✗ ";
     out += verdict.title;
-    out += verdict.passed ? "\n      " + verdict.actual + "\n"
-                          : "\n      expected " + verdict.expected + "\n      actual   " + verdict.actual + "\n";
+    out += verdict.passed || verdict.interrupted
+               ? "\n      " + verdict.actual + "\n"
+               : "\n      expected " + verdict.expected + "\n      actual   " + verdict.actual + "\n";
   }
   return out;
 }

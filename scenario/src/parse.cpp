@@ -5,11 +5,14 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "parser.hpp"
+#include "yaml_syntax.hpp"
 
 namespace ocp::scenario {
 
@@ -25,7 +28,8 @@ Scenario Parser::parse(const std::string& text) {
   try {
     root = YAML::Load(text);
   } catch (const YAML::ParserException& error) {
-    throw ScenarioError(read_.file(), error.mark.line + 1, error.mark.column + 1, error.msg);
+    throw ScenarioError(read_.file(), error.mark.line + 1, error.mark.column + 1,
+                        explain_yaml_syntax_error(error.msg, text, error.mark.line + 1));
   }
   if (!root || root.IsNull()) throw ScenarioError(read_.file(), 1, 1, "empty scenario file");
   read_.check_keys(root, "scenario", {"description", "seed", "duration", "world", "timeline", "expect"});
@@ -51,10 +55,13 @@ Scenario parse_scenario(const std::string& text, const std::string& path) {
 }
 
 Scenario load_scenario(const std::string& path) {
+  // The system's reason (no such file, permission denied, a folder), as `cat` would give it.
+  errno = 0;
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw ScenarioError(path, 0, 0, "cannot read the file");
+  if (!in) throw ScenarioError(path, "cannot open " + path + ": " + std::strerror(errno != 0 ? errno : EIO));
   std::ostringstream text;
   text << in.rdbuf();
+  if (in.bad()) throw ScenarioError(path, "cannot read " + path + ": " + std::strerror(errno != 0 ? errno : EIO));
   return parse_scenario(text.str(), path);
 }
 

@@ -1,9 +1,11 @@
 // Scenario files: the `expect` section (fault edges, never, states, thresholds, deliveries,
 // invariants); every expectation must name something that exists.
+#include <algorithm>
 #include <set>
 #include <sstream>
 #include <tuple>
 
+#include "did_you_mean.hpp"
 #include "parser.hpp"
 
 namespace ocp::scenario {
@@ -32,8 +34,9 @@ void Parser::expectations(const YAML::Node& node) {
       } else if (name == invariant_name(Invariant::no_stale_pair_after_reconnect)) {
         expectation.invariant = Invariant::no_stale_pair_after_reconnect;
       } else {
-        read_.fail(item, "unknown invariant '" + name +
-                             "' (known: default_controller_during_control_fault, no_stale_pair_after_reconnect)");
+        read_.fail_unknown(item, "invariant", name,
+                           {std::string(invariant_name(Invariant::default_controller_during_control_fault)),
+                            std::string(invariant_name(Invariant::no_stale_pair_after_reconnect))});
       }
       scenario_.expectations.push_back({"invariant " + name, read_.mark(item), expectation});
     }
@@ -44,13 +47,17 @@ void Parser::expectations(const YAML::Node& node) {
 // `after`: an event name or a time.
 std::pair<SimTime, std::string> Parser::anchor(const YAML::Node& node) {
   const std::string text = read_.text(node);
+  std::vector<std::string> names;
   for (const TimelineEvent& event : scenario_.timeline) {
     if (!event.name.empty() && event.name == text) return {event.at, text};
+    if (!event.name.empty()) names.push_back(event.name);
   }
   try {
     return {parse_duration_text(text), text};
   } catch (const std::invalid_argument&) {
-    read_.fail(node, "'" + text + "' names no timeline event (and is not a time)");
+    std::string reason = "'" + text + "' names no timeline event (and is not a time)";
+    if (const auto close = closest_name(text, names)) reason += ": did you mean '" + *close + "'?";
+    read_.fail(node, reason);
   }
 }
 
@@ -58,7 +65,11 @@ void Parser::fault_expectation(const YAML::Node& node) {
   read_.check_keys(node, "fault expectation", {"fault", "vehicle", "raised", "cleared", "never", "from", "at", "active_on", "inactive_on"});
   const YAML::Node fault_node = read_.require(node, "fault", "fault expectation");
   const auto fault = parse_fault_identifier(read_.text(fault_node));
-  if (!fault) read_.fail(fault_node, "unknown fault '" + fault_node.Scalar() + "' (SPEC §6 identifiers)");
+  if (!fault) {
+    std::vector<std::string> faults;
+    for (std::size_t i = 0; i < fault_count; ++i) faults.emplace_back(fault_identifier(static_cast<FaultId>(i)));
+    read_.fail_unknown(fault_node, "fault", fault_node.Scalar(), faults);
+  }
   std::optional<std::string> vehicle;
   if (node["vehicle"]) vehicle = vehicle_of(node, "fault expectation");
   const bool edges = node["raised"] || node["cleared"];
@@ -167,7 +178,7 @@ std::vector<std::string> Parser::vehicle_names(const YAML::Node& list, std::stri
   std::vector<std::string> names;
   for (const auto& item : list) {
     const std::string name = read_.text(item);
-    if (find_vehicle(name) == nullptr) read_.fail(item, "unknown vehicle '" + name + "'");
+    if (find_vehicle(name) == nullptr) read_.fail_unknown(item, "vehicle", name, vehicle_list());
     names.push_back(name);
   }
   return names;
@@ -186,7 +197,7 @@ void Parser::delivery_expectation(const YAML::Node& node) {
     else if (state == "default") e.controller = DeliveryExpectation::ControllerState::default_;
     else if (state == "driving") e.controller = DeliveryExpectation::ControllerState::driving;
     else if (state == "any") e.controller = DeliveryExpectation::ControllerState::any;
-    else read_.fail(controller, "controller: expected null, default, driving or any");
+    else read_.fail_unknown(controller, "controller", state, {"null", "default", "driving", "any"});
     what += "controller " + state;
   }
   if (node["user_data"]) {
@@ -201,20 +212,17 @@ void Parser::delivery_expectation(const YAML::Node& node) {
 }
 
 void Parser::threshold_expectations(const YAML::Node& key, const YAML::Node& list) {
-  static const std::set<std::string> metrics = {"latency_ms", "echo_delay_ms", "control_gap_ms",
-                                                "feedback_gap_ms", "lost_to_streamer", "lost_to_player"};
+  static const std::vector<std::string> metrics = {"latency_ms", "echo_delay_ms", "control_gap_ms",
+                                                   "feedback_gap_ms", "lost_to_streamer", "lost_to_player"};
   std::string metric = read_.text(key);
   std::optional<std::string> vehicle;
   if (const auto brace = metric.find('{'); brace != std::string::npos) {
     if (metric.back() != '}') read_.fail(key, "metric{vehicle}: missing '}'");
     vehicle = metric.substr(brace + 1, metric.size() - brace - 2);
     metric = metric.substr(0, brace);
-    if (find_vehicle(*vehicle) == nullptr) read_.fail(key, "unknown vehicle '" + *vehicle + "'");
+    if (find_vehicle(*vehicle) == nullptr) read_.fail_unknown(key, "vehicle", *vehicle, vehicle_list());
   }
-  if (metrics.count(metric) == 0) {
-    read_.fail(key, "unknown metric '" + metric + "' (known: latency_ms, echo_delay_ms, control_gap_ms, "
-                    "feedback_gap_ms, lost_to_streamer, lost_to_player)");
-  }
+  if (std::find(metrics.begin(), metrics.end(), metric) == metrics.end()) read_.fail_unknown(key, "metric", metric, metrics);
   if (!list.IsSequence() || list.size() == 0) read_.fail(list, "thresholds: expected a non-empty list like [\"p(99) < 150\"]");
   for (const auto& item : list) {
     ThresholdExpectation t;
@@ -232,7 +240,7 @@ void Parser::threshold_expectations(const YAML::Node& key, const YAML::Node& lis
       t.percentile = std::strtod(inner.c_str(), &end);
       if (inner.empty() || *end != '\0' || t.percentile < 0 || t.percentile > 100) read_.fail(item, "bad percentile in '" + t.text + "'");
     } else if (!std::set<std::string>{"avg", "min", "max", "med", "count", "rate"}.count(t.aggregate)) {
-      read_.fail(item, "unknown aggregate '" + t.aggregate + "' (avg, min, max, med, count, rate, p(N))");
+      read_.fail_unknown(item, "aggregate", t.aggregate, {"avg", "min", "max", "med", "count", "rate", "p(99)"});
     }
     if (!std::set<std::string>{"<", "<=", ">", ">=", "==", "!="}.count(t.op)) read_.fail(item, "unknown operator '" + t.op + "'");
     const bool counter = metric.rfind("lost_", 0) == 0;

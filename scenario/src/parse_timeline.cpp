@@ -2,9 +2,17 @@
 #include <algorithm>
 #include <set>
 
+#include "did_you_mean.hpp"
+
 #include "parser.hpp"
 
 namespace ocp::scenario {
+
+std::vector<std::string> Parser::vehicle_list() const {
+  std::vector<std::string> names;
+  for (const VehicleSpec& spec : scenario_.world.vehicles) names.push_back(spec.name);
+  return names;
+}
 
 const VehicleSpec* Parser::find_vehicle(const std::string& name) const {
   for (const VehicleSpec& spec : scenario_.world.vehicles) {
@@ -20,7 +28,7 @@ std::string Parser::vehicle_of(const YAML::Node& node, std::string_view what) {
     read_.fail(node, std::string(what) + ": name the vehicle (the world has several)");
   }
   const std::string name = read_.text(node["vehicle"]);
-  if (find_vehicle(name) == nullptr) read_.fail(node["vehicle"], "unknown vehicle '" + name + "'");
+  if (find_vehicle(name) == nullptr) read_.fail_unknown(node["vehicle"], "vehicle", name, vehicle_list());
   return name;
 }
 
@@ -30,7 +38,7 @@ Direction Parser::direction_of(const YAML::Node& node) {
   if (name == "both") return Direction::both;
   if (name == "to_streamer") return Direction::to_streamer;
   if (name == "to_player") return Direction::to_player;
-  read_.fail(node["direction"], "direction: expected both, to_streamer or to_player");
+  read_.fail_unknown(node["direction"], "direction", name, {"both", "to_streamer", "to_player"});
 }
 
 void Parser::timeline(const YAML::Node& node) {
@@ -148,9 +156,11 @@ std::string Parser::camera_of(const YAML::Node& n, const VehicleSpec& spec) {
   } else {
     read_.fail(n, "name the camera");
   }
-  const bool known = std::any_of(spec.streamer.cameras.begin(), spec.streamer.cameras.end(),
-                                 [&](const CameraConfig& c) { return c.name == camera; });
-  if (!known) read_.fail(n["camera"], "vehicle '" + spec.name + "' has no camera '" + camera + "'");
+  std::vector<std::string> cameras;
+  for (const CameraConfig& config : spec.streamer.cameras) cameras.push_back(config.name);
+  if (std::find(cameras.begin(), cameras.end(), camera) == cameras.end()) {
+    read_.fail(n["camera"], unknown_name("camera", camera, cameras, "vehicle '" + spec.name + "'"));
+  }
   return camera;
 }
 
@@ -180,6 +190,9 @@ GamepadAction Parser::gamepad_action(const YAML::Node& n, TimelineEvent& event) 
   } else if (n.IsScalar() && n.Scalar() == "replug") {
     pad.kind = GamepadAction::Kind::replug;
   } else {
+    if (n.IsScalar() && n.Scalar() != "idle" && n.Scalar() != "drive") {
+      read_.fail_unknown(n, "gamepad action", n.Scalar(), {"unplug", "replug", "idle", "drive"});
+    }
     pad.kind = GamepadAction::Kind::script;
     pad.script = gamepad_script(n);
   }
@@ -192,7 +205,7 @@ SelectVehicle Parser::select_vehicle_action(const YAML::Node& n, TimelineEvent& 
   SelectVehicle select;
   if (!n.IsNull() && n.Scalar() != "none") {
     select.vehicle = read_.text(n);
-    if (find_vehicle(*select.vehicle) == nullptr) read_.fail(n, "unknown vehicle '" + *select.vehicle + "'");
+    if (find_vehicle(*select.vehicle) == nullptr) read_.fail_unknown(n, "vehicle", *select.vehicle, vehicle_list());
   }
   event.label = "select vehicle " + select.vehicle.value_or("none");
   return select;
@@ -205,16 +218,16 @@ ClientDataAction Parser::client_data(const YAML::Node& n, TimelineEvent& event) 
   if (source == "plugin") data.source = ClientSource::plugin;
   else if (source == "webview") data.source = ClientSource::webview;
   else if (source == "tcp") data.source = ClientSource::tcp;
-  else read_.fail(n["source"], "source: expected plugin, webview or tcp");
+  else read_.fail_unknown(n["source"], "source", source, {"plugin", "webview", "tcp"});
   if (n["active_vehicle"]) {
     data.active_vehicle = read_.text(n["active_vehicle"]);
-    if (find_vehicle(*data.active_vehicle) == nullptr) read_.fail(n["active_vehicle"], "unknown vehicle '" + *data.active_vehicle + "'");
+    if (find_vehicle(*data.active_vehicle) == nullptr) read_.fail_unknown(n["active_vehicle"], "vehicle", *data.active_vehicle, vehicle_list());
   }
   if (const YAML::Node vehicles = n["vehicles"]) {
     if (!vehicles.IsMap()) read_.fail(vehicles, "vehicles: expected a mapping vehicle → entry");
     for (const auto& item : vehicles) {
       const std::string name = item.first.as<std::string>();
-      if (find_vehicle(name) == nullptr) read_.fail(item.first, "unknown vehicle '" + name + "'");
+      if (find_vehicle(name) == nullptr) read_.fail_unknown(item.first, "vehicle", name, vehicle_list());
       const YAML::Node entry = item.second;
       read_.check_keys(entry, "client_data entry", {"user_data", "disable_gamepad", "echo"});
       ClientDataAction::Entry out;
@@ -225,7 +238,7 @@ ClientDataAction Parser::client_data(const YAML::Node& n, TimelineEvent& event) 
         if (echo == "none") out.echo = ClientDataAction::Echo::none;
         else if (echo == "latest") out.echo = ClientDataAction::Echo::latest;
         else if (echo == "corrupt") out.echo = ClientDataAction::Echo::corrupt;
-        else read_.fail(entry["echo"], "echo: expected none, latest or corrupt");
+        else read_.fail_unknown(entry["echo"], "echo", echo, {"none", "latest", "corrupt"});
         if (data.source == ClientSource::webview && out.echo != ClientDataAction::Echo::none) {
           read_.fail(entry["echo"], "the web view sends no pair (the Player injects it, SPEC §4.2)");
         }

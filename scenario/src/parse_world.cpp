@@ -117,7 +117,7 @@ ImpairmentPatch Parser::impairments(const YAML::Node& node, bool targeted) {
     if (kind == "none") p.jitter_kind = Impairments::JitterKind::none;
     else if (kind == "uniform") p.jitter_kind = Impairments::JitterKind::uniform;
     else if (kind == "normal") p.jitter_kind = Impairments::JitterKind::normal;
-    else read_.fail(node["jitter_kind"], "jitter_kind: expected none, uniform or normal");
+    else read_.fail_unknown(node["jitter_kind"], "jitter_kind", kind, {"none", "uniform", "normal"});
   }
   if (node["loss"]) p.loss = read_.number(node["loss"], 0, 1);
   if (node["duplicate"]) p.duplicate = read_.number(node["duplicate"], 0, 1);
@@ -157,7 +157,7 @@ GamepadScriptSetting Parser::gamepad_script(const YAML::Node& node) {
     const std::string name = node.Scalar();
     if (name == "idle") setting.kind = GamepadScriptSetting::Kind::idle;
     else if (name == "drive") setting.kind = GamepadScriptSetting::Kind::drive;
-    else read_.fail(node, "gamepad: expected idle, drive, {constant: …} or {waveform: …}, got '" + name + "'");
+    else read_.fail_unknown(node, "gamepad script (idle, drive, {constant: …} or {waveform: …})", name, {"idle", "drive"});
     return setting;
   }
   read_.check_keys(node, "gamepad", {"constant", "waveform"});
@@ -175,13 +175,15 @@ GamepadScriptSetting Parser::gamepad_script(const YAML::Node& node) {
       SineWave sine;
       const std::string axis = read_.text(read_.require(item, "axis", "wave"));
       bool found = false;
+      std::vector<std::string> axes;
       for (int i = 0; i <= static_cast<int>(GamepadAxis::right_trigger); ++i) {
-        if (gamepad_axis_name(static_cast<GamepadAxis>(i)) == axis) {
+        axes.emplace_back(gamepad_axis_name(static_cast<GamepadAxis>(i)));
+        if (axes.back() == axis) {
           sine.axis = static_cast<GamepadAxis>(i);
           found = true;
         }
       }
-      if (!found) read_.fail(item["axis"], "unknown axis '" + axis + "'");
+      if (!found) read_.fail_unknown(item["axis"], "axis", axis, axes);
       if (item["amplitude"]) sine.amplitude = read_.number(item["amplitude"], -2, 2);
       if (item["period"]) sine.period = read_.duration(item["period"]);
       if (sine.period <= Micros{0}) read_.fail(item, "wave period must be > 0");

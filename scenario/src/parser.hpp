@@ -6,6 +6,7 @@
 #include <string>
 #include <string_view>
 #include <utility>
+#include <vector>
 
 #include "scenario/model.hpp"
 #include "yaml_read.hpp"
@@ -31,6 +32,7 @@ class Parser {
   Controller controller(const YAML::Node& node);
   GamepadScriptSetting gamepad_script(const YAML::Node& node);
   const VehicleSpec* find_vehicle(const std::string& name) const;
+  std::vector<std::string> vehicle_list() const;   // for "did you mean"
   // The `vehicle` key of an action; may be left out when the world has one vehicle.
   std::string vehicle_of(const YAML::Node& node, std::string_view what);
   Direction direction_of(const YAML::Node& node);

@@ -145,14 +145,19 @@ std::string svg(const RunReport& report) {
 
 std::string report_html(const RunReport& report, const std::string& summary) {
   const Scenario& scenario = *report.scenario;
-  const bool passed = all_passed(report.verdicts);
+  const bool passed = all_passed(report.verdicts) && !report.run->interrupted;
   std::string embedded = summary;
   for (std::size_t at = 0; (at = embedded.find("</", at)) != std::string::npos; at += 3) embedded.replace(at, 2, "<\\/");
 
   std::string out = "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>" + escape(scenario.name) + " — ocp_scenario</title>\n";
   out += "<style>body{font-family:sans-serif;margin:20px}td,th{padding:2px 8px;text-align:left}"
-         ".pass{color:#2ca02c}.fail{color:#d62728}code{background:#eee;padding:2px}</style></head><body>\n";
-  out += "<h1>" + escape(scenario.name) + " <span class=\"" + (passed ? "pass\">✓ passed" : "fail\">✗ failed") + "</span></h1>\n";
+         ".pass{color:#2ca02c}.fail{color:#d62728}.skip{color:#7f7f7f}code{background:#eee;padding:2px}</style></head><body>\n";
+  const char* headline = report.run->interrupted ? "skip\">○ interrupted" : passed ? "pass\">✓ passed" : "fail\">✗ failed";
+  out += "<h1>" + escape(scenario.name) + " <span class=\"" + headline + "</span></h1>\n";
+  if (report.run->interrupted) {
+    out += "<p class=\"skip\">Interrupted at " + format_seconds(report.run->ran) + " of " +
+           format_seconds(report.run->duration) + ": expectations that needed the rest of the run are not judged.</p>\n";
+  }
   if (!scenario.description.empty()) out += "<p>" + escape(scenario.description) + "</p>\n";
   out += "<p>seed <b>" + std::to_string(report.run->seed) + "</b>, " + format_seconds(report.run->duration) +
          " simulated. Reproduce: <code>" + escape(report.reproduce) + "</code></p>\n";
@@ -162,7 +167,8 @@ std::string report_html(const RunReport& report, const std::string& summary) {
   out += svg(report);
   out += "<h2>Verdicts</h2>\n<table><tr><th></th><th>expectation</th><th>expected</th><th>actual</th><th>line</th></tr>\n";
   for (const Verdict& verdict : report.verdicts) {
-    out += std::string("<tr class=\"") + (verdict.passed ? "pass\"><td>✓" : "fail\"><td>✗") + "</td><td>" + escape(verdict.title) +
+    const char* mark = verdict.passed ? "pass\"><td>✓" : verdict.interrupted ? "skip\"><td>○" : "fail\"><td>✗";
+    out += std::string("<tr class=\"") + mark + "</td><td>" + escape(verdict.title) +
            "</td><td>" + escape(verdict.expected) + "</td><td>" + escape(verdict.actual) + "</td><td>" +
            std::to_string(verdict.mark.line) + "</td></tr>\n";
   }

@@ -10,8 +10,9 @@
 
 namespace ocp::scenario {
 
-// Runs the executor until `end` (absolute). Called once, with the started World.
-using ClockDriver = std::function<void(World& world, SimTime end)>;
+// Runs the executor until `end` (absolute), or until the run is interrupted; returns the time
+// it stopped at. Called once, with the started World.
+using ClockDriver = std::function<SimTime(World& world, SimTime end)>;
 
 RunResult run_world(Executor& executor, const Scenario& scenario, const RunOptions& options,
                     bool deterministic_keys, const ClockDriver& drive);

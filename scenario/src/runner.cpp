@@ -3,6 +3,7 @@
 // listens only when asked for, and the Observer only to the buses it needs.
 #include "scenario/runner.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <ctime>
 #include <memory>
@@ -90,7 +91,9 @@ RunResult run_world(Executor& executor, const Scenario& scenario, const RunOptio
     }
   });
   ping_sampler.start(executor.now() + ping_sample_period);
-  drive(world, origin + scenario.duration);
+  const SimTime stopped = std::min(drive(world, origin + scenario.duration), origin + scenario.duration);
+  result.ran = stopped - origin;
+  result.interrupted = result.ran < scenario.duration;
   ping_sampler.stop();
   if (!link_events) {
     // Message counts for the summary, from the links themselves (no expectation needs them).
@@ -115,7 +118,14 @@ RunResult run_world(Executor& executor, const Scenario& scenario, const RunOptio
 RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   VirtualExecutor executor;
   RunResult result = run_world(executor, scenario, options, true, [&](World&, SimTime end) {
-    executor.run_until(end);
+    // In slices, to look at the interrupt flag in between; the events run are the same as in one
+    // go (run_until runs everything due by the slice's end), so the trace is too.
+    constexpr Micros slice{100'000};
+    while (executor.now() < end) {
+      if (options.interrupted && options.interrupted()) return executor.now();
+      executor.run_until(std::min(end, executor.now() + slice));
+    }
+    return end;
   });
   result.executor_events = executor.events_run();
   return result;

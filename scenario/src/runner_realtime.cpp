@@ -29,10 +29,18 @@ RunResult run_scenario_realtime(const Scenario& scenario, const RunOptions& opti
       servers.push_back(std::move(server));
       if (port != 0) ++port;
     }
-    runner.set_on_shutdown([&servers](const std::string&) {
+    // The runner catches SIGINT / SIGTERM itself while it runs; a stop before `end` is one.
+    SimTime stopped = end;
+    runner.set_on_shutdown([&](const std::string&) {
+      stopped = runner.executor().now();
       for (auto& server : servers) server->stop();   // no new vehicle once the run is over
     });
+    PeriodicTimer interrupt_poll(runner.executor(), Micros{50'000}, [&](SimTime) {
+      if (options.interrupted && options.interrupted()) runner.request_stop("interrupted");
+    });
+    interrupt_poll.start(runner.executor().now());
     (void)runner.run(end - runner.executor().now());
+    return stopped;
   });
 }
 

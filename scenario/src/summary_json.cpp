@@ -131,6 +131,7 @@ void verdicts_section(Json& json, const std::vector<Verdict>& verdicts) {
     text(json, "kind", verdict.kind);
     key(json, "line"); json.Int(verdict.mark.line);
     key(json, "passed"); json.Bool(verdict.passed);
+    key(json, "interrupted"); json.Bool(verdict.interrupted);
     text(json, "expected", verdict.expected);
     text(json, "actual", verdict.actual);
     json.EndObject();
@@ -152,7 +153,10 @@ std::string summary_json(const RunReport& report) {
   key(json, "seed"); json.Uint64(run.seed);
   key(json, "duration_s"); json.Double(seconds(run.duration));
   text(json, "reproduce", report.reproduce);
-  key(json, "passed"); json.Bool(all_passed(report.verdicts));
+  key(json, "passed"); json.Bool(all_passed(report.verdicts) && !run.interrupted);
+  // Ctrl-C: the run stopped at ran_s; verdicts that needed the rest say "interrupted".
+  key(json, "interrupted"); json.Bool(run.interrupted);
+  key(json, "ran_s"); json.Double(seconds(run.ran));
   latency_section(json, run.observations);
   faults_section(json, run.observations);
   messages_section(json, run.observations);

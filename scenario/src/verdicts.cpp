@@ -5,6 +5,7 @@
 
 #include <rapidjson/document.h>
 
+#include "ocp/flap_summariser.hpp"
 #include "scenario/metrics.hpp"
 
 namespace ocp::scenario {
@@ -47,7 +48,17 @@ std::string ms_text(Micros duration) {
 
 class Judge {
  public:
-  Judge(const Scenario& scenario, const RunResult& run) : scenario_(scenario), observations_(run.observations) {}
+  Judge(const Scenario& scenario, const RunResult& run) : scenario_(scenario), run_(run), observations_(run.observations) {}
+
+  // Not judged: the run stopped at `run_.ran`, before what this verdict needs had happened.
+  void cut_short(Verdict& v) const {
+    v.passed = false;
+    v.interrupted = true;
+    v.actual = "not judged: the run was interrupted at " + format_seconds(run_.ran) + " of " +
+               format_seconds(scenario_.duration) + " (so far: " + v.actual + ")";
+  }
+  // Whether the run got past `time` (a window's end, an instant).
+  bool ran_past(SimTime time) const { return !run_.interrupted || time < run_.ran; }
 
   void operator()(const FaultEdgeExpectation& e, Verdict& v) const {
     const char* edge = e.raised ? "raised" : "cleared";
@@ -60,7 +71,8 @@ class Judge {
     }
     v.expected.append(edge).append(" within ").append(window).append(" after ").append(e.after_label);
     std::optional<SimTime> found;
-    if (const auto* list = intervals(observations_, e.vehicle, e.fault)) {
+    const std::vector<Interval>* list = intervals(observations_, e.vehicle, e.fault);
+    if (list != nullptr) {
       for (const Interval& interval : *list) {
         const std::optional<SimTime> at = e.raised ? std::optional(interval.start) : interval.end;
         if (at && *at >= e.after) {
@@ -69,14 +81,42 @@ class Judge {
         }
       }
     }
+    // An edge after the anchor says nothing about the event when the fault was already doing
+    // it before: such an expectation fails, saying so, instead of "raised 0ms after".
+    const std::string before = list == nullptr ? "" : state_before(*list, e);
     if (!found) {
       v.actual = std::string("never ") + edge + " after " + e.after_label;
-      if (!e.raised && active_at(observations_, e.vehicle, e.fault, scenario_.duration)) v.actual += " (still active at the end)";
+      if (!e.raised && active_at(observations_, e.vehicle, e.fault, scenario_.duration)) {
+        v.actual += run_.interrupted ? " (still active when the run was interrupted)" : " (still active at the end)";
+      }
+      if (!before.empty()) v.actual = before + "; " + v.actual;
+      if (!ran_past(e.after + e.max)) cut_short(v);
       return;
     }
     const Micros delay = *found - e.after;
-    v.passed = delay >= e.min && delay <= e.max;
+    v.passed = before.empty() && delay >= e.min && delay <= e.max;
     v.actual = std::string(edge) + " " + ms_text(delay) + " after " + e.after_label + " (at " + format_seconds(*found) + ")";
+    if (!before.empty()) v.actual = before + "; next " + v.actual;
+  }
+
+  // "already flapping before ramp_up (raised 6 times in the 5s before it)", "already active at
+  // ramp_up (raised at 3.2s)", or "" when the fault was quiet. Flapping as the product's logs
+  // call it (FlapSummariser's defaults); "active" matters only to a raise.
+  static std::string state_before(const std::vector<Interval>& list, const FaultEdgeExpectation& e) {
+    const FlapSummariser::Options flap;
+    std::size_t raises = 0;
+    std::optional<SimTime> active_since;
+    for (const Interval& interval : list) {
+      if (interval.start >= e.after) break;
+      if (interval.start >= e.after - flap.window) ++raises;
+      if (!interval.end || *interval.end > e.after) active_since = interval.start;
+    }
+    if (raises >= flap.raises_to_flap) {
+      return "already flapping before " + e.after_label + " (raised " + std::to_string(raises) + " times in the " +
+             format_seconds(flap.window) + " before it)";
+    }
+    if (e.raised && active_since) return "already active at " + e.after_label + " (raised at " + format_seconds(*active_since) + ")";
+    return "";
   }
 
   void operator()(const FaultNeverExpectation& e, Verdict& v) const {
@@ -96,6 +136,7 @@ class Judge {
     v.passed = raises == 0;
     v.actual = raises == 0 ? "never raised"
                            : "raised " + std::to_string(raises) + " time(s), first on " + first->second + " at " + format_seconds(first->first);
+    if (v.passed && run_.interrupted) cut_short(v);
   }
 
   void operator()(const FaultStateExpectation& e, Verdict& v) const {
@@ -127,6 +168,7 @@ class Judge {
     if (!actual.empty()) actual.pop_back();
     v.expected = expected;
     v.actual = actual;
+    if (!ran_past(e.at)) cut_short(v);
   }
 
   void operator()(const ThresholdExpectation& e, Verdict& v) const {
@@ -141,6 +183,7 @@ class Judge {
     }
     if (!value) {
       v.actual = e.aggregate + " = no samples";
+      if (run_.interrupted) cut_short(v);
       return;
     }
     const double x = *value;
@@ -151,6 +194,7 @@ class Judge {
     else if (e.op == "==") v.passed = x == e.value;
     else v.passed = x != e.value;
     v.actual = e.aggregate + " = " + format_number(x);
+    if (run_.interrupted) cut_short(v);
   }
 
   void operator()(const DeliveryExpectation& e, Verdict& v) const {
@@ -186,6 +230,7 @@ class Judge {
       v.actual = "last frame in the window: controller " + std::string(controller_name(last->controller)) +
                  ", user_data " + last->user_data_json.value_or("none");
     }
+    if (!ran_past(e.after + e.within)) cut_short(v);
   }
 
   void operator()(const InvariantExpectation& e, Verdict& v) const {
@@ -197,9 +242,11 @@ class Judge {
       v.expected = "only default or null controllers under control-path faults";
       if (checked == 0) {
         v.actual = "no control frame was sent under a control-path fault: nothing checked";
+        if (run_.interrupted) cut_short(v);
       } else if (violations.empty()) {
         v.passed = true;
         v.actual = std::to_string(checked) + " control frames checked, all default or null";
+        if (run_.interrupted) cut_short(v);
       } else {
         v.actual = std::to_string(violations.size()) + " of " + std::to_string(checked) + " frames violated; first at " +
                    format_seconds(violations.front().time) + " on " + violations.front().vehicle + ": " + violations.front().detail;
@@ -210,9 +257,11 @@ class Judge {
     v.expected = "no pair from before a reconnect echoed on the new connection";
     if (observations_.reconnects == 0) {
       v.actual = "no reconnect happened: nothing checked";
+      if (run_.interrupted) cut_short(v);
     } else if (violations.empty()) {
       v.passed = true;
       v.actual = std::to_string(observations_.reconnects) + " reconnect(s), no stale pair";
+      if (run_.interrupted) cut_short(v);
     } else {
       v.actual = std::to_string(violations.size()) + " stale pair(s); first at " + format_seconds(violations.front().time) +
                  " on " + violations.front().vehicle + ": " + violations.front().detail;
@@ -221,6 +270,7 @@ class Judge {
 
  private:
   const Scenario& scenario_;
+  const RunResult& run_;
   const Observations& observations_;
 };
 
@@ -237,6 +287,10 @@ std::vector<Verdict> evaluate(const Scenario& scenario, const RunResult& run) {
     verdicts.push_back(std::move(verdict));
   }
   return verdicts;
+}
+
+bool any_interrupted(const std::vector<Verdict>& verdicts) {
+  return std::any_of(verdicts.begin(), verdicts.end(), [](const Verdict& v) { return v.interrupted; });
 }
 
 bool all_passed(const std::vector<Verdict>& verdicts) {

@@ -4,10 +4,13 @@
 #include <rapidjson/stringbuffer.h>
 #include <rapidjson/writer.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <stdexcept>
+
+#include "did_you_mean.hpp"
 
 namespace ocp::scenario {
 
@@ -15,6 +18,9 @@ ScenarioError::ScenarioError(std::string file, int line, int column, std::string
     : std::runtime_error(file + ":" + std::to_string(line) + ":" + std::to_string(column) +
                          ": " + reason),
       file_(std::move(file)), line_(line), column_(column), reason_(std::move(reason)) {}
+
+ScenarioError::ScenarioError(std::string file, std::string message)
+    : std::runtime_error(message), file_(std::move(file)), line_(0), column_(0), reason_(std::move(message)) {}
 
 Mark YamlReader::mark(const YAML::Node& node) const {
   const YAML::Mark m = node.Mark();
@@ -32,17 +38,14 @@ void YamlReader::check_keys(const YAML::Node& node, std::string_view what,
   if (!node.IsMap()) fail(node, std::string(what) + ": expected a mapping");
   for (const auto& item : node) {
     const std::string key = item.first.as<std::string>();
-    bool known = false;
-    for (const std::string_view name : allowed) known = known || name == key;
-    if (!known) {
-      std::string list;
-      for (const std::string_view name : allowed) {
-        if (!list.empty()) list += ", ";
-        list += name;
-      }
-      fail(item.first, "unknown key '" + key + "' in " + std::string(what) + " (known: " + list + ")");
-    }
+    if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
+    fail(item.first, unknown_name("key", key, std::vector<std::string>(allowed.begin(), allowed.end()), what));
   }
+}
+
+void YamlReader::fail_unknown(const YAML::Node& node, std::string_view what, const std::string& word,
+                              const std::vector<std::string>& known) const {
+  fail(node, unknown_name(what, word, known));
 }
 
 YAML::Node YamlReader::require(const YAML::Node& map, const char* key, std::string_view what) const {
@@ -106,8 +109,9 @@ Micros parse_duration_text(const std::string& text) {
   else if (unit == "ms") scale = 1e3;
   else if (unit == "s") scale = 1e6;
   else if (unit == "min") scale = 60e6;
+  else if (unit == "h") scale = 3600e6;
   else if (unit.empty() && value == 0) scale = 0;
-  else throw std::invalid_argument("duration '" + text + "' needs a unit: us, ms, s or min");
+  else throw std::invalid_argument("duration '" + text + "' needs a unit: us, ms, s, min or h");
   return Micros{static_cast<std::int64_t>(std::llround(value * scale))};
 }
 

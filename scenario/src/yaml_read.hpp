@@ -6,6 +6,7 @@
 #include <initializer_list>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "scenario/model.hpp"
 #include "scenario/parse.hpp"
@@ -22,6 +23,9 @@ class YamlReader {
   // The node must be a map whose keys are all in `allowed`.
   void check_keys(const YAML::Node& node, std::string_view what,
                   std::initializer_list<std::string_view> allowed) const;
+  // "unknown <what> '<word>': did you mean …?" (did_you_mean.hpp), at the node.
+  [[noreturn]] void fail_unknown(const YAML::Node& node, std::string_view what, const std::string& word,
+                                 const std::vector<std::string>& known) const;
   // A required key of a map.
   YAML::Node require(const YAML::Node& map, const char* key, std::string_view what) const;
 

@@ -12,6 +12,8 @@ namespace ocp::scenario {
 class ScenarioError : public std::runtime_error {
  public:
   ScenarioError(std::string file, int line, int column, std::string reason);
+  // About the file as a whole (it cannot be opened): what() is `message` alone, line 0.
+  ScenarioError(std::string file, std::string message);
   const std::string& file() const { return file_; }
   int line() const { return line_; }
   int column() const { return column_; }

@@ -21,8 +21,12 @@ struct RunReport {
 std::string summary_json(const RunReport& report);
 // `summary` is summary_json(report): embedded verbatim (only "</" escaped as "<\/").
 std::string report_html(const RunReport& report, const std::string& summary);
-// One testsuite per run, one testcase per expectation.
-std::string junit_xml(const std::vector<RunReport>& reports);
+// One testsuite per run, one testcase per expectation; a verdict not judged (Ctrl-C) is
+// <skipped>. `interrupted`: the tool was stopped, so runs are missing (<testsuites interrupted="true">).
+std::string junit_xml(const std::vector<RunReport>& reports, bool interrupted = false);
+// After --repeat: one line per expectation of each file, "passed k of n seeds", with the
+// seeds that failed (runs cut short by Ctrl-C are left out: they were not finished).
+std::string repeat_summary(const std::vector<RunReport>& reports);
 // "  ✓ title … actual" lines, as k6 prints thresholds.
 std::string console_verdicts(const RunReport& report);
 

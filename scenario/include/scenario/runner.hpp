@@ -26,6 +26,9 @@ struct RunOptions {
   std::optional<std::uint64_t> seed;   // overrides the file's seed
   bool trace = true;                   // record trace.jsonl (frames without payloads)
   bool trace_payloads = false;         // … with every frame's payload bytes
+  // Polled while the run goes (every 100 ms of virtual time, every 50 ms of real time): true
+  // stops the run there (Ctrl-C, interrupt.hpp). Empty: never.
+  std::function<bool()> interrupted;
 };
 
 struct FiredEvent {
@@ -37,6 +40,9 @@ struct FiredEvent {
 struct RunResult {
   std::uint64_t seed = 0;
   SimTime duration{0};
+  // Cut short (Ctrl-C) at `ran` < duration: what needs the rest of the timeline is not judged.
+  bool interrupted = false;
+  SimTime ran{0};
   Observations observations;
   std::vector<FiredEvent> fired;
   std::string trace_jsonl;   // empty unless RunOptions::trace

@@ -1,0 +1,225 @@
+// ocp_scenario as a user meets it (issue #20 items 8 and 9): the messages of a bad command line
+// or file with exit code 2, the --repeat summary, and Ctrl-C — exit 130, "interrupted", reports
+// marked. Runs the built tool; every wait is bounded, far above what a loaded machine needs.
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "scenario_test_support.hpp"
+
+namespace ocp::scenario {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ToolRun {
+  int exit_code = -1;
+  std::string output;   // stdout and stderr
+};
+
+ToolRun run_tool_capturing(const std::string& arguments) {
+  ToolRun run;
+  FILE* pipe = popen((std::string(OCP_SCENARIO_PATH) + " " + arguments + " 2>&1").c_str(), "r");
+  if (pipe == nullptr) return run;
+  char buffer[4096];
+  for (std::size_t n; (n = fread(buffer, 1, sizeof buffer, pipe)) > 0;) run.output.append(buffer, n);
+  const int status = pclose(pipe);
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return run;
+}
+
+// A scratch folder per test process.
+class ToolTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("ocp_scenario_tool_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string write(const std::string& name, const std::string& text) {
+    std::ofstream(dir_ / name) << text;
+    return (dir_ / name).string();
+  }
+  fs::path dir_;
+};
+
+const std::string library_dir = OCP_SCENARIO_LIBRARY_DIR;
+
+struct BadCall {
+  const char* what;
+  std::string arguments;   // after `run`; FILE stands for a good scenario file
+  std::string fragment;
+};
+
+void PrintTo(const BadCall& call, std::ostream* out) { *out << call.what; }
+
+class ToolRefuses : public ::testing::TestWithParam<BadCall> {};
+
+TEST_P(ToolRefuses, WithExitCode2AndAClearMessage) {
+  const BadCall& call = GetParam();
+  std::string arguments = call.arguments;
+  if (const auto at = arguments.find("FILE"); at != std::string::npos) arguments.replace(at, 4, library_dir + "/gamepad_unplug.yaml");
+  const ToolRun run = run_tool_capturing("run " + arguments + " --list");
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_NE(run.output.find(call.fragment), std::string::npos) << run.output;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Table, ToolRefuses,
+    ::testing::Values(
+        BadCall{"missing file", "/nonexistent/foo.yaml", "error: cannot open /nonexistent/foo.yaml: No such file or directory"},
+        BadCall{"negative seed", "FILE --seed -1", "--seed: expected a whole number in 0..18446744073709551615, got '-1'"},
+        BadCall{"fractional seed", "FILE --seed 1.5", "got '1.5'"},
+        BadCall{"seed past 2^64-1", "FILE --seed 18446744073709551616", "got '18446744073709551616'"},
+        BadCall{"repeat 0", "FILE --repeat 0", "--repeat"}),
+    [](const ::testing::TestParamInfo<BadCall>& info) {
+      std::string name = info.param.what;
+      for (char& c : name) c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+      return name;
+    });
+
+TEST_F(ToolTest, AMisIndentedLineSaysWhereAndWhatYamlExpected) {
+  const std::string file = write("indent.yaml", "seed: 1\nduration: 1s\nworld:\n  vehicles:\n    - name: a\n     link: {delay: 2ms}\n"
+                                                "expect: {invariants: [no_stale_pair_after_reconnect]}\n");
+  const ToolRun run = run_tool_capturing("run " + file);
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.output.find(file + ":6:6: YAML expected another list item"), std::string::npos) << run.output;
+}
+
+TEST_F(ToolTest, RepeatEndsWithOneSummaryPerExpectation) {
+  const ToolRun run = run_tool_capturing("run " + library_dir + "/gamepad_unplug.yaml --repeat 3 --no-trace --out " + (dir_ / "out").string());
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("gamepad_unplug.yaml: 3 seeds\n"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find(": passed 3 of 3 seeds\n"), std::string::npos) << run.output;
+}
+
+// The tool in a child process with its output on a pipe, to signal it mid-run.
+class Child {
+ public:
+  explicit Child(const std::vector<std::string>& arguments) {
+    int fds[2];
+    if (pipe(fds) != 0) return;
+    pid_ = fork();
+    if (pid_ == 0) {
+      dup2(fds[1], STDOUT_FILENO);
+      dup2(fds[1], STDERR_FILENO);
+      close(fds[0]);
+      close(fds[1]);
+      std::vector<char*> argv;
+      for (const std::string& argument : arguments) argv.push_back(const_cast<char*>(argument.c_str()));
+      argv.push_back(nullptr);
+      execv(argv[0], argv.data());
+      _exit(127);
+    }
+    close(fds[1]);
+    out_ = fds[0];
+  }
+  ~Child() {
+    if (pid_ > 0 && exit_code_ < 0) {
+      kill(pid_, SIGKILL);
+      waitpid(pid_, nullptr, 0);
+    }
+    if (out_ >= 0) close(out_);
+  }
+
+  // Reads until `text` has appeared (true) or `limit` passed or the output ended (false).
+  bool wait_for(const std::string& text, std::chrono::seconds limit) {
+    const auto deadline = std::chrono::steady_clock::now() + limit;
+    while (output_.find(text) == std::string::npos) {
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+      if (left.count() <= 0 || !read_some(static_cast<int>(left.count()))) return false;
+    }
+    return true;
+  }
+  // The exit code, once it exited within `limit` (-1: it did not, or it was killed by a signal).
+  int wait_exit(std::chrono::seconds limit) {
+    const auto deadline = std::chrono::steady_clock::now() + limit;
+    while (std::chrono::steady_clock::now() < deadline) {
+      while (read_some(10)) {}
+      int status = 0;
+      if (waitpid(pid_, &status, WNOHANG) == pid_) {
+        while (read_some(0)) {}
+        exit_code_ = WIFEXITED(status) ? WEXITSTATUS(status) : 1000 + WTERMSIG(status);
+        return exit_code_;
+      }
+    }
+    return -1;
+  }
+  void signal(int number) { kill(pid_, number); }
+  const std::string& output() const { return output_; }
+
+ private:
+  bool read_some(int timeout_ms) {
+    pollfd fd{out_, POLLIN, 0};
+    if (poll(&fd, 1, timeout_ms) <= 0) return false;
+    char buffer[4096];
+    const ssize_t n = read(out_, buffer, sizeof buffer);
+    if (n <= 0) return false;
+    output_.append(buffer, static_cast<std::size_t>(n));
+    return true;
+  }
+  pid_t pid_ = -1;
+  int out_ = -1;
+  int exit_code_ = -1;
+  std::string output_;
+};
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// Real time: the tool waits for an external vehicle that never comes; Ctrl-C ends the run.
+TEST_F(ToolTest, CtrlCInRealTimeExits130WithReportsMarkedInterrupted) {
+  const std::string file = write("waits.yaml", R"(duration: 60s
+world:
+  vehicles: [{name: truck-1, in_process_client: false}]
+expect:
+  faults:
+    - {fault: VehicleNoResponse, cleared: {after: 0s, within: 50s}}
+)");
+  Child tool({OCP_SCENARIO_PATH, "run", file, "--realtime", "--tcp-port", "0", "--out", (dir_ / "out").string(), "--junit",
+              (dir_ / "junit.xml").string()});
+  ASSERT_TRUE(tool.wait_for("waiting for a vehicle client", std::chrono::seconds(30))) << tool.output();
+  tool.signal(SIGINT);
+  ASSERT_EQ(tool.wait_exit(std::chrono::seconds(30)), 130) << tool.output();
+  EXPECT_NE(tool.output().find("\ninterrupted: "), std::string::npos) << tool.output();
+  EXPECT_NE(tool.output().find("not judged: the run was interrupted at "), std::string::npos) << tool.output();
+  const std::string summary = read_text(dir_ / "out" / "waits" / "summary.json");
+  EXPECT_NE(summary.find("\"interrupted\": true"), std::string::npos) << summary;
+  EXPECT_NE(read_text(dir_ / "out" / "waits" / "report.html").find("○ interrupted"), std::string::npos);
+  EXPECT_NE(read_text(dir_ / "junit.xml").find("<testsuites interrupted=\"true\">"), std::string::npos);
+}
+
+// Virtual time with --repeat: SIGTERM during the second seed or later keeps the seeds finished
+// so far, summarised.
+TEST_F(ToolTest, SigtermDuringRepeatKeepsTheFinishedSeeds) {
+  const std::string file = write("long.yaml", R"(duration: 5min
+world: {gamepad: drive, vehicles: [{name: truck-1}]}
+expect:
+  thresholds: {latency_ms: ["count > 0"]}
+)");
+  Child tool({OCP_SCENARIO_PATH, "run", file, "--repeat", "1000", "--no-trace", "--out", (dir_ / "out").string(), "--junit",
+              (dir_ / "junit.xml").string()});
+  ASSERT_TRUE(tool.wait_for("✓ " + file, std::chrono::seconds(120))) << tool.output();
+  tool.signal(SIGTERM);
+  ASSERT_EQ(tool.wait_exit(std::chrono::seconds(120)), 130) << tool.output();
+  EXPECT_NE(tool.output().find("long.yaml: "), std::string::npos) << tool.output();
+  EXPECT_NE(tool.output().find("\n  ✓ latency_ms: count > 0: passed "), std::string::npos) << tool.output();
+  EXPECT_NE(tool.output().find("\ninterrupted: "), std::string::npos) << tool.output();
+  EXPECT_NE(read_text(dir_ / "junit.xml").find("<testsuites interrupted=\"true\">"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace ocp::scenario
