@@ -11,7 +11,6 @@
 #include <fstream>
 #include <iostream>
 
-#include "scenario/interrupt.hpp"
 #include "scenario/metrics.hpp"
 #include "scenario/parse.hpp"
 #include "scenario/reports.hpp"
@@ -19,6 +18,7 @@
 #include "scenario/verdicts.hpp"
 #include "ocp/cli_checks.hpp"
 #include "ocp/cli_parse.hpp"
+#include "ocp/interrupt.hpp"
 #include "world/seeds.hpp"
 
 namespace fs = std::filesystem;
@@ -26,7 +26,8 @@ using namespace ocp::scenario;
 
 namespace {
 
-constexpr int exit_pass = 0, exit_fail = 1, exit_error = 2, exit_interrupted = interrupted_exit_code;
+constexpr int exit_pass = cli::exit_ok, exit_fail = cli::exit_failed, exit_error = cli::exit_usage_error,
+              exit_interrupted = cli::exit_interrupted;
 
 std::vector<std::string> expand(const std::vector<std::string>& inputs) {
   std::vector<std::string> files;
@@ -113,7 +114,7 @@ RunResult run_once(const Scenario& scenario, const ToolOptions& tool, std::uint6
   options.seed = run_seed;
   options.trace = !tool.no_trace;
   options.trace_payloads = tool.trace_payloads;
-  options.interrupted = interrupt_requested;
+  options.interrupted = cli::interrupt_requested;
   if (!tool.realtime) return run_scenario(scenario, options);
   RealTimeOptions real_time;
   real_time.tcp_port = tool.tcp_port;
@@ -122,7 +123,7 @@ RunResult run_once(const Scenario& scenario, const ToolOptions& tool, std::uint6
     std::fflush(stdout);
   };
   RunResult result = run_scenario_realtime(scenario, options, real_time);
-  catch_interrupts();   // the real-time runner's signal handling put the default action back
+  cli::install_interrupt_handlers();   // the real-time runner's signal handling put the default action back
   return result;
 }
 
@@ -179,7 +180,7 @@ bool write_run_results(const ToolOptions& tool, const RunReport& report, std::ui
 // progress: its reports (marked interrupted) and those of the finished runs are written.
 int run_every_scenario(const std::vector<Scenario>& scenarios, const ToolOptions& tool) {
   const auto wall_start = std::chrono::steady_clock::now();
-  catch_interrupts();
+  cli::install_interrupt_handlers();
   std::vector<RunResult> runs;
   runs.reserve(scenarios.size() * tool.repeat);   // RunReport points into it
   std::vector<RunReport> reports;
@@ -202,7 +203,7 @@ int run_every_scenario(const std::vector<Scenario>& scenarios, const ToolOptions
       print_run(report, run_seed, tally);
       if (!write_run_results(tool, report, run_seed)) return exit_error;
       reports.push_back(std::move(report));
-      interrupted = result.interrupted || interrupt_requested();
+      interrupted = result.interrupted || cli::interrupt_requested();
     }
     if (interrupted) break;
   }

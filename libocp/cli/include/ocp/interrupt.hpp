@@ -24,11 +24,14 @@ extern "C" inline void on_interrupt_signal(int) {
 }  // namespace detail
 
 // `cleanup` runs only on the second signal, just before _exit: it must be async-signal-safe.
+// Call again after something else handled the signals (an Asio signal_set puts the default
+// action back when it ends); the count of signals so far is kept.
 inline void install_interrupt_handlers(void (*cleanup)() = nullptr) {
   static_assert(std::atomic<int>::is_always_lock_free);
   detail::interrupt_cleanup = cleanup;
   struct sigaction action {};
   action.sa_handler = detail::on_interrupt_signal;
+  action.sa_flags = SA_RESTART;   // the reports being written are not cut short by the signal
   sigemptyset(&action.sa_mask);
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
