@@ -76,6 +76,7 @@ RunResult run_world(Executor& executor, const Scenario& scenario, const RunOptio
   Observer observer(world, observer_options);
   const SimTime origin = executor.now();
   observer.set_origin(origin);
+  if (options.on_built) options.on_built(world);
   if (auto status = world.start(); !status) {
     throw HarnessError("the world did not start: " + status.error().message());
   }
@@ -91,6 +92,7 @@ RunResult run_world(Executor& executor, const Scenario& scenario, const RunOptio
   });
   ping_sampler.start(executor.now() + ping_sample_period);
   drive(world, origin + scenario.duration);
+  if (options.on_finished) options.on_finished(world);
   ping_sampler.stop();
   if (!link_events) {
     // Message counts for the summary, from the links themselves (no expectation needs them).

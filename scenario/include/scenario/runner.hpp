@@ -26,6 +26,10 @@ struct RunOptions {
   std::optional<std::uint64_t> seed;   // overrides the file's seed
   bool trace = true;                   // record trace.jsonl (frames without payloads)
   bool trace_payloads = false;         // … with every frame's payload bytes
+  // For tools that judge a run from its event stream (ocp_campaign's oracle): called with the
+  // built World before it starts (subscribe here), and at the end before it stops.
+  std::function<void(World&)> on_built;
+  std::function<void(World&)> on_finished;
 };
 
 struct FiredEvent {
