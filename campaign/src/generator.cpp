@@ -307,11 +307,15 @@ Scenario generate_world(const Profile& profile, std::uint64_t campaign_seed, std
     first.vehicle = "v1";
     scenario.timeline.push_back({SimTime{0}, "", "", {}, first});
   }
+  // Every episode ends before the liveness window. The bound grows with the largest delay a
+  // link is ever given, so it is taken here with the largest delay the profile can draw.
+  const Micros largest_episode_delay =
+      std::max(profile.delay.max + profile.jitter.max + profile.reorder_extra_delay.max,
+               Micros{profile.latency_limit.max.count() * 12 / 10 / 2});
+  const SimTime latest_end = scenario.duration - liveness_bound(scenario) - 2 * largest_episode_delay;
   const int events = draw.integer(profile.events_min, profile.events_max);
   for (int e = 0; e < events; ++e) {
     const ActionKind kind = weighted_kind(draw, profile);
-    // Drawn with the ends as they stand; every episode ends before the liveness window.
-    const SimTime latest_end = scenario.duration - liveness_bound(scenario);
     if (latest_end <= first_episode_at + Micros{10'000}) break;
     const SimTime at = draw.duration(first_episode_at, latest_end - Micros{10'000});
     timeline.add(kind, at, latest_end);

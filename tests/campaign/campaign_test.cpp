@@ -47,7 +47,6 @@ TEST(Campaign, MergeRefusesAnotherCampaignsShards) {
   const CampaignOptions a = small_campaign(31, {0, 2});
   CampaignOptions b = small_campaign(32, {1, 2});
   b.worlds = 2;
-  a.profile.name = "calm";
   Summary first = summarise(a, CampaignRun{});
   Summary other_seed = summarise(b, CampaignRun{});
   EXPECT_THROW(merge_summaries({first, other_seed}), MergeError);

@@ -89,7 +89,7 @@ TEST(CampaignProfile, MistakesSayWhereAndWhy) {
       {"weights:\n  teleport: 1\n", ":2:3:", "unknown key 'teleport'"},
       {"monitor_share: 2\n", ":1:16:", "[0, 1]"},
       {"duration: [10s\n", ":", "end of sequence"},
-      {"link:\n  delay: [0ms, soon]\n", ":2:17:", "duration"},
+      {"link:\n  delay: [0ms, soon]\n", ":2:16:", "duration"},
   };
   for (const BadProfile& bad : cases) {
     try {
