@@ -21,7 +21,7 @@ std::string duration_text(Micros time) {
 
 namespace {
 
-std::string number_text(double value) {
+std::string shortest_number(double value) {
   char buffer[64];
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
   return std::string(buffer, result.ptr);
@@ -42,21 +42,21 @@ YAML::Node impairments_node(const Impairments& in) {
   out["delay"] = duration_text(in.delay);
   out["jitter"] = duration_text(in.jitter);
   out["jitter_kind"] = std::string(jitter_kind_name(in.jitter_kind));
-  out["loss"] = number_text(in.loss_probability);
+  out["loss"] = shortest_number(in.loss_probability);
   if (in.burst_loss) {
     YAML::Node burst;
-    burst["good_to_bad"] = number_text(in.good_to_bad_probability);
-    burst["bad_to_good"] = number_text(in.bad_to_good_probability);
-    burst["loss_in_good"] = number_text(in.loss_in_good);
-    burst["loss_in_bad"] = number_text(in.loss_in_bad);
+    burst["good_to_bad"] = shortest_number(in.good_to_bad_probability);
+    burst["bad_to_good"] = shortest_number(in.bad_to_good_probability);
+    burst["loss_in_good"] = shortest_number(in.loss_in_good);
+    burst["loss_in_bad"] = shortest_number(in.loss_in_bad);
     out["burst_loss"] = burst;
   } else {
     out["burst_loss"] = false;
   }
-  out["bandwidth_bps"] = number_text(in.bandwidth_bits_per_second);
+  out["bandwidth_bps"] = shortest_number(in.bandwidth_bits_per_second);
   out["queue_limit_bytes"] = in.queue_limit_bytes;
-  out["duplicate"] = number_text(in.duplicate_probability);
-  out["reorder"] = number_text(in.reorder_probability);
+  out["duplicate"] = shortest_number(in.duplicate_probability);
+  out["reorder"] = shortest_number(in.reorder_probability);
   out["reorder_extra_delay"] = duration_text(in.reorder_extra_delay);
   out["down"] = in.down;
   return out;
@@ -67,22 +67,22 @@ void patch_fields(YAML::Node& out, const ImpairmentPatch& p) {
   if (p.delay) out["delay"] = duration_text(*p.delay);
   if (p.jitter) out["jitter"] = duration_text(*p.jitter);
   if (p.jitter_kind) out["jitter_kind"] = std::string(jitter_kind_name(*p.jitter_kind));
-  if (p.loss) out["loss"] = number_text(*p.loss);
+  if (p.loss) out["loss"] = shortest_number(*p.loss);
   if (p.good_to_bad || p.bad_to_good || p.loss_in_good || p.loss_in_bad) {
     // The parser reads a burst_loss map as "burst loss on, with these parameters".
     YAML::Node burst;
-    if (p.good_to_bad) burst["good_to_bad"] = number_text(*p.good_to_bad);
-    if (p.bad_to_good) burst["bad_to_good"] = number_text(*p.bad_to_good);
-    if (p.loss_in_good) burst["loss_in_good"] = number_text(*p.loss_in_good);
-    if (p.loss_in_bad) burst["loss_in_bad"] = number_text(*p.loss_in_bad);
+    if (p.good_to_bad) burst["good_to_bad"] = shortest_number(*p.good_to_bad);
+    if (p.bad_to_good) burst["bad_to_good"] = shortest_number(*p.bad_to_good);
+    if (p.loss_in_good) burst["loss_in_good"] = shortest_number(*p.loss_in_good);
+    if (p.loss_in_bad) burst["loss_in_bad"] = shortest_number(*p.loss_in_bad);
     out["burst_loss"] = burst;
   } else if (p.burst_loss) {
     out["burst_loss"] = *p.burst_loss;
   }
-  if (p.bandwidth_bps) out["bandwidth_bps"] = number_text(*p.bandwidth_bps);
+  if (p.bandwidth_bps) out["bandwidth_bps"] = shortest_number(*p.bandwidth_bps);
   if (p.queue_limit_bytes) out["queue_limit_bytes"] = *p.queue_limit_bytes;
-  if (p.duplicate) out["duplicate"] = number_text(*p.duplicate);
-  if (p.reorder) out["reorder"] = number_text(*p.reorder);
+  if (p.duplicate) out["duplicate"] = shortest_number(*p.duplicate);
+  if (p.reorder) out["reorder"] = shortest_number(*p.reorder);
   if (p.reorder_extra_delay) out["reorder_extra_delay"] = duration_text(*p.reorder_extra_delay);
   if (p.down) out["down"] = *p.down;
 }
@@ -124,9 +124,9 @@ YAML::Node gamepad_node(const GamepadScriptSetting& setting) {
       for (const SineWave& sine : setting.waveform.waves) {
         YAML::Node item;
         item["axis"] = std::string(gamepad_axis_name(sine.axis));
-        item["amplitude"] = number_text(sine.amplitude);
+        item["amplitude"] = shortest_number(sine.amplitude);
         item["period"] = duration_text(sine.period);
-        item["phase"] = number_text(sine.phase_radians);
+        item["phase"] = shortest_number(sine.phase_radians);
         wave["waves"].push_back(item);
       }
       YAML::Node node;
@@ -149,14 +149,14 @@ YAML::Node vehicle_node(const VehicleSpec& spec) {
   out["camera_drop_timeout"] = duration_text(s.camera_drop_timeout);
   out["streamer_slow_threshold"] = duration_text(s.streamer_slow_threshold);
   out["control_period"] = duration_text(s.control_period);
-  out["frame_rate_hz"] = number_text(s.frame_rate_hz);
+  out["frame_rate_hz"] = shortest_number(s.frame_rate_hz);
   out["control_queue_limit"] = s.control_queue_limit;
   out["control_queue_max_age"] = duration_text(s.control_queue_max_age);
   if (s.ack_time_offset != 0) out["ack_time_offset"] = s.ack_time_offset;
   for (const CameraConfig& camera : s.cameras) {
     YAML::Node item;
     item["name"] = camera.name;
-    item["fps"] = number_text(camera.fps);
+    item["fps"] = shortest_number(camera.fps);
     item["drop_detector"] = camera.drop_detector;
     item["frame_size_bytes"] = camera.frame_size_bytes;
     out["cameras"].push_back(item);
@@ -176,7 +176,7 @@ YAML::Node world_node(const Scenario& scenario) {
   YAML::Node out;
   out["fleet"] = world.player.fleet;
   YAML::Node player;
-  player["frame_rate_hz"] = number_text(world.player.frame_rate_hz);
+  player["frame_rate_hz"] = shortest_number(world.player.frame_rate_hz);
   player["no_feedback_timeout"] = duration_text(world.player.no_feedback_timeout);
   player["ping_period"] = duration_text(world.player.ping_period);
   out["player"] = player;
