@@ -39,6 +39,12 @@ function(ocp_unity_build batch_size)
     if(NOT type MATCHES "^(STATIC_LIBRARY|EXECUTABLE)$")
       continue()
     endif()
+    # A target that compiles copies of other targets' sources (tests/campaign_mutants) opts out:
+    # its sources were never batched together anywhere else.
+    get_target_property(no_unity ${target} OCP_NO_UNITY)
+    if(no_unity)
+      continue()
+    endif()
     get_target_property(sources ${target} SOURCES)
     get_target_property(source_dir ${target} SOURCE_DIR)
     set(cpp "")

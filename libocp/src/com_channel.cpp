@@ -1,5 +1,7 @@
 #include "ocp/com_channel.hpp"
 
+#include "ocp/mutants.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -219,6 +221,9 @@ void LinkDirection::deliver(std::uint32_t slot) {
   free_in_flight_.push_back(slot);
   --counters_.in_flight;
   ++counters_.delivered;
+#ifdef OCP_MUTANTS
+  if (mutant_active(Mutant::delivered_counted_twice)) ++counters_.delivered;
+#endif
   counters_.bytes_delivered += size_bytes;
   if (events_.active()) publish(LinkOutcome::delivered, message, size_bytes, message_id);
   if (receiver_) {

@@ -26,8 +26,8 @@ using namespace ocp::scenario;
 
 namespace {
 
-constexpr int exit_pass = cli::exit_ok, exit_fail = cli::exit_failed, exit_error = cli::exit_usage_error,
-              exit_interrupted = cli::exit_interrupted;
+constexpr int exit_pass = ocp::cli::exit_ok, exit_fail = ocp::cli::exit_failed, exit_error = ocp::cli::exit_usage_error,
+              exit_interrupted = ocp::cli::exit_interrupted;
 
 std::vector<std::string> expand(const std::vector<std::string>& inputs) {
   std::vector<std::string> files;
@@ -114,7 +114,7 @@ RunResult run_once(const Scenario& scenario, const ToolOptions& tool, std::uint6
   options.seed = run_seed;
   options.trace = !tool.no_trace;
   options.trace_payloads = tool.trace_payloads;
-  options.interrupted = cli::interrupt_requested;
+  options.interrupted = ocp::cli::interrupt_requested;
   if (!tool.realtime) return run_scenario(scenario, options);
   RealTimeOptions real_time;
   real_time.tcp_port = tool.tcp_port;
@@ -123,7 +123,7 @@ RunResult run_once(const Scenario& scenario, const ToolOptions& tool, std::uint6
     std::fflush(stdout);
   };
   RunResult result = run_scenario_realtime(scenario, options, real_time);
-  cli::install_interrupt_handlers();   // the real-time runner's signal handling put the default action back
+  ocp::cli::install_interrupt_handlers();   // the real-time runner's signal handling put the default action back
   return result;
 }
 
@@ -180,7 +180,7 @@ bool write_run_results(const ToolOptions& tool, const RunReport& report, std::ui
 // progress: its reports (marked interrupted) and those of the finished runs are written.
 int run_every_scenario(const std::vector<Scenario>& scenarios, const ToolOptions& tool) {
   const auto wall_start = std::chrono::steady_clock::now();
-  cli::install_interrupt_handlers();
+  ocp::cli::install_interrupt_handlers();
   std::vector<RunResult> runs;
   runs.reserve(scenarios.size() * tool.repeat);   // RunReport points into it
   std::vector<RunReport> reports;
@@ -203,7 +203,7 @@ int run_every_scenario(const std::vector<Scenario>& scenarios, const ToolOptions
       print_run(report, run_seed, tally);
       if (!write_run_results(tool, report, run_seed)) return exit_error;
       reports.push_back(std::move(report));
-      interrupted = result.interrupted || cli::interrupt_requested();
+      interrupted = result.interrupted || ocp::cli::interrupt_requested();
     }
     if (interrupted) break;
   }

@@ -77,6 +77,7 @@ RunResult run_world(Executor& executor, const Scenario& scenario, const RunOptio
   Observer observer(world, observer_options);
   const SimTime origin = executor.now();
   observer.set_origin(origin);
+  if (options.on_built) options.on_built(world);
   if (auto status = world.start(); !status) {
     throw HarnessError("the world did not start: " + status.error().message());
   }
@@ -94,6 +95,7 @@ RunResult run_world(Executor& executor, const Scenario& scenario, const RunOptio
   const SimTime stopped = std::min(drive(world, origin + scenario.duration), origin + scenario.duration);
   result.ran = stopped - origin;
   result.interrupted = result.ran < scenario.duration;
+  if (options.on_finished) options.on_finished(world);
   ping_sampler.stop();
   if (!link_events) {
     // Message counts for the summary, from the links themselves (no expectation needs them).

@@ -5,6 +5,7 @@
 #include "ocp/frame.hpp"
 #include "ocp/json_codec.hpp"
 #include "ocp/log_limiter.hpp"
+#include "ocp/mutants.hpp"
 #include "streamer_impl.hpp"
 
 namespace ocp {
@@ -34,7 +35,11 @@ void StreamerCore::Impl::summarise_user_data_drops(SimTime now) {
 void StreamerCore::Impl::evaluate_tick_faults(SimTime now) {
   faults.set(FaultId::VehicleNoResponse, vehicle_connection == nullptr);
   // Measured from start when no operator message ever arrived.
-  faults.set(FaultId::NoControlMessage, now - last_operator_arrival > config.no_control_timeout);
+  Micros no_control_timeout = config.no_control_timeout;
+#ifdef OCP_MUTANTS
+  if (mutant_active(Mutant::fault_raised_one_tick_late)) no_control_timeout += config.control_period;
+#endif
+  faults.set(FaultId::NoControlMessage, now - last_operator_arrival > no_control_timeout);
   // The newest valid pair ages with every tick: a loop that stops turning shows it.
   const auto latency = latency_loop.latency(now);
   faults.set(FaultId::HighLatency, latency && *latency > config.latency_limit);
@@ -47,7 +52,11 @@ void StreamerCore::Impl::build_control_message(SimTime now) {
   const FaultSet& active = faults.faults();
   if (!operator_controller) {
     outgoing.controller.reset();  // gamepad disabled: null, also during faults
-  } else if (active.any_control_path()) {
+  } else if (active.any_control_path()
+#ifdef OCP_MUTANTS
+             && !mutant_active(Mutant::default_controller_not_applied)
+#endif
+  ) {
     outgoing.controller = Controller::safe_default();
   } else {
     outgoing.controller = operator_controller;

@@ -1,6 +1,7 @@
 #include "latency_loop.hpp"
 
 #include "ocp/invariant.hpp"
+#include "ocp/mutants.hpp"
 
 namespace ocp::streamer {
 
@@ -23,7 +24,11 @@ ReturnedPairCheck LatencyLoop::check_returned(const std::optional<AckPair>& retu
   if (!mac_.verify(returned->ack_time, returned->ack_time_mac)) return ReturnedPairCheck::invalid;
   const std::uint64_t issued_elapsed_us = returned->ack_time - ack_time_offset_;
   // A reordered older pair must not make the loop look faster than the newest one.
-  if (!newest_valid_elapsed_us_ || issued_elapsed_us > *newest_valid_elapsed_us_) {
+  bool newer = !newest_valid_elapsed_us_ || issued_elapsed_us > *newest_valid_elapsed_us_;
+#ifdef OCP_MUTANTS
+  if (mutant_active(Mutant::stale_pair_accepted)) newer = true;
+#endif
+  if (newer) {
     newest_valid_elapsed_us_ = issued_elapsed_us;
     newest_valid_arrived_at_ = now;
   }

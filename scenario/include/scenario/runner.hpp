@@ -27,8 +27,12 @@ struct RunOptions {
   bool trace = true;                   // record trace.jsonl (frames without payloads)
   bool trace_payloads = false;         // … with every frame's payload bytes
   // Polled while the run goes (every 100 ms of virtual time, every 50 ms of real time): true
-  // stops the run there (Ctrl-C, interrupt.hpp). Empty: never.
+  // stops the run there (Ctrl-C, ocp/interrupt.hpp). Empty: never.
   std::function<bool()> interrupted;
+  // For tools that judge a run from its event stream (ocp_campaign's oracle): called with the
+  // built World before it starts (subscribe here), and at the end before it stops.
+  std::function<void(World&)> on_built;
+  std::function<void(World&)> on_finished;
 };
 
 struct FiredEvent {

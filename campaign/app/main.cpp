@@ -1,0 +1,313 @@
+// ocp_campaign: seeded random worlds against an independent oracle (docs/campaigns.md).
+//   ocp_campaign run   --seed S --worlds N [--profile P] [-j J] [--shard I/N] [--out DIR] [--world I]
+//   ocp_campaign check FILE.yaml          (one scenario file under the oracle: the repro command)
+//   ocp_campaign merge DIR… --out DIR     (shard results → one result, as one run would write it)
+//   ocp_campaign slurm …                  (an sbatch job array of shards, then merge)
+// Exit codes: 0 no failure, 1 a world failed, 2 bad usage or input, 130 interrupted (Ctrl-C).
+#include <CLI/CLI.hpp>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <mutex>
+#include <sstream>
+#include <unistd.h>
+
+#include "campaign/campaign.hpp"
+#include "campaign/failure_files.hpp"
+#include "campaign/generator.hpp"
+#include "campaign/results.hpp"
+#include "campaign/slurm.hpp"
+#include "campaign/world_check.hpp"
+#include "ocp/cli_checks.hpp"
+#include "scenario/parse.hpp"
+
+namespace fs = std::filesystem;
+using namespace ocp::campaign;
+
+namespace {
+
+constexpr int exit_pass = 0, exit_fail = 1, exit_usage = 2, exit_interrupted = 130;
+
+std::atomic<bool> stop_requested{false};
+extern "C" void on_sigint(int) { stop_requested.store(true); }
+
+void write_text(const fs::path& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  if (!out) throw std::runtime_error("cannot write " + path.string());
+}
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot read " + path.string());
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// A profile argument is a shipped profile's name ("default", "calm") or a file.
+Profile resolve_profile(const std::string& argument) {
+  if (argument.find('/') == std::string::npos && argument.find('.') == std::string::npos) {
+    return load_profile(shipped_profile_path(argument));
+  }
+  return load_profile(argument);
+}
+
+// "I/N" with 0 ≤ I < N ≤ 100000.
+std::optional<Shard> parse_shard(const std::string& text, std::string& error) {
+  const auto slash = text.find('/');
+  try {
+    if (slash == std::string::npos) throw std::invalid_argument("no slash");
+    std::size_t used = 0;
+    const unsigned long index = std::stoul(text.substr(0, slash), &used);
+    if (used != slash) throw std::invalid_argument("index");
+    const std::string count_text = text.substr(slash + 1);
+    const unsigned long count = std::stoul(count_text, &used);
+    if (used != count_text.size()) throw std::invalid_argument("count");
+    if (count < 1 || count > 100'000 || index >= count) throw std::out_of_range("range");
+    return Shard{static_cast<std::uint32_t>(index), static_cast<std::uint32_t>(count)};
+  } catch (const std::exception&) {
+    error = "--shard: expected I/N with 0 <= I < N <= 100000, got '" + text + "'";
+    return std::nullopt;
+  }
+}
+
+struct RunCommand {
+  std::uint64_t seed = 1;
+  std::uint64_t worlds = 100;
+  std::string profile = "default";
+  int jobs = 1;
+  std::string shard;
+  std::string out = "campaign-results";
+  std::optional<std::uint64_t> world;
+  bool no_shrink = false;
+  int shrink_runs = 300;
+  int shrink_max = 10;
+  bool quiet = false;
+};
+
+// The shard: --shard, else SLURM_ARRAY_TASK_ID / SLURM_ARRAY_TASK_COUNT, else the whole campaign.
+std::optional<Shard> choose_shard(const RunCommand& command, std::string& error) {
+  if (!command.shard.empty()) return parse_shard(command.shard, error);
+  const char* id = std::getenv("SLURM_ARRAY_TASK_ID");
+  const char* count = std::getenv("SLURM_ARRAY_TASK_COUNT");
+  if (id != nullptr && count != nullptr) {
+    const auto shard = parse_shard(std::string(id) + "/" + count, error);
+    if (!shard) error = "SLURM_ARRAY_TASK_ID/SLURM_ARRAY_TASK_COUNT: expected 0 <= id < count, got " + std::string(id) + "/" + count;
+    return shard;
+  }
+  return Shard{};
+}
+
+class ProgressLine {
+ public:
+  explicit ProgressLine(bool quiet) : quiet_(quiet), tty_(isatty(STDERR_FILENO) != 0) {}
+  void update(const Progress& p) {
+    if (quiet_) return;
+    const auto now = std::chrono::steady_clock::now();
+    const auto every = tty_ ? std::chrono::milliseconds(250) : std::chrono::milliseconds(5000);
+    if (p.done != p.total && now - last_ < every) return;
+    last_ = now;
+    std::fprintf(stderr, "%s%llu/%llu worlds  %.1f worlds/s  %llu failures%s", tty_ ? "\r" : "",
+                 static_cast<unsigned long long>(p.done), static_cast<unsigned long long>(p.total),
+                 p.wall_seconds > 0 ? static_cast<double>(p.done) / p.wall_seconds : 0.0,
+                 static_cast<unsigned long long>(p.failures), tty_ ? "   " : "\n");
+    if (tty_ && p.done == p.total) std::fputc('\n', stderr);
+  }
+  void end() {
+    if (!quiet_ && tty_) std::fputc('\n', stderr);
+  }
+
+ private:
+  bool quiet_, tty_;
+  std::chrono::steady_clock::time_point last_{};
+};
+
+// summary.json, junit.xml and index.html of a summary, in `out`.
+void write_outputs(const Summary& summary, const fs::path& out) {
+  fs::create_directories(out);
+  write_text(out / "summary.json", summary_json(summary));
+  write_text(out / "junit.xml", junit_xml(summary));
+  write_text(out / "index.html", html_index(summary));
+}
+
+int run_command(const RunCommand& command) {
+  Profile profile;
+  try {
+    profile = resolve_profile(command.profile);
+  } catch (const ProfileError& error) {
+    std::cerr << error.what() << "\n";
+    return exit_usage;
+  }
+  std::string error;
+  const auto shard = choose_shard(command, error);
+  if (!shard) {
+    std::cerr << "ocp_campaign run: " << error << "\n";
+    return exit_usage;
+  }
+  if (command.world && *command.world >= command.worlds) {
+    std::cerr << "ocp_campaign run: --world " << *command.world << " is not below --worlds " << command.worlds << "\n";
+    return exit_usage;
+  }
+  CampaignOptions options;
+  options.seed = command.seed;
+  options.worlds = command.worlds;
+  options.profile = profile;
+  options.jobs = command.jobs;
+  options.shard = *shard;
+  options.stop = &stop_requested;
+  std::signal(SIGINT, on_sigint);
+  CampaignRun run;
+  ProgressLine progress(command.quiet);
+  std::mutex progress_mutex;
+  if (command.world) {
+    // One world, for a repro: same generator, same checks.
+    const auto world = generate_world(profile, command.seed, *command.world);
+    WorldOutcome outcome = check_world(world, {true});
+    outcome.index = *command.world;
+    run.outcomes.push_back(outcome);
+    for (const Violation& v : outcome.violations) {
+      std::cout << check_name(v.check) << " at " << v.at.count() << " us " << v.vehicle << ": " << v.detail << "\n";
+    }
+    return outcome.failed() ? exit_fail : exit_pass;
+  }
+  run = run_campaign(options, [&](const Progress& p) { progress.update(p); });
+  progress.end();
+  const Summary summary = summarise(options, run);
+  const fs::path out(command.out);
+  try {
+    write_outputs(summary, out);
+    FailureFilesOptions files{command.out, command.seed, command.worlds, command.profile, !command.no_shrink,
+                              command.shrink_runs};
+    int shrunk = 0;
+    for (const WorldRecord& record : summary.records) {
+      if (!record.failed() || stop_requested.load()) continue;
+      files.shrink = !command.no_shrink && shrunk < command.shrink_max;
+      write_failure_files(profile, record.index, files);
+      ++shrunk;
+    }
+  } catch (const std::exception& failure) {
+    std::cerr << "ocp_campaign run: " << failure.what() << "\n";
+    return exit_usage;
+  }
+  std::cout << summary_table(summary);
+  double simulated = 0;
+  for (const WorldOutcome& outcome : run.outcomes) simulated += static_cast<double>(outcome.duration.count()) / 1e6;
+  std::printf("%zu worlds in %.2f s wall (%.1f worlds/s), %.2f s CPU, %.0f simulated s per CPU s\n", run.outcomes.size(),
+              run.wall_seconds, run.wall_seconds > 0 ? static_cast<double>(run.outcomes.size()) / run.wall_seconds : 0.0,
+              run.cpu_seconds, run.cpu_seconds > 0 ? simulated / run.cpu_seconds : 0.0);
+  std::cout << "results: " << (out / "index.html").string() << "\n";
+  if (run.interrupted || stop_requested.load()) {
+    std::cout << "interrupted\n";
+    return exit_interrupted;
+  }
+  for (const WorldRecord& record : summary.records) {
+    if (record.failed()) return exit_fail;
+  }
+  return exit_pass;
+}
+
+int check_command(const std::string& file) {
+  ocp::scenario::Scenario scenario;
+  try {
+    scenario = ocp::scenario::load_scenario(file);
+  } catch (const ocp::scenario::ScenarioError& error) {
+    std::cerr << error.what() << "\n";
+    return exit_usage;
+  }
+  const WorldOutcome outcome = check_world(scenario, {true});
+  if (!outcome.error.empty()) {
+    std::cerr << file << ": " << outcome.error << "\n";
+    return exit_usage;
+  }
+  for (const Violation& v : outcome.violations) {
+    std::cout << check_name(v.check) << " at " << v.at.count() << " us" << (v.vehicle.empty() ? "" : " on " + v.vehicle)
+              << ": " << v.detail << "\n";
+  }
+  std::cout << file << ": " << (outcome.failed() ? "FAIL" : "pass") << " (" << outcome.violation_count << " violations)\n";
+  return outcome.failed() ? exit_fail : exit_pass;
+}
+
+int merge_command(const std::vector<std::string>& inputs, const std::string& out_dir) {
+  std::vector<Summary> shards;
+  try {
+    for (const std::string& input : inputs) {
+      const fs::path path = fs::is_directory(input) ? fs::path(input) / "summary.json" : fs::path(input);
+      shards.push_back(read_summary_json(read_text(path), path.string()));
+    }
+    const Summary merged = merge_summaries(shards);
+    const fs::path out(out_dir);
+    write_outputs(merged, out);
+    // Each failure's folder, from the shard that ran it.
+    for (const std::string& input : inputs) {
+      const fs::path dir = fs::is_directory(input) ? fs::path(input) : fs::path(input).parent_path();
+      if (fs::exists(dir / "failures") && fs::weakly_canonical(dir) != fs::weakly_canonical(out)) {
+        fs::create_directories(out / "failures");
+        fs::copy(dir / "failures", out / "failures", fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+      }
+    }
+    std::cout << summary_table(merged);
+    for (const WorldRecord& record : merged.records) {
+      if (record.failed()) return exit_fail;
+    }
+    return merged.interrupted ? exit_interrupted : exit_pass;
+  } catch (const MergeError& error) {
+    std::cerr << "ocp_campaign merge: " << error.what() << "\n";
+    return exit_usage;
+  } catch (const std::exception& error) {
+    std::cerr << "ocp_campaign merge: " << error.what() << "\n";
+    return exit_usage;
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"ocp_campaign: seeded random worlds against an independent oracle (docs/campaigns.md)"};
+  app.require_subcommand(1);
+  RunCommand run;
+  CLI::App* run_app = app.add_subcommand("run", "run a campaign (or one shard of it)");
+  run_app->add_option("--seed", run.seed, "campaign seed")->check(ocp::cli::whole())->capture_default_str();
+  run_app->add_option("--worlds", run.worlds, "worlds in the campaign")->check(ocp::cli::whole(1, 10'000'000))->capture_default_str();
+  run_app->add_option("--profile", run.profile, "generator profile: default, calm, or a YAML file")->capture_default_str();
+  run_app->add_option("-j,--jobs", run.jobs, "worker threads")->check(CLI::Range(1, 256))->capture_default_str();
+  run_app->add_option("--shard", run.shard, "run shard I of N (worlds i with i % N == I); default from SLURM_ARRAY_TASK_ID/COUNT");
+  run_app->add_option("--out", run.out, "results folder")->capture_default_str();
+  run_app->add_option("--world", run.world, "run only this world (a repro) and print its violations");
+  run_app->add_flag("--no-shrink", run.no_shrink, "do not shrink failing worlds");
+  run_app->add_option("--shrink-runs", run.shrink_runs, "world runs allowed per shrink")->check(CLI::Range(1, 100'000))->capture_default_str();
+  run_app->add_option("--shrink-max", run.shrink_max, "failing worlds to shrink (the rest get world.yaml only)")
+      ->check(CLI::Range(0, 100'000))->capture_default_str();
+  run_app->add_flag("-q,--quiet", run.quiet, "no progress line");
+
+  std::string check_file;
+  CLI::App* check_app = app.add_subcommand("check", "run one scenario file under the oracle (exit 1 on a violation)");
+  check_app->add_option("file", check_file, "scenario YAML (e.g. a shrunk.yaml)")->required();
+
+  std::vector<std::string> merge_inputs;
+  std::string merge_out = "campaign-results";
+  CLI::App* merge_app = app.add_subcommand("merge", "join shard results into one summary, JUnit file and HTML index");
+  merge_app->add_option("shards", merge_inputs, "shard result folders (or their summary.json)")->required();
+  merge_app->add_option("--out", merge_out, "merged results folder")->capture_default_str();
+
+  SlurmOptions slurm;
+  CLI::App* slurm_app = app.add_subcommand("slurm", "run the campaign as an sbatch job array, wait, and merge");
+  add_slurm_options(*slurm_app, slurm);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    const int code = app.exit(error);
+    return code == 0 ? 0 : exit_usage;
+  }
+  if (run_app->parsed()) return run_command(run);
+  if (check_app->parsed()) return check_command(check_file);
+  if (merge_app->parsed()) return merge_command(merge_inputs, merge_out);
+  if (slurm_app->parsed()) return run_slurm(slurm);
+  return exit_usage;
+}

@@ -1,0 +1,23 @@
+#pragma once
+// The files of one failing world (failures/world-<i>/ under the results folder): world.yaml
+// (the generated world as it ran), shrunk.yaml (the shrunk regression scenario with its
+// repro command) and report.html (the scenario runner's report of the shrunk world).
+#include <string>
+
+#include "campaign/profile.hpp"
+
+namespace ocp::campaign {
+
+struct FailureFilesOptions {
+  std::string out_dir;
+  std::uint64_t campaign_seed = 0;
+  std::uint64_t worlds = 0;
+  std::string profile_argument;   // as the user gave it, for the repro command
+  bool shrink = true;
+  int shrink_runs = 300;
+};
+
+// Writes the folder for world `index`. Returns the shrunk world's timeline size (−1: not shrunk).
+int write_failure_files(const Profile& profile, std::uint64_t index, const FailureFilesOptions& options);
+
+}  // namespace ocp::campaign

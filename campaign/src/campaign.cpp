@@ -1,0 +1,71 @@
+// The campaign runner (campaign.hpp): workers pull world indices from one counter.
+#include "campaign/campaign.hpp"
+
+#include <chrono>
+#include <mutex>
+#include <thread>
+
+#include "campaign/generator.hpp"
+#include "world/seeds.hpp"
+
+namespace ocp::campaign {
+
+bool determinism_sampled(const Profile& profile, std::uint64_t campaign_seed, std::uint64_t index) {
+  const std::uint64_t draw = derive_seed(campaign_seed, "determinism:" + std::to_string(index));
+  return static_cast<double>(draw >> 11) * 0x1.0p-53 < profile.determinism_share;
+}
+
+CampaignRun run_campaign(const CampaignOptions& options, const std::function<void(const Progress&)>& on_progress) {
+  const auto wall_start = std::chrono::steady_clock::now();
+  std::vector<std::uint64_t> indices;
+  for (std::uint64_t i = 0; i < options.worlds; ++i) {
+    if (options.shard.contains(i)) indices.push_back(i);
+  }
+  std::vector<WorldOutcome> outcomes(indices.size());
+  std::vector<bool> finished(indices.size(), false);
+  std::atomic<std::size_t> next{0};
+  std::mutex mutex;
+  Progress progress;
+  progress.total = indices.size();
+  bool interrupted = false;
+
+  auto worker = [&] {
+    for (;;) {
+      if (options.stop != nullptr && options.stop->load()) {
+        const std::lock_guard lock(mutex);
+        interrupted = true;
+        return;
+      }
+      const std::size_t slot = next.fetch_add(1);
+      if (slot >= indices.size()) return;
+      const std::uint64_t index = indices[slot];
+      const scenario::Scenario world = generate_world(options.profile, options.seed, index);
+      WorldOutcome outcome = check_world(world, {determinism_sampled(options.profile, options.seed, index)});
+      outcome.index = index;
+      const std::lock_guard lock(mutex);
+      outcomes[slot] = std::move(outcome);
+      finished[slot] = true;
+      ++progress.done;
+      if (outcomes[slot].failed()) ++progress.failures;
+      progress.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+      if (on_progress) on_progress(progress);
+    }
+  };
+  const int jobs = std::max(1, options.jobs);
+  std::vector<std::thread> threads;
+  for (int j = 1; j < jobs; ++j) threads.emplace_back(worker);
+  worker();
+  for (std::thread& thread : threads) thread.join();
+
+  CampaignRun run;
+  run.interrupted = interrupted && progress.done < progress.total;
+  for (std::size_t slot = 0; slot < indices.size(); ++slot) {
+    if (!finished[slot]) continue;
+    run.cpu_seconds += outcomes[slot].cpu_seconds;
+    run.outcomes.push_back(std::move(outcomes[slot]));
+  }
+  run.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  return run;
+}
+
+}  // namespace ocp::campaign

@@ -1,0 +1,59 @@
+// A failing world's folder (failure_files.hpp).
+#include "campaign/failure_files.hpp"
+
+#include <filesystem>
+#include <fstream>
+
+#include "campaign/generator.hpp"
+#include "campaign/shrink.hpp"
+#include "campaign/world_check.hpp"
+#include "scenario/reports.hpp"
+#include "scenario/verdicts.hpp"
+#include "scenario/write.hpp"
+
+namespace ocp::campaign {
+
+namespace {
+
+void write_text(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  if (!out) throw std::runtime_error("cannot write " + path.string());
+}
+
+// A generated world has no expectations; a scenario file must have one.
+scenario::Scenario with_placeholder_expectation(scenario::Scenario world) {
+  if (world.expectations.empty()) {
+    world.expectations.push_back(
+        {"", {}, scenario::InvariantExpectation{scenario::Invariant::default_controller_during_control_fault}});
+  }
+  return world;
+}
+
+}  // namespace
+
+int write_failure_files(const Profile& profile, std::uint64_t index, const FailureFilesOptions& options) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(options.out_dir) / ("failures/world-" + std::to_string(index));
+  fs::create_directories(dir);
+  const scenario::Scenario world = generate_world(profile, options.campaign_seed, index);
+  const std::string replay = "ocp_campaign run --seed " + std::to_string(options.campaign_seed) + " --worlds " +
+                             std::to_string(options.worlds) + " --profile " + options.profile_argument + " --world " +
+                             std::to_string(index);
+  write_text(dir / "world.yaml",
+             scenario::write_scenario_yaml(with_placeholder_expectation(world), "World " + std::to_string(index) +
+                                                                                    " as generated.\nReplay: " + replay));
+  const WorldOutcome outcome = check_world(world, {true});
+  if (outcome.violations.empty() || !options.shrink) return -1;
+  const ShrinkResult shrunk = shrink(world, ShrinkTarget::of(outcome.violations.front()), options.shrink_runs);
+  const std::string shrunk_path = (dir / "shrunk.yaml").string();
+  write_text(dir / "shrunk.yaml", regression_yaml(shrunk, "ocp_campaign check " + shrunk_path));
+  // The scenario runner's own report of the shrunk world, as for any scenario.
+  scenario::Scenario report_world = with_placeholder_expectation(shrunk.scenario);
+  const scenario::RunResult run = run_for_report(report_world);
+  scenario::RunReport report{&report_world, &run, scenario::evaluate(report_world, run), "ocp_campaign check " + shrunk_path};
+  write_text(dir / "report.html", scenario::report_html(report, scenario::summary_json(report)));
+  return static_cast<int>(shrunk.scenario.timeline.size());
+}
+
+}  // namespace ocp::campaign

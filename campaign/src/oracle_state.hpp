@@ -1,0 +1,71 @@
+#pragma once
+// The oracle's per-vehicle and per-link-direction state (oracle.cpp, oracle_faults.cpp).
+#include <deque>
+#include <optional>
+#include <unordered_set>
+
+#include "campaign/oracle.hpp"
+#include "campaign/world_facts.hpp"
+
+namespace ocp::campaign {
+
+// Faults as a bit set of the oracle's own (the cores' FaultSet is theirs).
+struct FaultBits {
+  std::uint32_t bits = 0;
+  void set(FaultId id, bool on) {
+    const std::uint32_t bit = 1u << static_cast<unsigned>(id);
+    bits = on ? (bits | bit) : (bits & ~bit);
+  }
+  bool has(FaultId id) const { return (bits & (1u << static_cast<unsigned>(id))) != 0; }
+  bool empty() const { return bits == 0; }
+};
+
+// SPEC §3.2 Decision, restated here rather than taken from the cores.
+inline bool oracle_control_path(FaultId id) {
+  return id == FaultId::NoControlMessage || id == FaultId::HighLatency || id == FaultId::InvalidMac ||
+         id == FaultId::OperatorStationHasError || id == FaultId::ControlThreadChannelSlow;
+}
+
+struct IssuedPair {
+  SimTime issued{0};
+  std::uint64_t ack_time = 0;
+  std::uint32_t mac = 0;
+  bool echoed_with_mac = false;   // the vehicle sent it back byte-exact
+};
+
+struct CameraWatch {
+  std::string name;
+  Micros frame_period{0};
+  std::vector<Window> stalls;
+  std::vector<bool> certain;   // no other window of this camera ends inside it
+};
+
+struct Oracle::LinkTally {
+  std::uint64_t sent = 0, delivered = 0, dropped = 0;
+  std::unordered_set<std::uint64_t> in_flight;
+  std::uint64_t last_sent = 0, last_delivered = 0;
+  SimTime last_delivered_at{-1};
+  bool duplicates_possible = false;
+};
+
+struct Oracle::VehicleState {
+  std::string name;
+  const VehicleSpec* spec = nullptr;
+  FaultBits reported_vehicle, reported_operator;
+  bool connected = false;
+  bool had_close = false;
+  SimTime connection_opened{0};
+  std::optional<SimTime> last_control_delivered, last_feedback_delivered;
+  std::deque<IssuedPair> issued;            // in issue order, bounded
+  std::optional<SimTime> newest_accepted;   // issue time of the newest pair a sample implies
+  std::optional<std::uint64_t> last_latency_ms;
+  std::vector<Window> control_stalls, frame_stalls;
+  std::vector<CameraWatch> cameras;
+  bool liveness_done = false;
+  bool misbehaving_at_end = false;          // the timeline leaves a misbehaviour on
+  Impairments start_to_streamer, start_to_player, now_to_streamer, now_to_player;
+  LinkTally links[2];                       // by LinkRoute
+  bool conservation_broken[2] = {false, false};
+};
+
+}  // namespace ocp::campaign

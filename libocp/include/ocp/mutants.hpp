@@ -1,0 +1,24 @@
+#pragma once
+// Mutants: deliberately broken core behaviours, one switched on per test, that the campaign
+// oracle (campaign/src/oracle*.cpp) must catch (issue #21: "every invariant can fail").
+//
+// Compiled in only with -DOCP_MUTANTS. No library or executable of the project sets it: the
+// mutant test target (tests/campaign_mutants) compiles its own copies of the few core sources
+// that carry a mutant site, with the define, and defines active_mutant(). Release binaries and
+// every other test contain none of this.
+namespace ocp {
+
+enum class Mutant {
+  none,
+  fault_raised_one_tick_late,       // NoControlMessage raised one control period late
+  default_controller_not_applied,   // control-path faults let the operator's controller through
+  stale_pair_accepted,              // an older returned pair replaces the newest valid one
+  delivered_counted_twice,          // a link counts each delivery twice
+};
+
+#ifdef OCP_MUTANTS
+Mutant& active_mutant();   // the one switched on (tests/campaign_mutants defines it)
+inline bool mutant_active(Mutant mutant) { return active_mutant() == mutant; }
+#endif
+
+}  // namespace ocp

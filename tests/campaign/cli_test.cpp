@@ -1,0 +1,120 @@
+// ocp_campaign's command line (issue #21): every option has a range, a bad value or a bad
+// profile is a clear error and exit 2; a profile error says file:line:column.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include "campaign/profile.hpp"
+
+namespace ocp::campaign {
+namespace {
+
+struct Ran {
+  int code = -1;
+  std::string output;
+};
+
+Ran run(const std::string& arguments) {
+  Ran ran;
+  const std::string command = std::string(OCP_CAMPAIGN_PATH) + " " + arguments + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  char buffer[4096];
+  while (const std::size_t n = std::fread(buffer, 1, sizeof buffer, pipe)) ran.output.append(buffer, n);
+  const int status = pclose(pipe);
+  ran.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return ran;
+}
+
+struct BadArguments {
+  const char* arguments;
+  const char* says;
+};
+
+TEST(CampaignCli, BadValuesExitTwo) {
+  const BadArguments cases[] = {
+      {"run --worlds 0", "--worlds"},
+      {"run --worlds many", "--worlds"},
+      {"run -j 0", "--jobs"},
+      {"run -j 1000", "--jobs"},
+      {"run --seed -1", "--seed"},
+      {"run --shard 4/4", "--shard"},
+      {"run --shard 1", "--shard"},
+      {"run --shard 0/0", "--shard"},
+      {"run --profile nonexistent", "cannot read"},
+      {"run --worlds 5 --world 5", "--world"},
+      {"run --shrink-runs 0", "--shrink-runs"},
+      {"merge /nonexistent-dir", "cannot read"},
+      {"check /nonexistent.yaml", "cannot read"},
+      {"slurm --tasks 0", "--tasks"},
+      {"slurm --poll 0", "--poll"},
+      {"frobnicate", ""},
+  };
+  for (const BadArguments& bad : cases) {
+    const Ran ran = run(bad.arguments);
+    EXPECT_EQ(ran.code, 2) << bad.arguments << "\n" << ran.output;
+    EXPECT_NE(ran.output.find(bad.says), std::string::npos) << bad.arguments << "\n" << ran.output;
+  }
+}
+
+TEST(CampaignCli, HelpOnEverySubcommand) {
+  for (const char* command : {"--help", "run --help", "check --help", "merge --help", "slurm --help"}) {
+    const Ran ran = run(command);
+    EXPECT_EQ(ran.code, 0) << command;
+    EXPECT_NE(ran.output.find("Usage"), std::string::npos) << command;
+  }
+}
+
+TEST(CampaignCli, SlurmPrintOnlyWritesAnArrayScript) {
+  const Ran ran = run("slurm --print-only --seed 5 --worlds 200 --tasks 4 --out /tmp/x");
+  EXPECT_EQ(ran.code, 0) << ran.output;
+  EXPECT_NE(ran.output.find("#SBATCH --array=0-3"), std::string::npos) << ran.output;
+  EXPECT_NE(ran.output.find("run --seed 5 --worlds 200"), std::string::npos) << ran.output;
+}
+
+struct BadProfile {
+  const char* text;
+  const char* position;
+  const char* says;
+};
+
+TEST(CampaignProfile, MistakesSayWhereAndWhy) {
+  const BadProfile cases[] = {
+      {"duration: [10s, 5s]\n", ":1:11:", "min > max"},
+      {"vehicles: [0, 4]\n", ":1:11:", "out of range"},
+      {"colour: red\n", ":1:1:", "unknown key 'colour'"},
+      {"timers:\n  latency_limit: [1ms, 1s]\n", ":2:18:", "out of range"},
+      {"weights:\n  impair: -1\n", ":2:11:", "weight out of range"},
+      {"weights:\n  teleport: 1\n", ":2:3:", "unknown key 'teleport'"},
+      {"monitor_share: 2\n", ":1:16:", "[0, 1]"},
+      {"duration: [10s\n", ":", "end of sequence"},
+      {"link:\n  delay: [0ms, soon]\n", ":2:16:", "duration"},
+  };
+  for (const BadProfile& bad : cases) {
+    try {
+      parse_profile(bad.text, "p.yaml");
+      ADD_FAILURE() << "accepted: " << bad.text;
+    } catch (const ProfileError& error) {
+      const std::string message = error.what();
+      EXPECT_EQ(message.rfind("p.yaml", 0), 0u) << message;
+      EXPECT_NE(message.find(bad.position), std::string::npos) << bad.text << " → " << message;
+      EXPECT_NE(message.find(bad.says), std::string::npos) << bad.text << " → " << message;
+    }
+  }
+  // Through the tool: exit 2, the position on the line.
+  const std::string path = testing::TempDir() + "bad_profile.yaml";
+  std::ofstream(path) << "vehicles: [1, 99]\n";
+  const Ran ran = run("run --worlds 1 --profile " + path);
+  EXPECT_EQ(ran.code, 2);
+  EXPECT_NE(ran.output.find(path + ":1:11: out of range"), std::string::npos) << ran.output;
+}
+
+TEST(CampaignProfile, ShippedProfilesLoad) {
+  EXPECT_EQ(load_profile(shipped_profile_path("default")).name, "default");
+  EXPECT_EQ(load_profile(shipped_profile_path("calm")).name, "calm");
+  EXPECT_NE(load_profile(shipped_profile_path("default")).digest, load_profile(shipped_profile_path("calm")).digest);
+}
+
+}  // namespace
+}  // namespace ocp::campaign

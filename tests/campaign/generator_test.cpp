@@ -1,0 +1,94 @@
+// The world generator and the scenario YAML writer (issue #21): the same campaign seed gives
+// the same worlds; a generated world written as YAML parses back to the same world; worlds
+// stay inside their profile's ranges and use every action kind.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <set>
+
+#include "campaign/generator.hpp"
+#include "campaign/world_facts.hpp"
+#include "scenario/parse.hpp"
+#include "scenario/write.hpp"
+
+namespace ocp::campaign {
+namespace {
+
+// A generated world has no expectation; a scenario file needs one.
+scenario::Scenario with_expectation(scenario::Scenario world) {
+  world.expectations.push_back(
+      {"", {}, scenario::InvariantExpectation{scenario::Invariant::default_controller_during_control_fault}});
+  return world;
+}
+
+TEST(CampaignGenerator, SameSeedSameWorlds) {
+  const Profile profile = load_profile(shipped_profile_path("default"));
+  for (std::uint64_t index = 0; index < 20; ++index) {
+    EXPECT_EQ(scenario::write_scenario_yaml(with_expectation(generate_world(profile, 42, index))),
+              scenario::write_scenario_yaml(with_expectation(generate_world(profile, 42, index))));
+  }
+  EXPECT_NE(scenario::write_scenario_yaml(with_expectation(generate_world(profile, 42, 0))),
+            scenario::write_scenario_yaml(with_expectation(generate_world(profile, 43, 0))));
+  EXPECT_NE(world_seed(42, 0), world_seed(42, 1));
+}
+
+TEST(CampaignGenerator, WrittenWorldParsesBackToTheSameWorld) {
+  const Profile profile = load_profile(shipped_profile_path("default"));
+  for (std::uint64_t index = 0; index < 50; ++index) {
+    const std::string first = scenario::write_scenario_yaml(with_expectation(generate_world(profile, 9, index)));
+    const scenario::Scenario parsed = scenario::parse_scenario(first, "world.yaml");
+    EXPECT_EQ(scenario::write_scenario_yaml(parsed), first) << "world " << index;
+  }
+}
+
+TEST(CampaignGenerator, WorldsStayInTheirRangesAndUseEveryAction) {
+  const Profile profile = load_profile(shipped_profile_path("default"));
+  std::set<std::size_t> actions;
+  bool monitor = false, fleet = false;
+  for (std::uint64_t index = 0; index < 300; ++index) {
+    const scenario::Scenario world = generate_world(profile, 5, index);
+    EXPECT_GE(world.duration, profile.duration.min);
+    EXPECT_LE(world.duration, profile.duration.max);
+    EXPECT_GE(world.world.vehicles.size(), 1u);
+    EXPECT_LE(world.world.vehicles.size(), 4u);
+    EXPECT_FALSE(world.world.vehicles.front().monitor);
+    fleet = fleet || world.world.vehicles.size() > 1;
+    for (const VehicleSpec& spec : world.world.vehicles) {
+      monitor = monitor || spec.monitor;
+      EXPECT_GE(spec.streamer.latency_limit, profile.latency_limit.min);
+      EXPECT_LE(spec.streamer.latency_limit, profile.latency_limit.max);
+    }
+    for (const scenario::TimelineEvent& event : world.timeline) {
+      actions.insert(event.action.index());
+      EXPECT_LT(event.at, world.duration - liveness_bound(world) + Micros{1});
+    }
+  }
+  EXPECT_TRUE(monitor);
+  EXPECT_TRUE(fleet);
+  EXPECT_EQ(actions.size(), std::variant_size_v<scenario::Action>);
+}
+
+// Besides a fleet's first selection at 0 s, which every fleet world needs.
+TEST(CampaignGenerator, CalmProfileHasImpairmentsOnly) {
+  const Profile profile = load_profile(shipped_profile_path("calm"));
+  for (std::uint64_t index = 0; index < 100; ++index) {
+    for (const scenario::TimelineEvent& event : generate_world(profile, 5, index).timeline) {
+      const bool first_selection = std::holds_alternative<scenario::SelectVehicle>(event.action) && event.at == SimTime{0};
+      EXPECT_TRUE(std::holds_alternative<scenario::SetImpairments>(event.action) || first_selection);
+    }
+  }
+}
+
+// Every library scenario survives a write and a parse (the writer knows the whole format).
+TEST(CampaignGenerator, LibraryScenariosRoundTrip) {
+  for (const auto& entry : std::filesystem::directory_iterator(OCP_SCENARIO_LIBRARY_DIR)) {
+    const scenario::Scenario original = scenario::load_scenario(entry.path().string());
+    const std::string written = scenario::write_scenario_yaml(original);
+    const scenario::Scenario parsed = scenario::parse_scenario(written, entry.path().filename().string());
+    EXPECT_EQ(scenario::write_scenario_yaml(parsed), written) << entry.path();
+    EXPECT_EQ(parsed.expectations.size(), original.expectations.size()) << entry.path();
+  }
+}
+
+}  // namespace
+}  // namespace ocp::campaign
