@@ -6,9 +6,7 @@
 // Exit codes: 0 no failure, 1 a world failed, 2 bad usage or input, 130 interrupted (Ctrl-C).
 #include <CLI/CLI.hpp>
 
-#include <atomic>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -24,6 +22,8 @@
 #include "campaign/slurm.hpp"
 #include "campaign/world_check.hpp"
 #include "ocp/cli_checks.hpp"
+#include "ocp/exit_codes.hpp"
+#include "ocp/interrupt.hpp"
 #include "scenario/parse.hpp"
 
 namespace fs = std::filesystem;
@@ -31,10 +31,9 @@ using namespace ocp::campaign;
 
 namespace {
 
-constexpr int exit_pass = 0, exit_fail = 1, exit_usage = 2, exit_interrupted = 130;
+constexpr int exit_pass = ocp::cli::exit_ok, exit_fail = ocp::cli::exit_failed, exit_usage = ocp::cli::exit_usage_error,
+              exit_interrupted = ocp::cli::exit_interrupted;
 
-std::atomic<bool> stop_requested{false};
-extern "C" void on_sigint(int) { stop_requested.store(true); }
 
 void write_text(const fs::path& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
@@ -160,8 +159,8 @@ int run_command(const RunCommand& command) {
   options.profile = profile;
   options.jobs = command.jobs;
   options.shard = *shard;
-  options.stop = &stop_requested;
-  std::signal(SIGINT, on_sigint);
+  options.stop = ocp::cli::interrupt_requested;
+  ocp::cli::install_interrupt_handlers();
   CampaignRun run;
   ProgressLine progress(command.quiet);
   std::mutex progress_mutex;
@@ -186,7 +185,7 @@ int run_command(const RunCommand& command) {
                               command.shrink_runs};
     int shrunk = 0;
     for (const WorldRecord& record : summary.records) {
-      if (!record.failed() || stop_requested.load()) continue;
+      if (!record.failed() || ocp::cli::interrupt_requested()) continue;
       files.shrink = !command.no_shrink && shrunk < command.shrink_max;
       write_failure_files(profile, record.index, files);
       ++shrunk;
@@ -202,7 +201,7 @@ int run_command(const RunCommand& command) {
               run.wall_seconds, run.wall_seconds > 0 ? static_cast<double>(run.outcomes.size()) / run.wall_seconds : 0.0,
               run.cpu_seconds, run.cpu_seconds > 0 ? simulated / run.cpu_seconds : 0.0);
   std::cout << "results: " << (out / "index.html").string() << "\n";
-  if (run.interrupted || stop_requested.load()) {
+  if (run.interrupted || ocp::cli::interrupt_requested()) {
     std::cout << "interrupted\n";
     return exit_interrupted;
   }

@@ -31,7 +31,7 @@ CampaignRun run_campaign(const CampaignOptions& options, const std::function<voi
 
   auto worker = [&] {
     for (;;) {
-      if (options.stop != nullptr && options.stop->load()) {
+      if (options.stop && options.stop()) {
         const std::lock_guard lock(mutex);
         interrupted = true;
         return;

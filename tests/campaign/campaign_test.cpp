@@ -66,7 +66,7 @@ TEST(Campaign, ShardsSplitTheWorlds) {
 TEST(Campaign, StopKeepsFinishedWorlds) {
   CampaignOptions options = small_campaign(41);
   std::atomic<bool> stop{false};
-  options.stop = &stop;
+  options.stop = [&stop] { return stop.load(); };
   options.jobs = 1;
   const CampaignRun run = run_campaign(options, [&](const Progress& progress) {
     if (progress.done == 3) stop.store(true);

@@ -24,7 +24,7 @@ struct CampaignOptions {
   Profile profile;
   int jobs = 1;
   Shard shard;
-  const std::atomic<bool>* stop = nullptr;   // set: take no new world
+  std::function<bool()> stop;   // true: take no new world (Ctrl-C)
 };
 
 struct Progress {
