@@ -10,6 +10,10 @@
 # ocp_unity_build(BATCH_SIZE) batches every library and executable target of the project with
 # two or more C++ sources, after all targets exist. A batch's sources share one translation
 # unit, so a source must not reuse another source's file-local name in the same target.
+#
+# A source listed in the global property OCP_UNITY_SOLO_SOURCES is never batched: a target
+# that compiles its own copy of it (tests/campaign_mutants) must be able to stand in for that
+# one object of the library, which a batch holding other sources would not let the linker do.
 
 function(_ocp_targets_in directory out_var)
   get_property(targets DIRECTORY ${directory} PROPERTY BUILDSYSTEM_TARGETS)
@@ -47,13 +51,16 @@ function(ocp_unity_build batch_size)
     endif()
     get_target_property(sources ${target} SOURCES)
     get_target_property(source_dir ${target} SOURCE_DIR)
+    get_property(solo_sources GLOBAL PROPERTY OCP_UNITY_SOLO_SOURCES)
     set(cpp "")
     set(others "")
     foreach(source IN LISTS sources)
       if(NOT IS_ABSOLUTE ${source})
         set(source ${source_dir}/${source})
       endif()
-      if(source MATCHES "\\.cpp$")
+      if(source IN_LIST solo_sources)
+        list(APPEND others ${source})   # its own object: see OCP_UNITY_SOLO_SOURCES below
+      elseif(source MATCHES "\\.cpp$")
         list(APPEND cpp ${source})
       else()
         list(APPEND others ${source})
