@@ -39,6 +39,7 @@ void PlayerCore::Impl::on_client_data(ClientSource source, const ClientOcpShared
     return;
   }
   if (!was_locked && events.active()) publish(SourceLocked{source});
+  if (source == ClientSource::tcp) tcp_lock_without_client_logged = false;   // a tcp client took over
   apply_client_data(source, data);
 }
 
@@ -210,6 +211,11 @@ void PlayerCore::Impl::on_client_closed(const CloseReason& reason) {
   last_client_close_reason = reason;
   client_too_large.reset();   // nothing is sent without a client
   client.reset();  // the connection keeps itself alive until its callback returns
+  if (source_lock.locked() == ClientSource::tcp && !source_lock.stopped() && !tcp_lock_without_client_logged) {
+    tcp_lock_without_client_logged = true;
+    logger.warn("{} (the lock stays with the tcp source: a new TCP client may take over, nothing else may)",
+                tcp_lock_without_client_text);
+  }
 }
 
 }  // namespace ocp
