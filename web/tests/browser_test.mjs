@@ -133,17 +133,24 @@ async function stopPlayerSim(sim) {
   return sim.child.exitCode;
 }
 
-// A :4001 operator client that sends one ClientOcpShared with user data (locks the tcp source).
+// A :4001 operator client that sends one ClientOcpShared with user data (locks the tcp source),
+// then keep-alives (SPEC §4.2) so that the 2 s read timeout does not close it before it leaves.
 function lockWithTcpClient(port) {
+  const frame = (message) => {
+    const body = Buffer.from(JSON.stringify(message));
+    const header = Buffer.alloc(4);
+    header.writeUInt32LE(body.length, 0);
+    return Buffer.concat([header, body]);
+  };
   return new Promise((resolve, reject) => {
     const socket = net.connect({ host: "127.0.0.1", port }, () => {
-      const body = Buffer.from(JSON.stringify({ client_user_data: { "truck-1": { user_data: { from: "tcp" } } } }));
-      const header = Buffer.alloc(4);
-      header.writeUInt32LE(body.length, 0);
-      socket.write(Buffer.concat([header, body]));
+      socket.write(frame({ client_user_data: { "truck-1": { user_data: { from: "tcp" } } } }));
+      const keepAlive = setInterval(() => socket.write(frame({})), 500);
+      socket.on("close", () => clearInterval(keepAlive));
       resolve(socket);
     });
     socket.on("data", () => {});
+    socket.on("error", () => {});
     socket.once("error", reject);
   });
 }
@@ -159,18 +166,18 @@ async function dashboardScenario(browser) {
   const page = await browser.newPage({ viewport: { width: 1500, height: 1300 } });
   const problems = watchPage(page);
   await page.goto(`http://127.0.0.1:${sim.webview}/dashboard/`);
-  const latency = page.locator('[data-vehicle="truck-1"] .latency');
+  const latency = page.locator('#vehicles [data-vehicle="truck-1"] .latency');
   await waitFor("a latency on truck-1's card", async () => /^\d+ ms$/.test(await latency.textContent()));
   const first = await latency.textContent();
   check(true, `dashboard shows truck-1 latency (${first})`);
-  check(await page.locator('[data-vehicle="truck-2"]').count() === 1, "dashboard has a card for truck-2");
+  check(await page.locator('#vehicles [data-vehicle="truck-2"]').count() === 1, "dashboard has a card for truck-2");
   await waitFor("the chart to gather samples",
                 () => page.evaluate(() => window.dashboard.vehicles.get("truck-1").series[0].length > 20));
   check(true, "latency chart is being fed");
-  const receiverFaults = await page.locator('[data-vehicle="truck-1"] .receiver-faults').textContent();
+  const receiverFaults = await page.locator('#vehicles [data-vehicle="truck-1"] .receiver-faults').textContent();
   check(/none|Vehicle Control Inactive|No Control Message/.test(receiverFaults) || receiverFaults.length > 0,
         `fault list rendered (${receiverFaults.trim()})`);
-  check(await page.locator('[data-vehicle="truck-1"] .sender-faults').textContent().then((t) => t.includes("VehicleControlInactive")),
+  check(await page.locator('#vehicles [data-vehicle="truck-1"] .sender-faults').textContent().then((t) => t.includes("VehicleControlInactive")),
         "before a selection, truck-1 shows the operator fault Vehicle Control Inactive with its id");
 
   // The fleet overview: one row per vehicle with its latency and faults; no vehicle is active yet.
@@ -215,7 +222,7 @@ async function dashboardScenario(browser) {
   check(command.brake === 0, `vehicle received client_user_data ${JSON.stringify(command)}`);
   check(vehicle.clientUserData.some((data) => data.enable === true), "the Enable pulse reached the vehicle");
   await waitFor("InvalidMac to stay clear while the page echoes", async () => {
-    const text = await page.locator('[data-vehicle="truck-1"] .receiver-faults').textContent();
+    const text = await page.locator('#vehicles [data-vehicle="truck-1"] .receiver-faults').textContent();
     return !text.includes("InvalidMac") && /^\d+ ms$/.test(await latency.textContent());
   });
   check(true, "the latency loop stays closed through the page's messages");
@@ -229,7 +236,7 @@ async function dashboardScenario(browser) {
 
   // A vehicle that rounds ack_time through a double: the Streamer's hint reaches the card.
   vehicle.roundAckTime = true;
-  const note = page.locator('[data-vehicle="truck-1"] .loop-note');
+  const note = page.locator('#vehicles [data-vehicle="truck-1"] .loop-note');
   await waitFor("the loop note on truck-1's card", async () => /rounded through a double\?/.test(await note.textContent()));
   check(await note.isVisible(), `truck-1's card says why its loop does not close (${await note.textContent()})`);
   check(/ack_time differs by \d+ from issued pair \(ack_time \d+/.test(await note.textContent()),
