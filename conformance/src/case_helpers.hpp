@@ -13,7 +13,7 @@
 #include "conformance/case_context.hpp"
 #include "conformance/control_frames.hpp"
 #include "conformance/observations.hpp"
-#include "conformance/pair_diagnosis.hpp"
+#include "ocp/pair_diagnosis.hpp"
 
 namespace ocp::conformance::detail {
 
@@ -70,7 +70,7 @@ inline std::vector<AckPair> unknown_pairs(const Observations& observed, std::int
   return out;
 }
 
-// A failure over pairs nobody sent, with the cause named when one fits (pair_diagnosis.hpp).
+// A failure over pairs nobody sent, with the cause named when one fits (ocp/pair_diagnosis.hpp).
 inline Outcome failed_with_cause(std::string actual, const std::vector<AckPair>& altered, const std::vector<AckPair>& sent) {
   Outcome outcome = failed(std::move(actual));
   const PairDiagnosis diagnosis = diagnose_altered_pairs(altered, sent);

@@ -39,6 +39,7 @@ void PlayerCore::Impl::on_client_data(ClientSource source, const ClientOcpShared
     return;
   }
   if (!was_locked && events.active()) publish(SourceLocked{source});
+  if (source == ClientSource::tcp) tcp_lock_without_client_logged = false;   // a tcp client took over
   apply_client_data(source, data);
 }
 
@@ -204,12 +205,18 @@ Status PlayerCore::Impl::write_raw_to_client(std::string bytes, std::vector<std:
 
 void PlayerCore::Impl::on_client_closed(const CloseReason& reason) {
   ++stats.client_connections_closed;
-  if (client && connection_log.admit(logger, executor.now())) {
-    logger.info("tcp client {} disconnected ({})", client->peer(), reason.message());
-  }
+  const bool told = client && connection_log.admit(logger, executor.now());
+  if (told) logger.info("tcp client {} disconnected ({})", client->peer(), reason.message());
   last_client_close_reason = reason;
   client_too_large.reset();   // nothing is sent without a client
   client.reset();  // the connection keeps itself alive until its callback returns
+  // Said with its disconnect line, so a storm of clients that each take over and leave stays
+  // within the connection log budget; one the budget left out says it at the next told leave.
+  if (told && source_lock.locked() == ClientSource::tcp && !source_lock.stopped() && !tcp_lock_without_client_logged) {
+    tcp_lock_without_client_logged = true;
+    logger.warn("{} (the lock stays with the tcp source: a new TCP client may take over, nothing else may)",
+                tcp_lock_without_client_text);
+  }
 }
 
 }  // namespace ocp

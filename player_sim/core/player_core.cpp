@@ -172,6 +172,9 @@ FaultSet PlayerCore::sender_faults(const std::string& vehicle) const {
 const VehicleOcpShared& PlayerCore::last_shared() const { return impl_->last_shared; }
 std::optional<ClientSource> PlayerCore::locked_source() const { return impl_->source_lock.locked(); }
 bool PlayerCore::client_data_stopped() const { return impl_->source_lock.stopped(); }
+bool PlayerCore::tcp_lock_without_client() const {
+  return impl_->source_lock.locked() == ClientSource::tcp && !impl_->source_lock.stopped() && !impl_->client;
+}
 std::optional<std::string> PlayerCore::active_vehicle() const { return impl_->resolve_active_vehicle(); }
 
 std::optional<AckPair> PlayerCore::latest_sei(const std::string& vehicle) const {

@@ -79,6 +79,9 @@ struct PlayerCore::Impl {
   std::shared_ptr<FramedConnection> client;      // the tcp source (:4001), one at a time
   ConnectionLogBudget connection_log;            // connection storms do not flood the log
   std::optional<CloseReason> last_client_close_reason;
+  // The locked tcp client left and nobody returns pairs (SPEC §4.3): logged once, until a tcp
+  // client sends client data again — not once per connection, which a storm would flood.
+  bool tcp_lock_without_client_logged = false;
   std::string client_json_buffer;                // reused every frame
   std::optional<ClientFrameTooLarge> client_too_large;   // an episode of oversized frames: warned once
   bool client_output_paused = false;             // conformance testing: no VehicleOcpShared to the tcp client

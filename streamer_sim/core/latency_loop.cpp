@@ -3,6 +3,8 @@
 #include "ocp/invariant.hpp"
 #include "ocp/mutants.hpp"
 
+#include <span>
+
 namespace ocp::streamer {
 
 LatencyLoop::LatencyLoop(const MacKey& key, std::uint64_t ack_time_offset)
@@ -16,7 +18,14 @@ AckPair LatencyLoop::issue(SimTime now) {
   OCP_INVARIANT(!last_issued_elapsed_us_ || elapsed_us > *last_issued_elapsed_us_,
                 "ack pairs are issued in strictly increasing order (one per control tick)");
   last_issued_elapsed_us_ = elapsed_us;
-  return AckPair{ack_time, mac_.compute(ack_time)};
+  const AckPair pair{ack_time, mac_.compute(ack_time)};
+  recent_issued_[issued_count_++ % kept_issued_pairs] = pair;
+  return pair;
+}
+
+PairJudgement LatencyLoop::judge_rejected(const AckPair& rejected) const {
+  const std::size_t kept = issued_count_ < kept_issued_pairs ? static_cast<std::size_t>(issued_count_) : kept_issued_pairs;
+  return judge_altered_pair(rejected, std::span<const AckPair>(recent_issued_.data(), kept));
 }
 
 ReturnedPairCheck LatencyLoop::check_returned(const std::optional<AckPair>& returned, SimTime now) {

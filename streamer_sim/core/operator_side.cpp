@@ -1,5 +1,6 @@
 // Messages from the Player (SPEC §5, §6): operator control goes through the control inbox;
 // the control path applies it (controller, user data, sender faults, returned pair).
+#include <string>
 #include <variant>
 
 #include "streamer_impl.hpp"
@@ -54,10 +55,24 @@ void StreamerCore::Impl::apply_operator_control(streamer::QueuedControl&& queued
   const auto check = latency_loop.check_returned(message.returned_ack, executor.now());
   if (check != streamer::ReturnedPairCheck::valid) ++stats.invalid_returned_pairs;
   faults.set(FaultId::InvalidMac, check != streamer::ReturnedPairCheck::valid);
+  if (check == streamer::ReturnedPairCheck::invalid && !pair_rejection_reported) {
+    report_rejected_pair(*message.returned_ack);
+  }
   if (check == streamer::ReturnedPairCheck::valid) {
+    pair_rejection_reported = false;   // the episode ends: the next bad pair is news again
     const auto latency = latency_loop.latency(executor.now());
     faults.set(FaultId::HighLatency, latency && *latency > config.latency_limit);
   }
+}
+
+void StreamerCore::Impl::report_rejected_pair(const AckPair& rejected) {
+  // Once an episode (until a valid pair is accepted again): a client that alters every pair
+  // would otherwise log 100 lines a second, and the first one already says what is wrong.
+  pair_rejection_reported = true;
+  const PairJudgement judgement = latency_loop.judge_rejected(rejected);
+  const std::string hint = describe_rejected_pair(rejected, judgement);
+  logger.warn("latency loop not closed (InvalidMac): {} (logged once until a valid pair is returned)", hint);
+  if (events.active()) events.publish(Event{executor.now(), component(), PairRejected{rejected, judgement, hint}});
 }
 
 }  // namespace ocp

@@ -59,6 +59,8 @@ struct StreamerCore::Impl {
   Component component() const { return Component{ComponentKind::streamer, config.name}; }
   void publish_fault(FaultId id, bool active);
   void publish_latency_sample(SimTime deadline, SimTime now);
+  // operator_side.cpp: why a returned pair was rejected, logged and published once an episode.
+  void report_rejected_pair(const AckPair& rejected);
 
   Executor& executor;
   StreamerConfig config;
@@ -93,6 +95,7 @@ struct StreamerCore::Impl {
   std::optional<RawJson> operator_user_data;
   bool control_thread_stalled = false;
   bool inbox_overflow_logged = false;
+  bool pair_rejection_reported = false;          // this InvalidMac episode's first bad pair is told
 
   // Control path output.
   OcpControlMessage outgoing;                    // reused every tick

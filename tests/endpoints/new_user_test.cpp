@@ -4,6 +4,7 @@
 // with a generous bound; no timing rule is asserted here (those are virtual-time tests).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <boost/asio/io_context.hpp>
 #include <memory>
 
@@ -77,6 +78,21 @@ TEST_F(NewUser, AckTimeOffsetHighBreaksAClientThatPassesAckTimeThroughADouble) {
   }));
   EXPECT_GT(static_cast<double>(invalid_mac), 0.9 * static_cast<double>(samples)) << invalid_mac << "/" << samples;
   EXPECT_GT(client.stats().last_ack->ack_time, std::uint64_t{1} << 62);
+  // Issue #20 item 4: the status line says why, with the pair the Streamer issued (a rounded
+  // pair is right once in 1024, which ends an episode: wait for the line, do not sample it).
+  std::string line;
+  ASSERT_TRUE(run_until(io_, [&] {
+    line = simulation_->status_line();
+    return line.find(" | loop not closed: ") != std::string::npos;
+  }));
+  EXPECT_NE(line.find("from issued pair (ack_time "), std::string::npos) << line;
+  EXPECT_NE(line.find("rounded through a double?"), std::string::npos) << line;
+  // Logged once an episode, not once a rejected pair (≥ 100 of them by now).
+  const auto told = std::count_if(log_.lines().begin(), log_.lines().end(), [](const CapturedLog::Line& logged) {
+    return logged.level == LogLevel::warn && logged.message.find("latency loop not closed (InvalidMac)") != std::string::npos;
+  });
+  EXPECT_GE(told, 1);
+  EXPECT_LT(told, 10);
   runner.stop();
 }
 
@@ -89,6 +105,12 @@ TEST_F(NewUser, AckTimeOffsetHighIsFineForAnExactClient) {
   ASSERT_TRUE(run_until(io_, [&] {
     return streamer().latency_ms().has_value() && !streamer().faults().contains(FaultId::InvalidMac);
   }));
+}
+
+// Issue #20 item 14: the default vehicle is called "vehicle"; the line once read "(vehicle vehicle)".
+TEST_F(NewUser, ListeningLineQuotesTheVehicleName) {
+  start();
+  EXPECT_TRUE(log_.contains(LogLevel::info, "vehicle API listening on " + simulation_->address() + " for vehicle 'vehicle'"));
 }
 
 TEST_F(NewUser, HttpOnTheVehiclePortIsNamed) {

@@ -11,6 +11,9 @@
 #include "operator_peer.hpp"
 #include "player_app/player_simulation.hpp"
 #include "player_app/webview/messages.hpp"
+#include "sim_app/common_options.hpp"
+#include "vehicle_app/tcp_runner.hpp"
+#include "vehicle_client/vehicle_client.hpp"
 
 namespace ocp {
 namespace {
@@ -91,6 +94,62 @@ TEST_F(OperatorApi, ClientSeesFeedbackForTheVehicleAndItsReturnedPairClosesTheLo
            streamer("truck-1").latency_ms().has_value();
   }));
   EXPECT_FALSE(player().client_data_stopped());
+}
+
+// SPEC §4.3 Decision: after the locked TCP client leaves, the lock stays and nobody returns
+// pairs. The log says so once, the status line every second, the web view status while it lasts.
+TEST_F(OperatorApi, LockedTcpClientLeavingIsLoggedAndShownWithTheDecisionsWords) {
+  start();
+  {
+    OperatorClient client(io_);
+    ASSERT_TRUE(client.connect(simulation_->port()));
+    client.answer = [&](const VehicleOcpShared& shared) { client.send(echo_all(shared, true)); };
+    ASSERT_TRUE(run_until(io_, [&] { return player().locked_source() == ClientSource::tcp; }));
+    EXPECT_FALSE(player().tcp_lock_without_client());
+    EXPECT_EQ(simulation_->status_line().find(tcp_lock_without_client_text), std::string::npos);
+  }
+  ASSERT_TRUE(run_until(io_, [&] { return player().tcp_lock_without_client(); }));
+  const std::string line = simulation_->status_line();
+  EXPECT_NE(line.find("operator client none (source tcp locked, no client connected: no pair is returned)"),
+            std::string::npos)
+      << line;
+  EXPECT_TRUE(log_.contains(LogLevel::warn, tcp_lock_without_client_text));
+  webview::Status status;
+  status.tcp_lock_without_client = std::string(tcp_lock_without_client_text);
+  EXPECT_NE(webview::encode_status(status).find(
+                R"("tcp_lock_without_client":"source tcp locked, no client connected: no pair is returned")"),
+            std::string::npos);
+  EXPECT_EQ(webview::encode_status(webview::Status{}).find("tcp_lock_without_client"), std::string::npos);
+}
+
+// Issue #20 item 4: player_sim's status line says, per vehicle, why its loop does not close.
+TEST_F(OperatorApi, StatusLineSaysWhyAVehiclesLoopDoesNotClose) {
+  PlayerSimOptions options;
+  options.vehicles = {"truck-1", "truck-2"};
+  options.vehicle_tcp_ports = {{"truck-1", 0}};
+  options.ack_time_offset = sim_app::high_ack_time_offset;
+  options.plugin_params.ocp_player_tcp_port = 0;
+  simulation_ = std::make_unique<PlayerSimulation>(executor_, options, log_.sink());
+  ASSERT_TRUE(simulation_->start().ok());
+  VehicleClientConfig config;
+  config.misbehave.ack_through_double = true;
+  VehicleClient client(executor_, config, Logger(executor_, "vehicle-client", {}));
+  TcpRunnerConfig runner_config;
+  runner_config.server.port = simulation_->vehicle_port("truck-1");
+  TcpRunner runner(executor_, client, runner_config, Logger(executor_, "tcp", {}));
+  runner.start();
+  std::string line;
+  ASSERT_TRUE(run_until(io_, [&] {
+    line = simulation_->status_line();
+    return line.find("; loop not closed: ") != std::string::npos;
+  }));
+  const std::size_t truck_2 = line.find(" | truck-2: ");
+  const std::size_t note = line.find("; loop not closed: ");
+  ASSERT_NE(truck_2, std::string::npos) << line;
+  EXPECT_LT(note, truck_2) << "the note belongs to truck-1: " << line;
+  EXPECT_NE(line.find("rounded through a double?", note), std::string::npos) << line;
+  EXPECT_EQ(line.find("loop not closed", truck_2), std::string::npos) << "truck-2's loop closes: " << line;
+  runner.stop();
 }
 
 TEST_F(OperatorApi, DashboardKeepAlivesKeepItConnectedWithoutTakingTheLoop) {

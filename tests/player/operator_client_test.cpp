@@ -2,6 +2,9 @@
 // frame, ClientOcpShared in, one client at a time, and every SPEC §2 rule for bad input.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <memory>
+
 #include "player_harness.hpp"
 
 namespace ocp::testing {
@@ -76,6 +79,42 @@ TEST_F(PlayerTcpClient, NewClientAcceptedAfterThePreviousLeft) {
   harness.run_until(at_ms(20));
   EXPECT_FALSE(second.closed_by_peer());
   EXPECT_EQ(second.received.size(), 2u);
+}
+
+// SPEC §4.3 Decision: the lock stays with the tcp source when its client leaves. Told once
+// (not per connection, which a storm would flood) until a tcp client sends client data again.
+TEST_F(PlayerTcpClient, LockedClientLeavingIsToldOnceUntilATcpClientTakesOver) {
+  const auto told = [&] {
+    return std::count_if(harness.log.lines().begin(), harness.log.lines().end(), [](const CapturedLog::Line& line) {
+      return line.level == LogLevel::warn && line.message.find(tcp_lock_without_client_text) != std::string::npos;
+    });
+  };
+  auto first = std::make_unique<TestOperatorClient>(harness, "pipe:first");
+  harness.executor.call_at(at_ms(5), [&] { first->send(echo_message()); });
+  harness.run_until(at_ms(10));
+  EXPECT_FALSE(harness.player.tcp_lock_without_client());
+  first->close();
+  harness.run_until(at_ms(20));
+  EXPECT_TRUE(harness.player.tcp_lock_without_client());
+  EXPECT_EQ(harness.player.locked_source(), ClientSource::tcp);
+  EXPECT_EQ(told(), 1);
+  // A client that connects and leaves without sending client data changes nothing.
+  auto idle = std::make_unique<TestOperatorClient>(harness, "pipe:idle");
+  harness.run_until(at_ms(30));
+  EXPECT_FALSE(harness.player.tcp_lock_without_client());
+  idle->close();
+  harness.run_until(at_ms(40));
+  EXPECT_TRUE(harness.player.tcp_lock_without_client());
+  EXPECT_EQ(told(), 1);
+  // One that takes over and leaves is told again (a second later: the line goes with the
+  // disconnect line, within the connection log budget of two a second).
+  harness.run_until(at_ms(1100));
+  auto second = std::make_unique<TestOperatorClient>(harness, "pipe:second");
+  harness.executor.call_at(at_ms(1105), [&] { second->send(echo_message()); });
+  harness.run_until(at_ms(1110));
+  second->close();
+  harness.run_until(at_ms(1120));
+  EXPECT_EQ(told(), 2);
 }
 
 TEST_F(PlayerTcpClient, SilenceClosesAfterExactlyTheReadTimeout) {

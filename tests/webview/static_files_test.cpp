@@ -72,10 +72,15 @@ TEST(Envelope, StatusJson) {
   Status status;
   status.vehicles = {"a", "b"};
   EXPECT_EQ(encode_status(status),
-            R"({"locked_source":null,"client_data_stopped":false,"active_vehicle":null,"vehicles":["a","b"],"webview_clients":0})");
+            R"({"locked_source":null,"client_data_stopped":false,"active_vehicle":null,"vehicles":["a","b"],"webview_clients":0,)"
+            R"("loop_not_closed":{}})");
   status.locked_source = "webview";
   status.client_data_stopped = true;
   EXPECT_NE(encode_status(status).find(R"("locked_source":"webview","client_data_stopped":true)"), std::string::npos);
+  // Why a vehicle's loop does not close (the Streamer's hint), escaped as JSON.
+  status.loop_not_closed["a"] = R"(ack_time "differs" by 1)";
+  EXPECT_NE(encode_status(status).find(R"("loop_not_closed":{"a":"ack_time \"differs\" by 1"})"), std::string::npos)
+      << encode_status(status);
 }
 
 TEST(VehicleTcpOption, ParsesAndValidates) {

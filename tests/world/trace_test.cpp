@@ -144,6 +144,22 @@ std::string golden_world_trace() {
   return sim.trace().jsonl();
 }
 
+TEST(WorldTrace, PairRejectedCarriesBothPairsTheCauseAndTheHint) {
+  const PairJudgement judgement{PairCause::rounded_through_double, AckPair{9'007'199'254'740'993ULL, 42u}};
+  const std::string hint = "ack_time differs by 1 from issued pair: rounded through a double?";
+  const Event event{SimTime{1500}, Component{ComponentKind::streamer, "truck-1"},
+                    PairRejected{AckPair{9'007'199'254'740'992ULL, 42u}, judgement, hint}};
+  std::string line;
+  append_trace_line(event, TraceOptions{}, line);
+  EXPECT_EQ(line,
+            R"({"t_us":1500,"source":"streamer:truck-1","event":"pair_rejected",)"
+            R"("rejected":{"ack_time":9007199254740992,"ack_time_mac":42},)"
+            R"("nearest_issued":{"ack_time":9007199254740993,"ack_time_mac":42},)"
+            R"("cause":"rounded_through_double","hint":")" + hint + "\"}\n");
+  EXPECT_NE(render_trace_text(line).find("pair rejected (rounded_through_double): " + hint), std::string::npos)
+      << render_trace_text(line);
+}
+
 TEST(WorldGoldenTrace, ShortSeededWorldMatchesTheCheckedInTrace) {
   const std::string path = std::string(OCP_TEST_DATA_DIR) + "/golden/short_world.jsonl";
   const std::string actual = golden_world_trace();

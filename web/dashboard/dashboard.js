@@ -1,6 +1,7 @@
-// The operator dashboard: one card per vehicle from ocp_vehicle_user_data (SPEC §4.1), the
-// source-lock banner from ocp_webview_status, and on-screen controls that send commands as
-// user data through ocp_client_user_data (seed 004). Uses only the Oden SDK shim.
+// The operator dashboard: a fleet overview (one row per vehicle, the active one first) and one
+// card per vehicle from ocp_vehicle_user_data (SPEC §4.1), the source-lock banner and why loops
+// do not close from ocp_webview_status, and on-screen controls that send commands as user data
+// through ocp_client_user_data (seed 004). Uses only the Oden SDK shim.
 (function () {
   "use strict";
 
@@ -27,7 +28,9 @@
   const el = {
     connection: $("connection"), source: $("source"), select: $("vehicle-select"), banner: $("banner"),
     vehicles: $("vehicles"), lastSent: $("last-sent"), template: $("vehicle-card"),
+    overview: document.querySelector("#fleet-overview tbody"), noActive: $("no-active-hint"),
   };
+  let shownOrder = "";              // the vehicle order last laid out, to re-lay only on change
 
   // ---- receiving -------------------------------------------------------------------------
 
@@ -67,8 +70,9 @@
     root.querySelector(".name").textContent = name;
     el.vehicles.appendChild(root);
     const find = (selector) => root.querySelector(selector);
+    const row = overviewRow(name);
     card = {
-      name, root, feedback: null, lastSample: 0,
+      name, root, row, feedback: null, lastSample: 0, loopNote: find(".loop-note"),
       series: [[], [], []],   // time s, latency ms, ping ms
       chart: null, chartBox: find(".chart"),
       plot: new PositionPlot(find(".map")),
@@ -84,6 +88,43 @@
     el.select.appendChild(option);
     renderStatus();
     return card;
+  }
+
+  // One overview row: name, latency, ping, faults of both sides and the loop, in a few pixels.
+  function overviewRow(name) {
+    const row = document.createElement("tr");
+    row.dataset.vehicle = name;
+    row.title = `${name}: click to see its card`;
+    for (const cell of ["name", "latency", "ping", "receiver", "sender", "loop"]) {
+      const td = document.createElement("td");
+      td.className = cell;
+      row.appendChild(td);
+    }
+    row.querySelector(".name").textContent = name;
+    row.addEventListener("click", () => {
+      const card = state.vehicles.get(name);
+      if (card) card.root.scrollIntoView({ behavior: "smooth", block: "start" });
+    });
+    el.overview.appendChild(row);
+    return row;
+  }
+
+  // The active vehicle first, then the others by name.
+  function vehicleOrder() {
+    const active = state.status && state.status.active_vehicle;
+    return [...state.vehicles.keys()].sort((a, b) => (b === active) - (a === active) || a.localeCompare(b));
+  }
+
+  function layOut() {
+    const order = vehicleOrder();
+    const key = order.join("\n");
+    if (key === shownOrder) return;
+    shownOrder = key;
+    for (const name of order) {
+      const card = state.vehicles.get(name);
+      el.overview.appendChild(card.row);    // appending an attached node moves it
+      el.vehicles.appendChild(card.root);
+    }
   }
 
   function updateVehicle(card, feedback, now) {
@@ -106,22 +147,64 @@
       card.chartBox.textContent = "chart library missing (run scripts/setup, then rebuild)";
       return null;
     }
-    const axis = { stroke: "#8aa0b4", grid: { stroke: "#1f2d3a", width: 1 }, ticks: { stroke: "#1f2d3a" } };
+    const axis = { stroke: "#8aa0b4", grid: { stroke: "#1f2d3a", width: 1 }, ticks: { stroke: "#1f2d3a" },
+                   font: "12px system-ui, sans-serif", labelFont: "12px system-ui, sans-serif" };
     return new uPlot({
       width: Math.max(card.chartBox.clientWidth, 300), height: 170,
       scales: { x: { time: true }, y: { range: (u, min, max) => [0, Math.max(100, max * 1.2)] } },
-      series: [{}, { label: "latency ms", stroke: "#38bdf8", width: 2, fill: "rgba(56,189,248,0.08)", points: { show: false } },
+      series: [{ label: "time" },
+               { label: "latency ms", stroke: "#38bdf8", width: 2, fill: "rgba(56,189,248,0.08)", points: { show: false } },
                { label: "ping ms", stroke: "#a78bfa", width: 1.5, points: { show: false } }],
-      axes: [axis, { ...axis, size: 58 }],
+      // Wall-clock labels (14:03:25) every 10 s or more, never the date or am/pm uPlot picks
+      // for a 60 s window; the y axis says its unit.
+      axes: [{ ...axis, space: 70, incrs: [1, 2, 5, 10, 15, 30, 60], values: (u, splits) => splits.map(clockLabel) },
+             { ...axis, size: 58, label: "ms", labelSize: 18 }],
       legend: { live: false },
     }, card.series, card.chartBox);
+  }
+
+  function clockLabel(seconds) {
+    const time = new Date(seconds * 1000);
+    return [time.getHours(), time.getMinutes(), time.getSeconds()].map((n) => String(n).padStart(2, "0")).join(":");
   }
 
   // ---- rendering (at most once per animation frame) --------------------------------------
 
   function render() {
     state.dirty = false;
-    for (const card of state.vehicles.values()) renderVehicle(card);
+    layOut();
+    for (const card of state.vehicles.values()) {
+      renderVehicle(card);
+      renderRow(card);
+    }
+  }
+
+  function renderRow(card) {
+    const f = card.feedback;
+    if (!f) return;
+    const cells = card.row.children;
+    card.row.classList.toggle("active", !!(state.status && state.status.active_vehicle === card.name));
+    cells[1].textContent = f.message_latency_roundtrip == null ? "—" : `${f.message_latency_roundtrip} ms`;
+    cells[2].textContent = `${f.ping_latency_ms} ms`;
+    renderFaultNames(cells[3], f.receiver_fault);
+    renderFaultNames(cells[4], f.sender_fault);
+    const note = loopNote(card.name);
+    const open = (f.receiver_fault || []).includes("InvalidMac");
+    cells[5].textContent = open ? "not closed" : "closed";
+    cells[5].className = `loop ${open ? "fault" : "none"}`;
+    cells[5].title = note || "";
+  }
+
+  function renderFaultNames(cell, ids) {
+    const names = (ids || []).map((id) => OCP_FAULT_DISPLAY[id] || id);
+    cell.textContent = names.length ? names.join(", ") : "none";
+    cell.className = `${cell.className.split(" ")[0]} ${names.length ? "fault" : "none"}`;
+    cell.title = (ids || []).join(", ");
+  }
+
+  // Why this vehicle's returned pairs are rejected (the Streamer's hint), while they are.
+  function loopNote(name) {
+    return (state.status && state.status.loop_not_closed && state.status.loop_not_closed[name]) || "";
   }
 
   function renderVehicle(card) {
@@ -142,6 +225,9 @@
     card.coords.textContent = pos ? `${pos.lat.toFixed(6)}, ${pos.lon.toFixed(6)}` : "no position";
     card.userData.textContent = f.vehicle_data ? JSON.stringify(f.vehicle_data.user_data, null, 1) : "—";
     renderInput(card.input, f.last_remote_input);
+    const note = loopNote(card.name);
+    card.loopNote.textContent = note ? `Latency loop not closed: ${note}` : "";
+    card.loopNote.classList.toggle("hidden", !note);
     card.plot.draw();
     if (card.chart) {
       const width = Math.max(card.chartBox.clientWidth, 300);
@@ -214,7 +300,12 @@
     el.source.className = "pill " + (status.client_data_stopped ? "bad" : source && source !== "webview" ? "warn" : "good");
     let banner = "";
     let kind = "";
-    if (status.client_data_stopped) {
+    if (status.tcp_lock_without_client) {
+      // SPEC §4.3 Decision, in its own words; then what the user can do about it.
+      banner = `${status.tcp_lock_without_client}. The lock stays with the tcp source: a new TCP client on the ` +
+               `operator API may take over, this page may not (its controls stay disabled).`;
+      kind = "warn";
+    } else if (status.client_data_stopped) {
       banner = `Client data STOPPED: two sources sent client data (source conflict; the locked source was ` +
                `${source}). User data and the timestamp echo stay off until the Player restarts — vehicles ` +
                `will report "Latency Loop Not Closed".`;
@@ -236,6 +327,20 @@
     const blocked = status.client_data_stopped || (source && source !== "webview");
     for (const control of document.querySelectorAll(".controls button, .controls input, #vehicle-select")) {
       control.disabled = !!blocked;
+    }
+    // A fleet with no active vehicle: none gets gamepad input and all raise Vehicle Control
+    // Inactive (SPEC §7) — tell the user what to do rather than only showing the fault.
+    const fleet = (status.vehicles || []).length > 1;
+    const noActive = fleet && !status.active_vehicle;
+    el.noActive.textContent = noActive
+      ? (blocked ? "No vehicle is active: the client-data source that holds the lock must select one."
+                 : "No vehicle is active — select an active vehicle (“Active vehicle” above) to drive it; " +
+                   "until then every vehicle reports Vehicle Control Inactive.")
+      : "";
+    el.noActive.classList.toggle("hidden", !noActive);
+    if (!state.dirty) {
+      state.dirty = true;
+      requestAnimationFrame(render);
     }
   }
 

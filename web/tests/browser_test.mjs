@@ -2,11 +2,18 @@
 // playwright-core; no browser download). Run by ctest:
 //   node web/tests/browser_test.mjs --player-sim build/bin/player_sim --artifacts build/artifacts
 // 1. player_sim with a fleet (truck-1 on an external vehicle TCP port, truck-2 in-process) and
-//    a fake vehicle on truck-1's port; the dashboard shows latency, selects truck-1, sends
-//    on-screen commands that arrive at the vehicle as client_user_data; screenshot.
+//    a fake vehicle on truck-1's port; the fleet overview has one row per vehicle, the "select
+//    an active vehicle" hint shows until one is selected, and the active vehicle comes first
+//    (rows and cards); the time axis reads hh:mm:ss; the dashboard shows latency, selects
+//    truck-1, sends on-screen commands that arrive at the vehicle as client_user_data; a vehicle
+//    that rounds ack_time through a double gets the Streamer's hint on its card; screenshots.
 // 2. A fresh player_sim: a minimal page using only the SDK shim listens, the loop closes by the
 //    auto-echo and the source stays unlocked; then a :4001 client takes the source and the
-//    dashboard shows the lock banner; screenshot.
+//    dashboard shows the lock banner; when that client leaves, the banner and the log say SPEC
+//    §4.3's Decision ("source tcp locked, no client connected: no pair is returned"); screenshots.
+// Every page of 1 and 2 must load without a console error, a failed request or an HTTP error
+// (a favicon 404 included). Screenshots go to --artifacts (ctest: build/artifacts); their
+// paths are printed.
 // 3. Other origins: a page served by a tiny node server on another 127.0.0.1 port cannot open
 //    the web view's WebSocket (403), one from an origin given with --webview-allow-origin can,
 //    the dashboard still can (from 127.0.0.1 and from localhost), and a DNS-rebound name
@@ -55,6 +62,40 @@ function check(condition, what) {
   console.log(`ok ${passed} - ${what}`);
 }
 
+// Collects what a user would see as red in the devtools console: page errors, console errors,
+// failed requests and HTTP errors (a missing favicon is a 404 there too).
+function watchPage(page) {
+  const problems = [];
+  page.on("pageerror", (error) => problems.push(`page error: ${error}`));
+  page.on("console", (message) => {
+    if (message.type() === "error") problems.push(`console error: ${message.text()}`);
+  });
+  page.on("requestfailed", (request) => {
+    // A page closed mid-request aborts it: not a problem of the page.
+    const reason = request.failure() ? request.failure().errorText : "";
+    if (!/ERR_ABORTED/.test(reason)) problems.push(`request failed: ${request.url()} (${reason})`);
+  });
+  page.on("response", (response) => {
+    if (response.status() >= 400) problems.push(`HTTP ${response.status()} for ${response.url()}`);
+  });
+  return problems;
+}
+
+async function screenshot(page, name, options = {}) {
+  fs.mkdirSync(artifacts, { recursive: true });
+  const file = path.resolve(artifacts, name);
+  await page.screenshot({ path: file, ...options });
+  console.log(`screenshot: ${file}`);
+}
+
+// The vehicles in the order the overview rows and the cards show them.
+function shownOrder(page) {
+  return page.evaluate(() => ({
+    rows: [...document.querySelectorAll("#fleet-overview tbody tr")].map((row) => row.dataset.vehicle),
+    cards: [...document.querySelectorAll("#vehicles .card")].map((card) => card.dataset.vehicle),
+  }));
+}
+
 async function waitFor(what, predicate, timeoutMs = WAIT_MS) {
   const deadline = Date.now() + timeoutMs;
   while (Date.now() < deadline) {
@@ -82,7 +123,7 @@ async function startPlayerSim(extraArgs) {
     output: () => output,
     webview: port(/web view on http:\/\/127\.0\.0\.1:(\d+)\//),
     operator: port(/operator API listening on 127\.0\.0\.1:(\d+)/),
-    vehicle: port(/vehicle API listening on 127\.0\.0\.1:(\d+) \(vehicle truck-1\)/),
+    vehicle: port(/vehicle API listening on 127\.0\.0\.1:(\d+) for vehicle 'truck-1'/),
   };
 }
 
@@ -92,44 +133,78 @@ async function stopPlayerSim(sim) {
   return sim.child.exitCode;
 }
 
-// A :4001 operator client that sends one ClientOcpShared with user data (locks the tcp source).
+// A :4001 operator client that sends one ClientOcpShared with user data (locks the tcp source),
+// then keep-alives (SPEC §4.2) so that the 2 s read timeout does not close it before it leaves.
 function lockWithTcpClient(port) {
+  const frame = (message) => {
+    const body = Buffer.from(JSON.stringify(message));
+    const header = Buffer.alloc(4);
+    header.writeUInt32LE(body.length, 0);
+    return Buffer.concat([header, body]);
+  };
   return new Promise((resolve, reject) => {
     const socket = net.connect({ host: "127.0.0.1", port }, () => {
-      const body = Buffer.from(JSON.stringify({ client_user_data: { "truck-1": { user_data: { from: "tcp" } } } }));
-      const header = Buffer.alloc(4);
-      header.writeUInt32LE(body.length, 0);
-      socket.write(Buffer.concat([header, body]));
+      socket.write(frame({ client_user_data: { "truck-1": { user_data: { from: "tcp" } } } }));
+      const keepAlive = setInterval(() => socket.write(frame({})), 500);
+      socket.on("close", () => clearInterval(keepAlive));
       resolve(socket);
     });
     socket.on("data", () => {});
+    socket.on("error", () => {});
     socket.once("error", reject);
   });
 }
 
 async function dashboardScenario(browser) {
-  const sim = await startPlayerSim(["--vehicle", "truck-1", "--vehicle", "truck-2", "--vehicle-tcp", "truck-1=0"]);
+  // A high ack_time offset, so that the fake vehicle's rounding through a double shows.
+  const sim = await startPlayerSim(["--vehicle", "truck-1", "--vehicle", "truck-2", "--vehicle-tcp", "truck-1=0",
+                                    "--ack-time-offset", "high"]);
   const vehicle = new FakeVehicle(sim.vehicle);
   cleanups.push(() => vehicle.close());
   await vehicle.connect();
 
   const page = await browser.newPage({ viewport: { width: 1500, height: 1300 } });
-  const errors = [];
-  page.on("pageerror", (error) => errors.push(String(error)));
+  const problems = watchPage(page);
   await page.goto(`http://127.0.0.1:${sim.webview}/dashboard/`);
-  const latency = page.locator('[data-vehicle="truck-1"] .latency');
+  const latency = page.locator('#vehicles [data-vehicle="truck-1"] .latency');
   await waitFor("a latency on truck-1's card", async () => /^\d+ ms$/.test(await latency.textContent()));
   const first = await latency.textContent();
   check(true, `dashboard shows truck-1 latency (${first})`);
-  check(await page.locator('[data-vehicle="truck-2"]').count() === 1, "dashboard has a card for truck-2");
+  check(await page.locator('#vehicles [data-vehicle="truck-2"]').count() === 1, "dashboard has a card for truck-2");
   await waitFor("the chart to gather samples",
                 () => page.evaluate(() => window.dashboard.vehicles.get("truck-1").series[0].length > 20));
   check(true, "latency chart is being fed");
-  const receiverFaults = await page.locator('[data-vehicle="truck-1"] .receiver-faults').textContent();
+  const receiverFaults = await page.locator('#vehicles [data-vehicle="truck-1"] .receiver-faults').textContent();
   check(/none|Vehicle Control Inactive|No Control Message/.test(receiverFaults) || receiverFaults.length > 0,
         `fault list rendered (${receiverFaults.trim()})`);
-  check(await page.locator('[data-vehicle="truck-1"] .sender-faults').textContent().then((t) => t.includes("VehicleControlInactive")),
+  check(await page.locator('#vehicles [data-vehicle="truck-1"] .sender-faults').textContent().then((t) => t.includes("VehicleControlInactive")),
         "before a selection, truck-1 shows the operator fault Vehicle Control Inactive with its id");
+
+  // The fleet overview: one row per vehicle with its latency and faults; no vehicle is active yet.
+  await waitFor("both overview rows to show a latency", () => page.evaluate(() =>
+    [...document.querySelectorAll("#fleet-overview tbody tr")].filter((row) => /^\d+ ms$/.test(row.children[1].textContent)).length === 2));
+  let order = await shownOrder(page);
+  check(JSON.stringify(order.rows) === '["truck-1","truck-2"]', `overview has one row per vehicle (${order.rows})`);
+  const row1 = await page.locator('#fleet-overview tr[data-vehicle="truck-1"]').textContent();
+  check(row1.includes("Vehicle Control Inactive"), `truck-1's row shows its operator fault (${row1})`);
+  const hint = page.locator("#no-active-hint");
+  check(await hint.isVisible() && /select an active vehicle/.test(await hint.textContent()),
+        `with no active vehicle the page says so (${await hint.textContent()})`);
+  const labels = await page.evaluate(() => window.dashboard.vehicles.get("truck-1").chart.axes[0]._values || []);
+  check(labels.length >= 2 && labels.every((label) => /^\d\d:\d\d:\d\d$/.test(label)),
+        `the time axis reads hh:mm:ss (${labels.join(" ")})`);
+  await screenshot(page, "dashboard_no_active.png");
+
+  // The active vehicle comes first, in the overview and in the cards.
+  await page.selectOption("#vehicle-select", "truck-2");
+  await waitFor("truck-2 first once it is active", async () => {
+    order = await shownOrder(page);
+    return order.rows[0] === "truck-2" && order.cards[0] === "truck-2";
+  });
+  check(true, `the active vehicle comes first (rows ${order.rows}, cards ${order.cards})`);
+  check(await page.locator('#fleet-overview tr.active').getAttribute("data-vehicle") === "truck-2",
+        "the active vehicle's row is marked");
+  check(await hint.isHidden(), "the no-active hint is gone once a vehicle is active");
 
   await page.selectOption("#vehicle-select", "truck-1");
   await waitFor("truck-1 to become the active vehicle", () =>
@@ -147,16 +222,34 @@ async function dashboardScenario(browser) {
   check(command.brake === 0, `vehicle received client_user_data ${JSON.stringify(command)}`);
   check(vehicle.clientUserData.some((data) => data.enable === true), "the Enable pulse reached the vehicle");
   await waitFor("InvalidMac to stay clear while the page echoes", async () => {
-    const text = await page.locator('[data-vehicle="truck-1"] .receiver-faults').textContent();
+    const text = await page.locator('#vehicles [data-vehicle="truck-1"] .receiver-faults').textContent();
     return !text.includes("InvalidMac") && /^\d+ ms$/.test(await latency.textContent());
   });
   check(true, "the latency loop stays closed through the page's messages");
   check(await page.locator("#banner").isHidden(), "no lock banner while this page holds the source");
 
+  order = await shownOrder(page);
+  check(order.rows[0] === "truck-1" && order.cards[0] === "truck-1", `truck-1 first once it is active (${order.rows})`);
+
   await page.waitForTimeout(2500);   // let the chart and the track grow for the screenshot
-  fs.mkdirSync(artifacts, { recursive: true });
-  await page.screenshot({ path: path.join(artifacts, "dashboard.png"), fullPage: true });
-  check(errors.length === 0, `no page errors (${errors.join("; ")})`);
+  await screenshot(page, "dashboard.png", { fullPage: true });
+
+  // A vehicle that rounds ack_time through a double: the Streamer's hint reaches the card.
+  vehicle.roundAckTime = true;
+  const note = page.locator('#vehicles [data-vehicle="truck-1"] .loop-note');
+  await waitFor("the loop note on truck-1's card", async () => /rounded through a double\?/.test(await note.textContent()));
+  check(await note.isVisible(), `truck-1's card says why its loop does not close (${await note.textContent()})`);
+  check(/ack_time differs by \d+ from issued pair \(ack_time \d+/.test(await note.textContent()),
+        "the note names the pair the Streamer issued");
+  check(/not closed/.test(await page.locator('#fleet-overview tr[data-vehicle="truck-1"] .loop').textContent()),
+        "truck-1's overview row shows the loop not closed");
+  check(/latency loop not closed \(InvalidMac\): returned pair/.test(sim.output()), "player_sim logs the same hint");
+  await screenshot(page, "dashboard_loop_not_closed.png", { fullPage: true });
+  vehicle.roundAckTime = false;
+  await waitFor("the loop note to go once the echo is exact", () => note.isHidden());
+  check(true, "the note goes when the loop closes again");
+
+  check(problems.length === 0, `no console errors, failed requests or HTTP errors (${problems.join("; ")})`);
   await page.close();
   vehicle.close();
   check(await stopPlayerSim(sim) === 0, "player_sim exits 0 on SIGTERM");
@@ -165,6 +258,7 @@ async function dashboardScenario(browser) {
 async function minimalPageScenario(browser) {
   const sim = await startPlayerSim(["--vehicle", "truck-1"]);
   const page = await browser.newPage();
+  const problems = watchPage(page);
   await page.goto(`http://127.0.0.1:${sim.webview}/minimal/`);
   const feedback = await waitFor("a measured latency without InvalidMac on the minimal page", () => page.evaluate(() => {
     const truck = window.latest && window.latest.vehicle_feedback["truck-1"];
@@ -177,13 +271,26 @@ async function minimalPageScenario(browser) {
   cleanups.push(() => tcp.destroy());
   await waitFor("the tcp source to lock", () => /client data source locked: tcp/.test(sim.output()));
   const dashboard = await browser.newPage({ viewport: { width: 1500, height: 1100 } });
+  const dashboardProblems = watchPage(dashboard);
   await dashboard.goto(`http://127.0.0.1:${sim.webview}/dashboard/`);
   const banner = dashboard.locator("#banner");
   await waitFor("the lock banner", async () => /locked by the tcp client/.test(await banner.textContent()));
   check(await banner.isVisible(), "dashboard shows the banner: source locked by the tcp client");
   check(await dashboard.locator("#btn-forward").isDisabled(), "controls are disabled while another source holds the lock");
-  await dashboard.screenshot({ path: path.join(artifacts, "dashboard_locked.png") });
+  check(await dashboard.locator("#no-active-hint").isHidden(), "one vehicle is active by itself: no hint");
+  await screenshot(dashboard, "dashboard_locked.png");
+
+  // SPEC §4.3 Decision: the tcp client leaves, the lock stays, nobody returns pairs.
   tcp.destroy();
+  const decision = "source tcp locked, no client connected: no pair is returned";
+  await waitFor("the banner to say the Decision", async () => (await banner.textContent()).includes(decision));
+  check(await banner.isVisible(), `after the tcp client left the banner says "${decision}"`);
+  await waitFor("the log line", () => sim.output().includes(decision));
+  check(true, `player_sim logs "${decision}"`);
+  check(await dashboard.locator("#btn-forward").isDisabled(), "the controls stay disabled: the lock stays with tcp");
+  await screenshot(dashboard, "dashboard_tcp_client_left.png");
+  check(problems.length === 0 && dashboardProblems.length === 0,
+        `no console errors, failed requests or HTTP errors (${[...problems, ...dashboardProblems].join("; ")})`);
   await page.close();
   await dashboard.close();
   check(await stopPlayerSim(sim) === 0, "player_sim exits 0 on SIGTERM");

@@ -13,6 +13,7 @@ export class FakeVehicle {
     this.heading = 0;
     this.socket = null;
     this.buffer = Buffer.alloc(0);
+    this.roundAckTime = false;     // echo ack_time as a double would hold it (a client's bug)
   }
 
   connect() {
@@ -41,7 +42,8 @@ export class FakeVehicle {
 
   onControl(text) {
     this.controls += 1;
-    const ackTime = /"ack_time":(\d+)/.exec(text)[1];
+    const exactAckTime = /"ack_time":(\d+)/.exec(text)[1];
+    const ackTime = this.roundAckTime ? BigInt(Number(exactAckTime)).toString() : exactAckTime;
     const ackMac = /"ack_time_mac":(\d+)/.exec(text)[1];
     const message = JSON.parse(text);
     let command = null;

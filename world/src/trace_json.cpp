@@ -173,6 +173,27 @@ void write_body(JsonWriter& json, const ActiveVehicleChange& change, const Trace
   }
 }
 
+void write_pair(JsonWriter& json, std::string_view name, const AckPair& pair) {
+  key(json, name);
+  json.StartObject();
+  number(json, "ack_time", pair.ack_time);
+  number(json, "ack_time_mac", pair.ack_time_mac);
+  json.EndObject();
+}
+
+void write_body(JsonWriter& json, const PairRejected& rejected, const TraceOptions&) {
+  text(json, "event", "pair_rejected");
+  write_pair(json, "rejected", rejected.rejected);
+  if (rejected.judgement.nearest_issued) {
+    write_pair(json, "nearest_issued", *rejected.judgement.nearest_issued);
+  } else {
+    key(json, "nearest_issued");
+    json.Null();
+  }
+  text(json, "cause", pair_cause_name(rejected.judgement.cause));
+  text(json, "hint", rejected.hint);
+}
+
 bool wanted(const Event& event, const TraceOptions& options) {
   if (std::holds_alternative<WireFrame>(event.body)) return options.frames;
   if (std::holds_alternative<LinkEvent>(event.body)) return options.link_messages;

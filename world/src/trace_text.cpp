@@ -83,6 +83,7 @@ std::string describe(const Json& line) {
   if (event == "active_vehicle") {
     return fmt::format("active vehicle {}", line["vehicle"].IsString() ? str(line, "vehicle") : "none");
   }
+  if (event == "pair_rejected") return fmt::format("pair rejected ({}): {}", str(line, "cause"), str(line, "hint"));
   if (event == "trace_format") return fmt::format("trace format version {}", num(line, "version"));
   return fmt::format("{} (unknown event)", event);
 }

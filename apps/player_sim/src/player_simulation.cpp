@@ -96,7 +96,12 @@ Status PlayerSimulation::start() {
     stop();
     return status;
   }
-  if (webview_) webview_->attach(world_.player());
+  // The Streamers exist once the world started.
+  for (const auto& name : options_.vehicles) pair_notes_.follow(world_.streamer(name).events());
+  if (webview_) {
+    webview_->attach(world_.player());
+    webview_->show_loop_notes(&pair_notes_);
+  }
   sim_app::apply_gamepad_script(world_.player().gamepad(), options_.gamepad, executor_.now());
   std::string names;
   for (const auto& name : options_.vehicles) {
@@ -129,7 +134,9 @@ std::string PlayerSimulation::status_line() {
   const Micros elapsed = now - previous_.time;
   std::string client = "none";
   if (core.client_connected()) client = "connected";
-  if (const auto source = core.locked_source()) {
+  if (core.tcp_lock_without_client()) {
+    client += fmt::format(" ({})", tcp_lock_without_client_text);   // SPEC §4.3: said every second
+  } else if (const auto source = core.locked_source()) {
     client += fmt::format(" (source {}{})", client_source_name(*source),
                           core.client_data_stopped() ? ", client data STOPPED by a source conflict" : "");
   }
@@ -154,6 +161,7 @@ std::string PlayerSimulation::status_line() {
     line += fmt::format(" | {}: simulated Streamer: latency {}, faults {}; operator client sees: {}", name,
                         streamer.vehicle_connected() ? latency.format() : std::string("n/a (no loop running)"),
                         sim_app::format_faults(streamer.faults()), client_view);
+    if (const std::string* why = pair_notes_.hint(name)) line += "; loop not closed: " + *why;
     latency.reset();
   }
   previous_ = Previous{now, stats.client_frames_sent, stats.client_messages_received};

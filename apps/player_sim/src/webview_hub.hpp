@@ -130,6 +130,7 @@ struct WebviewServer::Hub : std::enable_shared_from_this<WebviewServer::Hub> {
   std::vector<std::string> allowed_origins;   // options.allowed_origins, normalised
   std::filesystem::path root;
   PlayerCore* player = nullptr;
+  const sim_app::PairRejectionNotes* loop_notes = nullptr;
   bool stopped = false;
   std::map<std::uint64_t, std::weak_ptr<WebsocketSession>> sessions;
   std::uint64_t next_session_id = 1;

@@ -106,6 +106,17 @@ std::string encode_status(const Status& status) {
     write_string(writer, describe(*too_large));
     writer.EndObject();
   }
+  if (status.tcp_lock_without_client) {
+    writer.Key("tcp_lock_without_client");
+    write_string(writer, *status.tcp_lock_without_client);
+  }
+  writer.Key("loop_not_closed");
+  writer.StartObject();
+  for (const auto& [vehicle, hint] : status.loop_not_closed) {
+    write_string(writer, vehicle);   // a Key: the writer takes a string in key position
+    write_string(writer, hint);
+  }
+  writer.EndObject();
   writer.EndObject();
   return {buffer.GetString(), buffer.GetSize()};
 }

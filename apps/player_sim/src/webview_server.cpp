@@ -7,6 +7,8 @@
 #include <fmt/format.h>
 
 #include "ocp/json_codec.hpp"
+#include "player/player_core.hpp"
+#include "sim_app/pair_rejection_notes.hpp"
 #include "webview_hub.hpp"
 
 namespace ocp {
@@ -293,6 +295,10 @@ webview::Status WebviewServer::Hub::current_status() const {
   status.active_vehicle = player->active_vehicle();
   status.vehicles = player->vehicles();
   if (const auto& too_large = player->client_frame_too_large()) status.client_frame_too_large = webview::status_of(*too_large);
+  if (player->tcp_lock_without_client()) status.tcp_lock_without_client = std::string(tcp_lock_without_client_text);
+  if (loop_notes != nullptr) {
+    for (const auto& [vehicle, hint] : loop_notes->open()) status.loop_not_closed.emplace(vehicle, hint);
+  }
   return status;
 }
 
@@ -402,11 +408,14 @@ void WebviewServer::attach(PlayerCore& player) {
   });
 }
 
+void WebviewServer::show_loop_notes(const sim_app::PairRejectionNotes* notes) { hub_->loop_notes = notes; }
+
 void WebviewServer::stop() {
   Hub& hub = *hub_;
   if (hub.stopped) return;
   hub.stopped = true;
   hub.player = nullptr;
+  hub.loop_notes = nullptr;
   if (hub.acceptor.is_open()) {
     boost::system::error_code ignored;
     hub.acceptor.close(ignored);

@@ -28,7 +28,9 @@ void TcpFront::stop() {
 }
 
 std::unique_ptr<TcpFront> vehicle_api_front(AsioExecutor& executor, World& world, std::string vehicle, Logger logger) {
-  std::string detail = "for vehicle \"" + vehicle + "\"";   // the default name is "vehicle" too
+  // Quoted: streamer_sim's default vehicle is called "vehicle", and "(vehicle vehicle)" read
+  // like a typo.
+  std::string detail = "for vehicle '" + vehicle + "'";
   return std::make_unique<TcpFront>(
       executor, "vehicle API", std::move(detail),
       [&world, vehicle = std::move(vehicle)](std::shared_ptr<ByteStream> stream) {

@@ -55,6 +55,7 @@ Status StreamerSimulation::start() {
     front_->stop();
     return status;
   }
+  pair_notes_.follow(streamer().events());   // the Streamer exists once the world started
   sim_app::apply_gamepad_script(world_.player().gamepad(), options_.gamepad, executor_.now());
   logger_.info("simulated operator: gamepad '{}', link delay {} ms, jitter ±{} ms, loss {}, latency_limit {} ms, "
                "ack_time offset {}",
@@ -91,6 +92,7 @@ std::string StreamerSimulation::status_line() {
       sim_app::per_second(stats.vehicle_responses_received, previous_.vehicle_responses_received, elapsed),
       stats.vehicle_responses_received,
       sim_app::per_second(stats.operator_messages_received, previous_.operator_messages_received, elapsed));
+  if (const std::string* why = pair_notes_.hint(options_.vehicle)) line += " | loop not closed: " + *why;
   previous_ = Previous{now, stats.control_frames_sent, stats.vehicle_responses_received,
                        stats.operator_messages_received};
   return line;

@@ -27,7 +27,7 @@ struct CaseInfo {
 struct Outcome {
   Verdict verdict = Verdict::failed;
   std::string actual;        // what was observed, with numbers
-  std::string cause;         // the named cause behind it, when one was found (pair_diagnosis.hpp)
+  std::string cause;         // the named cause behind it, when one was found (ocp/pair_diagnosis.hpp)
 };
 
 struct Case {

@@ -21,6 +21,7 @@
 #include "ocp/faults.hpp"
 #include "ocp/impairments.hpp"
 #include "ocp/messages.hpp"
+#include "ocp/pair_diagnosis.hpp"
 #include "ocp/time.hpp"
 
 namespace ocp {
@@ -120,9 +121,18 @@ struct ActiveVehicleChange {
   std::optional<std::string_view> vehicle;  // nullopt: no vehicle receives gamepad input
 };
 
+// Published by a Streamer at the first rejected returned pair (InvalidMac) of an episode: an
+// episode lasts until a valid pair is accepted again, so a client that alters every pair gives
+// one of these, not 100 a second. Missing pairs are not judged: they have nothing to compare.
+struct PairRejected {
+  AckPair rejected;
+  PairJudgement judgement;   // the cause and the nearest pair this Streamer issued
+  std::string_view hint;     // describe_rejected_pair(): one line for a log, a status line, a page
+};
+
 using EventBody = std::variant<WireFrame, FaultEvent, ConnectionEvent, LatencySample, LinkEvent,
                                ImpairmentChange, GamepadChange, SourceLocked, SourceConflict,
-                               ActiveVehicleChange>;
+                               ActiveVehicleChange, PairRejected>;
 
 struct Event {
   SimTime time{0};

@@ -54,6 +54,10 @@
 
 namespace ocp {
 
+// What the log, the status line and the web view say while tcp_lock_without_client() (SPEC §4.3).
+inline constexpr std::string_view tcp_lock_without_client_text =
+    "source tcp locked, no client connected: no pair is returned";
+
 // A ClientOcpShared carrying no client data — no active_vehicle and no client_user_data entry
 // with any field, e.g. {} — is a keep-alive (SPEC §4.2): a read-only dashboard sends it to
 // stay connected, so it neither locks a source nor counts as that source's data (§4.3).
@@ -179,6 +183,11 @@ class PlayerCore {
   std::optional<std::string> active_vehicle() const;
   std::optional<AckPair> latest_sei(const std::string& vehicle) const;
   bool client_connected() const;        // a tcp client is attached
+  // SPEC §4.3 Decision: the lock belongs to the source kind, so after the locked tcp client
+  // left nobody returns pairs until a new tcp client takes over. True in that state (locked
+  // to tcp, no client, no source conflict); the Player logs it once when the client leaves,
+  // and the status line and the web view show tcp_lock_without_client_text.
+  bool tcp_lock_without_client() const;
   // While the tcp client's VehicleOcpShared is too large to send; nullopt when it fits (or
   // there is no client).
   const std::optional<ClientFrameTooLarge>& client_frame_too_large() const;

@@ -18,6 +18,7 @@
 #include "player_app/webview_server.hpp"
 #include "world/world.hpp"
 #include "sim_app/gamepad_script.hpp"
+#include "sim_app/pair_rejection_notes.hpp"
 #include "sim_app/simulated_world_options.hpp"
 #include "sim_app/tcp_front.hpp"
 
@@ -64,6 +65,7 @@ class PlayerSimulation {
   PlayerSimOptions options_;
   Logger logger_;
   World world_;
+  sim_app::PairRejectionNotes pair_notes_;   // why loops do not close: status line, web view
   std::unique_ptr<sim_app::TcpFront> front_;
   std::map<std::string, std::unique_ptr<sim_app::TcpFront>> vehicle_fronts_;
   std::unique_ptr<WebviewServer> webview_;

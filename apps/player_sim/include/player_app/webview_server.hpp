@@ -45,6 +45,9 @@
 #include "player/player_core.hpp"
 
 namespace ocp {
+namespace sim_app {
+class PairRejectionNotes;
+}
 
 struct WebviewLimits {
   std::size_t max_clients = 16;                 // WebSocket clients at once; more get HTTP 503
@@ -125,6 +128,10 @@ class WebviewServer {
   // Connects the Player: frames are published from now on and client data goes to it.
   // The Player must outlive this server or its stop().
   void attach(PlayerCore& player);
+  // Why each vehicle's latency loop does not close, while it does not (the Streamers' open
+  // InvalidMac episodes): shown in the status pages receive. Must outlive this server or its
+  // stop(); nullptr (the default) shows none.
+  void show_loop_notes(const sim_app::PairRejectionNotes* notes);
   // Closes the listener and every connection. Idempotent.
   void stop();
 

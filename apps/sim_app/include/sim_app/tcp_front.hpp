@@ -27,7 +27,7 @@ class TcpFront {
   using Accept = std::function<void(std::shared_ptr<ByteStream>)>;
 
   // `api` names the front in its log lines ("vehicle API", "operator API"); `detail` is added
-  // to the listening line ("(vehicle truck-1)"), or empty.
+  // to the listening line ("for vehicle 'truck-1'"), or empty.
   TcpFront(AsioExecutor& executor, std::string api, std::string detail, Accept accept, Logger logger);
   // Listens and logs "<api> listening on 127.0.0.1:4000 <detail>". Port in use → the error
   // of TcpServer::listen (std::errc::address_in_use).

@@ -15,6 +15,7 @@
 #include "ocp/plugin_params.hpp"
 #include "world/world.hpp"
 #include "sim_app/gamepad_script.hpp"
+#include "sim_app/pair_rejection_notes.hpp"
 #include "sim_app/simulated_world_options.hpp"
 #include "sim_app/tcp_front.hpp"
 
@@ -46,7 +47,8 @@ class StreamerSimulation {
   sim_app::TcpFront& front() { return *front_; }
 
   // The once-per-second status line; rates are per second since the previous call, latency
-  // min/avg/max over the samples since then (every control tick while a vehicle is connected).
+  // min/avg/max over the samples since then (every control tick while a vehicle is connected);
+  // while returned pairs are rejected, why (PairRejected's hint).
   std::string status_line();
 
  private:
@@ -54,6 +56,7 @@ class StreamerSimulation {
   StreamerSimOptions options_;
   Logger logger_;
   World world_;
+  sim_app::PairRejectionNotes pair_notes_;   // why the loop does not close, for the status line
   std::unique_ptr<sim_app::TcpFront> front_;
   PeriodicTimer latency_sampler_;
   LatencyWindow latency_window_;

@@ -4,9 +4,11 @@
 // Browser → Player: ocp_client_user_data (ClientOcpShared without the pair, SPEC §4.2).
 // Player → browser: ocp_vehicle_user_data (VehicleOcpShared, SPEC §4.1, every Player frame),
 //                   ocp_webview_status (the client-data source lock, whether the :4001 client's
-//                   VehicleOcpShared is too large to send; on connect and on change),
+//                   VehicleOcpShared is too large to send, whether a locked tcp source lost
+//                   its client, why loops do not close; on connect and on change),
 //                   ocp_webview_error (why a message of this page was dropped; first of a kind).
 #include <cstddef>
+#include <map>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -62,6 +64,12 @@ struct Status {
     bool operator==(const ClientFrameTooLarge&) const = default;
   };
   std::optional<ClientFrameTooLarge> client_frame_too_large;   // not in the JSON while it fits
+  // SPEC §4.3 Decision: the locked tcp client left, nobody returns pairs; the text to show
+  // (tcp_lock_without_client_text). Not in the JSON otherwise.
+  std::optional<std::string> tcp_lock_without_client;
+  // vehicle → why its returned pairs are rejected (the Streamer's PairRejected hint), while
+  // they are; always in the JSON, {} when every loop closes.
+  std::map<std::string, std::string> loop_not_closed;
   bool operator==(const Status&) const = default;
 };
 std::string encode_status(const Status& status);    // the "data" object
