@@ -256,10 +256,12 @@ std::string scale_svg(const std::vector<FleetPointResult>& points, int cores) {
     }
     return one;
   };
-  XySeries kernel_floor = series(FleetMode::loopback, "kernel TCP alone", "#1f77b4",
+  XySeries kernel_floor = series(FleetMode::loopback, "kernel TCP alone", "#17becf",
                                  [](auto& p) { return p.kernel_floor_measured ? p.kernel_floor_cpu_per_s : 0.0; });
-  XySeries codec_floor = series(FleetMode::virtual_time, "codec alone", "#2ca02c",
+  XySeries codec_floor = series(FleetMode::virtual_time, "codec alone", "#bcbd22",
                                 [](auto& p) { return p.codec_floor_measured ? p.codec_floor_cpu_per_s : 0.0; });
+  // Each legend entry its own colour (a floor beside its mode): dashes alone are hard to tell
+  // apart in a small legend.
   kernel_floor.dashed = codec_floor.dashed = true;
   // The machine's cores as a horizontal line across the vehicle counts plotted.
   XySeries core_line{fmt::format("{} cores", cores), "#7f7f7f", {}, false, true};
