@@ -46,7 +46,7 @@ TEST(CampaignCli, BadValuesExitTwo) {
       {"run --worlds 5 --world 5", "--world"},
       {"run --shrink-runs 0", "--shrink-runs"},
       {"merge /nonexistent-dir", "cannot read"},
-      {"check /nonexistent.yaml", "cannot read"},
+      {"check /nonexistent.yaml", "cannot open /nonexistent.yaml"},
       {"slurm --tasks 0", "--tasks"},
       {"slurm --poll 0", "--poll"},
       {"frobnicate", ""},
