@@ -1,6 +1,7 @@
 // `ocp_campaign slurm` (slurm.hpp).
 #include "campaign/slurm.hpp"
 
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <array>
@@ -9,9 +10,12 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <thread>
 
+#include "campaign/profile.hpp"
 #include "ocp/cli_checks.hpp"
+#include "ocp/interrupt.hpp"
 
 namespace ocp::campaign {
 
@@ -60,28 +64,71 @@ void add_slurm_options(CLI::App& app, SlurmOptions& options) {
   app.add_flag("--print-only", options.print_only, "print the sbatch script and exit");
 }
 
+namespace {
+
+// A profile that is a file (it has a '/' or a '.') by absolute path: the tasks may start elsewhere.
+std::string slurm_profile_argument(const std::string& profile) {
+  if (profile.find('/') == std::string::npos && profile.find('.') == std::string::npos) return profile;
+  return std::filesystem::absolute(profile).lexically_normal().string();
+}
+
+}  // namespace
+
 std::string sbatch_script(const SlurmOptions& o, const std::string& executable) {
-  const std::string out = std::filesystem::absolute(o.out).string();
+  const std::string out = std::filesystem::absolute(o.out).lexically_normal().string();
+  const std::string tasks = std::to_string(o.tasks);
   std::string script = "#!/bin/bash\n";
   script += "#SBATCH --job-name=ocp-campaign-" + std::to_string(o.seed) + "\n";
   script += "#SBATCH --array=0-" + std::to_string(o.tasks - 1) + "\n";
   script += "#SBATCH --cpus-per-task=" + std::to_string(o.jobs) + "\n";
   script += "#SBATCH --output=" + out + "/shard-%a.log\n";
   if (!o.partition.empty()) script += "#SBATCH --partition=" + o.partition + "\n";
-  script += "# Task i runs shard i/" + std::to_string(o.tasks) +
-            ": ocp_campaign reads SLURM_ARRAY_TASK_ID and SLURM_ARRAY_TASK_COUNT.\n";
+  script += "# Task i runs shard i/" + tasks + " into " + out + "/shard-i (a folder every node sees);\n";
+  script += "# `ocp_campaign merge` joins them. Exit 1 of a task means a world failed, not the task.\n";
+  script += ": \"${SLURM_ARRAY_TASK_ID:?run this as a Slurm array task (sbatch)}\"\n";
   script += "exec " + quoted(executable) + " run --seed " + std::to_string(o.seed) + " --worlds " +
-            std::to_string(o.worlds) + " --profile " + quoted(o.profile) + " -j " + std::to_string(o.jobs) +
-            " --quiet --out " + quoted(out) + "/shard-$SLURM_ARRAY_TASK_ID\n";
+            std::to_string(o.worlds) + " --profile " + quoted(slurm_profile_argument(o.profile)) + " -j " +
+            std::to_string(o.jobs) + " --shard \"$SLURM_ARRAY_TASK_ID/" + tasks + "\" --quiet --out " + quoted(out) +
+            "/shard-\"$SLURM_ARRAY_TASK_ID\"\n";
   return script;
 }
 
+namespace {
+
+std::string first_output_line(const std::string& text) { return text.substr(0, text.find('\n')); }
+
+// The job's tasks still queued or running, from `squeue` (empty once the array is gone).
+// nullopt: squeue failed; `error` says why.
+std::optional<std::string> queued_tasks(const std::string& job, std::string& error) {
+  const auto [queued, ok] = capture("squeue -h -j " + job + " -o %T 2>&1");
+  if (queued.find("Invalid job id") != std::string::npos) return std::string();   // purged: done
+  if (!ok) {
+    error = first_output_line(queued);
+    return std::nullopt;
+  }
+  std::string states;
+  for (const char c : queued) states += c == '\n' ? ' ' : c;
+  while (!states.empty() && states.back() == ' ') states.pop_back();
+  return states;
+}
+
+
+}  // namespace
+
 int run_slurm(const SlurmOptions& o) {
+  namespace fs = std::filesystem;
   const std::string executable = self_executable();
   const std::string script = sbatch_script(o, executable);
   if (o.print_only) {
     std::cout << script;
     return 0;
+  }
+  try {   // a bad profile is one message here, not one failed task per shard
+    const std::string& p = o.profile;
+    load_profile(p.find('/') == std::string::npos && p.find('.') == std::string::npos ? shipped_profile_path(p) : p);
+  } catch (const ProfileError& error) {
+    std::cerr << error.what() << "\n";
+    return exit_usage;
   }
   for (const char* tool : {"sbatch", "squeue"}) {
     if (!on_path(tool)) {
@@ -90,37 +137,68 @@ int run_slurm(const SlurmOptions& o) {
       return exit_usage;
     }
   }
-  namespace fs = std::filesystem;
-  fs::create_directories(o.out);
-  const fs::path script_path = fs::absolute(o.out) / "campaign.sbatch";
+  const fs::path out = fs::absolute(o.out).lexically_normal();
+  std::error_code error_code;
+  fs::create_directories(out, error_code);
+  // Shards of an earlier run in the same folder would be merged as if this run wrote them.
+  for (int task = 0; task < o.tasks; ++task) {
+    fs::remove_all(out / ("shard-" + std::to_string(task)), error_code);
+    fs::remove(out / ("shard-" + std::to_string(task) + ".log"), error_code);
+  }
+  const fs::path script_path = out / "campaign.sbatch";
   std::ofstream(script_path) << script;
+  if (!fs::exists(script_path)) {
+    std::cerr << "ocp_campaign slurm: cannot write " << script_path.string() << "\n";
+    return exit_usage;
+  }
+  const auto start = std::chrono::steady_clock::now();
   const auto [submitted, ok] = capture("sbatch --parsable " + quoted(script_path.string()) + " 2>&1");
   const std::string job = submitted.substr(0, submitted.find_first_of(";\n"));
   if (!ok || job.empty() || job.find_first_not_of("0123456789") != std::string::npos) {
     std::cerr << "ocp_campaign slurm: sbatch failed (is slurmctld reachable?): " << submitted << "\n";
     return exit_usage;
   }
-  std::cerr << "submitted job array " << job << " (" << o.tasks << " tasks); waiting\n";
-  const auto start = std::chrono::steady_clock::now();
+  std::cerr << "submitted job array " << job << " (" << o.tasks << " tasks, script " << script_path.string()
+            << "); polling squeue\n";
+  cli::install_interrupt_handlers();
+  const auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  int failures_in_a_row = 0;
+  std::string last_states;
   for (;;) {
-    const auto [queued, reachable] = capture("squeue -h -j " + job + " -o %T 2>&1");
-    if (!reachable && queued.find("Invalid job id") == std::string::npos) {
-      std::cerr << "ocp_campaign slurm: squeue failed (is slurmctld reachable?): " << queued << "\n";
-      return exit_usage;
+    if (cli::interrupt_requested()) {
+      capture("scancel " + job + " 2>&1");
+      std::cerr << "interrupted: cancelled job " << job << "\n";
+      return cli::exit_interrupted;
     }
-    if (queued.find_first_not_of(" \n") == std::string::npos || queued.find("Invalid job id") != std::string::npos) break;
-    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > o.timeout_seconds) {
-      std::cerr << "ocp_campaign slurm: job " << job << " still queued or running after " << o.timeout_seconds << " s\n";
+    std::string error;
+    const auto states = queued_tasks(job, error);
+    if (!states) {
+      // A loaded controller can time out once; a dead one keeps failing.
+      if (++failures_in_a_row >= 5) {
+        std::cerr << "ocp_campaign slurm: squeue failed 5 times in a row (is slurmctld reachable?): " << error << "\n";
+        return exit_usage;
+      }
+    } else {
+      failures_in_a_row = 0;
+      if (states->empty()) break;
+      if (*states != last_states) std::cerr << "job " << job << ": " << *states << "\n";
+      last_states = *states;
+    }
+    if (elapsed() > o.timeout_seconds) {
+      capture("scancel " + job + " 2>&1");
+      std::cerr << "ocp_campaign slurm: job " << job << " still queued or running after " << o.timeout_seconds
+                << " s (--timeout); cancelled it\n";
       return exit_usage;
     }
     std::this_thread::sleep_for(std::chrono::duration<double>(o.poll_seconds));
   }
-  std::string merge = quoted(executable) + " merge --out " + quoted(o.out);
+  std::cerr << "job " << job << " done after " << elapsed() << " s; merging\n";
+  std::string merge = quoted(executable) + " merge --out " + quoted(out.string());
   for (int task = 0; task < o.tasks; ++task) {
-    const fs::path shard = fs::path(o.out) / ("shard-" + std::to_string(task));
+    const fs::path shard = out / ("shard-" + std::to_string(task));
     if (!fs::exists(shard / "summary.json")) {
-      std::cerr << "ocp_campaign slurm: task " << task << " left no summary.json (see " << o.out << "/shard-" << task
-                << ".log)\n";
+      std::cerr << "ocp_campaign slurm: task " << task << " left no summary.json (see " << out.string() << "/shard-"
+                << task << ".log)\n";
       return exit_usage;
     }
     merge += " " + quoted(shard.string());

@@ -71,6 +71,27 @@ TEST(CampaignCli, SlurmPrintOnlyWritesAnArrayScript) {
   EXPECT_EQ(ran.code, 0) << ran.output;
   EXPECT_NE(ran.output.find("#SBATCH --array=0-3"), std::string::npos) << ran.output;
   EXPECT_NE(ran.output.find("run --seed 5 --worlds 200"), std::string::npos) << ran.output;
+  // The shard from the array's environment, the binary and the results by absolute path.
+  EXPECT_NE(ran.output.find("--shard \"$SLURM_ARRAY_TASK_ID/4\""), std::string::npos) << ran.output;
+  EXPECT_NE(ran.output.find("exec '/"), std::string::npos) << ran.output;
+  EXPECT_NE(ran.output.find("--out '/tmp/x'/shard-\"$SLURM_ARRAY_TASK_ID\""), std::string::npos) << ran.output;
+  const Ran file = run("slurm --print-only --profile my/p.yaml --out rel");
+  EXPECT_NE(file.output.find("--profile '/"), std::string::npos) << file.output;
+  EXPECT_EQ(file.output.find("--out 'rel'"), std::string::npos) << file.output;
+}
+
+TEST(CampaignCli, SlurmWithoutSbatchNamesItAndExitsTwo) {
+  const std::string out = ::testing::TempDir() + "ocp-campaign-no-sbatch";
+  // PATH without Slurm: the tool must say which command is missing (popen's /bin/sh is absolute).
+  Ran bare;
+  const std::string command = "PATH=/nonexistent " + std::string(OCP_CAMPAIGN_PATH) +
+                              " slurm --profile calm --worlds 4 --out " + out + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  char buffer[4096];
+  while (const std::size_t n = std::fread(buffer, 1, sizeof buffer, pipe)) bare.output.append(buffer, n);
+  const int status = pclose(pipe);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 2) << bare.output;
+  EXPECT_NE(bare.output.find("'sbatch' is not on PATH"), std::string::npos) << bare.output;
 }
 
 struct BadProfile {
