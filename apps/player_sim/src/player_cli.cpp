@@ -16,6 +16,8 @@ PlayerSimOptions PlayerCli::simulation_options() const {
   options.vehicles = vehicles;
   options.frame_rate_hz = frame_rate_hz;
   options.vehicle_tcp_ports = vehicle_tcp_ports;
+  options.udp_vehicles = udp_vehicles;
+  options.com_key = com.key;
   if (!no_webview) {
     WebviewOptions webview;   // allow_remote follows ocp_tcp_allow_remote (PlayerSimulation)
     webview.port = static_cast<std::uint16_t>(webview_port);
@@ -33,7 +35,8 @@ std::optional<int> parse_player_cli(int argc, const char* const* argv, PlayerCli
       "client, in-process). Connect your operator-side client to it.",
       "player_sim"};
   sim_app::add_common_options(app, cli.common);
-  app.add_option("--vehicle", cli.vehicles, "simulated vehicle name (repeatable; several form a fleet; default: vehicle)")
+  app.add_option("--vehicle", cli.vehicles, "simulated vehicle name (repeatable; several form a fleet; default: vehicle); NAME=udp://HOST:PORT: "
+                 "that vehicle is a real Streamer (streamer_sim --com-listen HOST:PORT) over a UDP com channel")
       ->group("Player");
   app.add_option("--frame-rate-hz", cli.frame_rate_hz, "Player frame rate (capped at 100)")
       ->capture_default_str()->check(cli::real(1.0, 100.0))->group("Player");
@@ -59,7 +62,16 @@ std::optional<int> parse_player_cli(int argc, const char* const* argv, PlayerCli
           },
           "ORIGIN"))
       ->group("Web view");
+  sim_app::add_com_options(app, cli.com);
   if (auto exit_code = sim_app::parse_command_line(app, argc, argv, cli.common)) return exit_code;
+
+  std::map<std::string, std::string> udp_texts;
+  for (auto& text : cli.vehicles) {
+    const std::size_t scheme = text.find("=udp://");
+    if (scheme == std::string::npos) continue;
+    udp_texts[text.substr(0, scheme)] = text.substr(scheme + 7);
+    text = text.substr(0, scheme);
+  }
 
   if (cli.vehicles.empty()) cli.vehicles.push_back("vehicle");
   std::set<std::string> unique;
@@ -75,6 +87,26 @@ std::optional<int> parse_player_cli(int argc, const char* const* argv, PlayerCli
     return cli::exit_usage_error;
   }
   cli.vehicle_tcp_ports = *vehicle_tcp_ports;
+  if (udp_texts.empty() && (!cli.com.key_file.empty() || cli.com.insecure || cli.com.allow_remote)) {
+    std::cerr << "player_sim: --com-key, --com-insecure and --com-allow-remote need --vehicle NAME=udp://HOST:PORT\n";
+    return cli::exit_usage_error;
+  }
+  for (const auto& [name, text] : udp_texts) {
+    auto endpoint = sim_app::resolve_udp_endpoint(text, false);
+    if (!endpoint) {
+      std::cerr << "player_sim: --vehicle " << name << "=udp://" << endpoint.error().detail << "\n";
+      return cli::exit_usage_error;
+    }
+    if (cli.vehicle_tcp_ports.contains(name)) {
+      std::cerr << "player_sim: vehicle '" << name << "' is a real Streamer over UDP: it has no --vehicle-tcp\n";
+      return cli::exit_usage_error;
+    }
+    if (auto checked = sim_app::check_com_options(cli.com, *endpoint, false); !checked) {
+      std::cerr << "player_sim: " << checked.error().detail << "\n";
+      return cli::exit_usage_error;
+    }
+    cli.udp_vehicles[name] = *endpoint;
+  }
   return std::nullopt;
 }
 

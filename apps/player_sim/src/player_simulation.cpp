@@ -34,7 +34,7 @@ WorldConfig make_world_config(const PlayerSimOptions& options) {
     vehicle.to_player = options.link;
     // The reference vehicle client over an in-memory pipe, unless an external one connects
     // over TCP (--vehicle-tcp).
-    vehicle.in_process_client = !options.vehicle_tcp_ports.contains(name);
+    vehicle.in_process_client = !options.vehicle_tcp_ports.contains(name) && !options.udp_vehicles.contains(name);
     config.vehicles.push_back(std::move(vehicle));
   }
   return config;
@@ -59,6 +59,10 @@ PlayerSimulation::PlayerSimulation(AsioExecutor& executor, PlayerSimOptions opti
   for (const auto& [name, port] : options_.vehicle_tcp_ports) {
     vehicle_fronts_[name] = sim_app::vehicle_api_front(executor, world_, name, Logger(executor, "streamer:" + name + ":tcp", sink));
   }
+  for (const auto& [name, peer] : options_.udp_vehicles) {
+    coms_[name] = std::make_unique<sim_app::UdpComEndpoint>(executor, false, options_.com_key,
+                                                            Logger(executor, "player:" + name + ":com", sink));
+  }
   if (options_.webview) {
     WebviewOptions webview = *options_.webview;
     webview.allow_remote = options_.plugin_params.ocp_tcp_allow_remote;
@@ -72,6 +76,23 @@ std::uint16_t PlayerSimulation::vehicle_port(const std::string& vehicle) const {
 }
 
 PlayerSimulation::~PlayerSimulation() { stop(); }
+
+sim_app::UdpComEndpoint* PlayerSimulation::com(const std::string& vehicle) {
+  const auto found = coms_.find(vehicle);
+  return found == coms_.end() ? nullptr : found->second.get();
+}
+
+// The Streamer is across the network: what the Player sends to it goes through the link's
+// to_streamer direction (impairments at the sender) into the socket, and what arrives goes
+// straight to the Player. The local stand-in Streamer is stopped and delivers nothing.
+void PlayerSimulation::attach_remote_streamer(const std::string& vehicle) {
+  ComChannel& link = world_.link(vehicle);
+  sim_app::UdpComEndpoint& com = *coms_.at(vehicle);
+  world_.streamer(vehicle).stop();
+  link.to_player().set_receiver([](LinkMessage&&) {});
+  link.to_streamer().set_receiver([&com](LinkMessage&& message) { com.send(message); });
+  com.set_receiver([this, vehicle](LinkMessage&& message) { world_.player().handle_link_message(vehicle, std::move(message)); });
+}
 
 Status PlayerSimulation::start() {
   const TcpServerOptions listen_options{options_.plugin_params.ocp_player_tcp_port,
@@ -92,10 +113,17 @@ Status PlayerSimulation::start() {
       return sim_app::with_port_hint(status, "player_sim", "--webview-port N (0: any free port), or --no-webview");
     }
   }
+  for (const auto& [name, com] : coms_) {
+    if (auto status = com->connect(options_.udp_vehicles.at(name)); !status) {
+      stop();
+      return status;
+    }
+  }
   if (auto status = world_.start(); !status) {
     stop();
     return status;
   }
+  for (const auto& [name, com] : coms_) attach_remote_streamer(name);
   // The Streamers exist once the world started.
   for (const auto& name : options_.vehicles) pair_notes_.follow(world_.streamer(name).events());
   if (webview_) {
@@ -109,6 +137,7 @@ Status PlayerSimulation::start() {
     if (const auto front = vehicle_fronts_.find(name); front != vehicle_fronts_.end()) {
       names += " (external vehicle client on " + front->second->address() + ")";
     }
+    if (coms_.contains(name)) names += " (a real Streamer over UDP)";
   }
   logger_.info("simulated vehicles: {} ({}); gamepad '{}', link delay {} ms, jitter ±{} ms, loss {}",
                names, options_.vehicles.size() > 1 ? "fleet" : "single vehicle",
@@ -120,6 +149,7 @@ Status PlayerSimulation::start() {
 }
 
 void PlayerSimulation::stop() {
+  for (auto& [name, com] : coms_) com->stop();
   if (webview_) webview_->stop();
   for (auto& [name, front] : vehicle_fronts_) front->stop();
   latency_sampler_.stop();
@@ -152,16 +182,21 @@ std::string PlayerSimulation::status_line() {
   for (const auto& name : options_.vehicles) {
     const StreamerCore& streamer = world_.streamer(name);
     LatencyWindow& latency = latency_windows_[name];
+    const auto* com = coms_.contains(name) ? coms_.at(name).get() : nullptr;
     std::string client_view = "nothing sent yet";
     const auto& feedback = core.last_shared().vehicle_feedback;
     if (const auto found = feedback.find(name); found != feedback.end()) {
       client_view = fmt::format("receiver_fault {}, sender_fault {}", format_identifiers(found->second.receiver_fault),
                                 format_identifiers(found->second.sender_fault));
     }
-    line += fmt::format(" | {}: simulated Streamer: latency {}, faults {}; operator client sees: {}", name,
-                        streamer.vehicle_connected() ? latency.format() : std::string("n/a (no loop running)"),
-                        sim_app::format_faults(streamer.faults()), client_view);
-    if (const std::string* why = pair_notes_.hint(name)) line += "; loop not closed: " + *why;
+    if (com) {
+      line += fmt::format(" | {}: {}; operator client sees: {}", name, com->describe(), client_view);
+    } else {
+      line += fmt::format(" | {}: simulated Streamer: latency {}, faults {}; operator client sees: {}", name,
+                          streamer.vehicle_connected() ? latency.format() : std::string("n/a (no loop running)"),
+                          sim_app::format_faults(streamer.faults()), client_view);
+      if (const std::string* why = pair_notes_.hint(name)) line += "; loop not closed: " + *why;
+    }
     latency.reset();
   }
   previous_ = Previous{now, stats.client_frames_sent, stats.client_messages_received};

@@ -41,7 +41,12 @@ StreamerSimulation::StreamerSimulation(AsioExecutor& executor, StreamerSimOption
       latency_sampler_(executor, Micros{10'000}, [this](SimTime) {
         const StreamerCore& core = streamer();
         if (const auto latency = core.latency_ms(); latency && core.vehicle_connected()) latency_window_.add(*latency);
-      }) {}
+      }) {
+  if (options_.com_listen) {
+    com_ = std::make_unique<sim_app::UdpComEndpoint>(executor, true, options_.com_key,
+                                                     Logger(executor, "streamer:" + options_.vehicle + ":com", sink));
+  }
+}
 
 StreamerSimulation::~StreamerSimulation() { stop(); }
 
@@ -51,13 +56,26 @@ Status StreamerSimulation::start() {
   if (auto status = front_->listen(listen_options); !status) {
     return sim_app::with_port_hint(status, "streamer_sim", "--plugin-param tcp_port N");
   }
+  if (com_) {
+    if (auto status = com_->listen(*options_.com_listen); !status) {
+      front_->stop();
+      return sim_app::with_port_hint(status, "streamer_sim", "--com-listen ADDR:PORT");
+    }
+  }
   if (auto status = world_.start(); !status) {
     front_->stop();
+    if (com_) com_->stop();
     return status;
   }
   pair_notes_.follow(streamer().events());   // the Streamer exists once the world started
+  if (com_) attach_remote_operator();
   sim_app::apply_gamepad_script(world_.player().gamepad(), options_.gamepad, executor_.now());
-  logger_.info("simulated operator: gamepad '{}', link delay {} ms, jitter ±{} ms, loss {}, latency_limit {} ms, "
+  if (com_) {
+    logger_.info("operator: a Player over UDP (player_sim --vehicle {}=udp://HOST:{}), link impairments added here: "
+                 "delay {} ms, jitter ±{} ms, loss {}{}",
+                 options_.vehicle, com_->local_port(), to_whole_ms(options_.link.delay), to_whole_ms(options_.link.jitter),
+                 options_.link.loss_probability, options_.com_key.empty() ? "; INSECURE (no key)" : "");
+  } else logger_.info("simulated operator: gamepad '{}', link delay {} ms, jitter ±{} ms, loss {}, latency_limit {} ms, "
                "ack_time offset {}",
                options_.gamepad.description, to_whole_ms(options_.link.delay),
                to_whole_ms(options_.link.jitter), options_.link.loss_probability,
@@ -67,7 +85,19 @@ Status StreamerSimulation::start() {
   return Ok{};
 }
 
+// The Player is across the network: what the Streamer sends goes through its to_player
+// direction (impairments at the sender) into the socket, and what arrives goes straight to the
+// Streamer. The simulated operator is stopped, and its direction delivers nothing.
+void StreamerSimulation::attach_remote_operator() {
+  ComChannel& link = world_.link(options_.vehicle);
+  world_.player().stop();
+  link.to_streamer().set_receiver([](LinkMessage&&) {});
+  link.to_player().set_receiver([this](LinkMessage&& message) { com_->send(message); });
+  com_->set_receiver([this](LinkMessage&& message) { streamer().handle_link_message(std::move(message)); });
+}
+
 void StreamerSimulation::stop() {
+  if (com_) com_->stop();
   latency_sampler_.stop();
   front_->stop();
   if (world_.running()) world_.stop();
@@ -93,6 +123,7 @@ std::string StreamerSimulation::status_line() {
       stats.vehicle_responses_received,
       sim_app::per_second(stats.operator_messages_received, previous_.operator_messages_received, elapsed));
   if (const std::string* why = pair_notes_.hint(options_.vehicle)) line += " | loop not closed: " + *why;
+  if (com_) line += " | " + com_->describe();
   previous_ = Previous{now, stats.control_frames_sent, stats.vehicle_responses_received,
                        stats.operator_messages_received};
   return line;

@@ -10,6 +10,7 @@
 
 #include "player_app/player_simulation.hpp"
 #include "sim_app/common_options.hpp"
+#include "sim_app/udp_com.hpp"
 
 namespace ocp {
 
@@ -23,6 +24,8 @@ struct PlayerCli {
   std::string webview_root;                         // default: the built-in dashboard
   bool no_webview = false;
   std::vector<std::string> webview_allowed_origins;   // --webview-allow-origin, normalised
+  sim_app::ComOptions com;
+  std::map<std::string, boost::asio::ip::udp::endpoint> udp_vehicles;   // from --vehicle NAME=udp://HOST:PORT
 
   PlayerSimOptions simulation_options() const;
 };

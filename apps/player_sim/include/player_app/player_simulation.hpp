@@ -21,6 +21,7 @@
 #include "sim_app/pair_rejection_notes.hpp"
 #include "sim_app/simulated_world_options.hpp"
 #include "sim_app/tcp_front.hpp"
+#include "sim_app/udp_com.hpp"
 
 namespace ocp {
 
@@ -31,6 +32,10 @@ struct PlayerSimOptions : sim_app::SimulatedWorldOptions {   // ocp_player_tcp_p
   // instead of the in-process reference vehicle client.
   std::map<std::string, std::uint16_t> vehicle_tcp_ports;
   std::optional<WebviewOptions> webview;  // the web view endpoint; nullopt = none
+  // --vehicle NAME=udp://HOST:PORT: that vehicle is a real Streamer (streamer_sim --com-listen)
+  // over a UDP com channel, instead of a simulated one; to_streamer impairments apply here.
+  std::map<std::string, boost::asio::ip::udp::endpoint> udp_vehicles;
+  com::ComKey com_key;                    // empty: --com-insecure
 };
 
 class PlayerSimulation {
@@ -53,6 +58,7 @@ class PlayerSimulation {
   std::uint16_t vehicle_port(const std::string& vehicle) const;
   World& world() { return world_; }
   PlayerCore& player() { return world_.player(); }
+  sim_app::UdpComEndpoint* com(const std::string& vehicle);   // nullptr unless a UDP vehicle
 
   // The once-per-second status line; rates are per second since the previous call. Per
   // vehicle it keeps two views apart: the simulated Streamer's own (latency min/avg/max over
@@ -61,6 +67,8 @@ class PlayerSimulation {
   std::string status_line();
 
  private:
+  void attach_remote_streamer(const std::string& vehicle);
+
   AsioExecutor& executor_;
   PlayerSimOptions options_;
   Logger logger_;
@@ -69,6 +77,7 @@ class PlayerSimulation {
   std::unique_ptr<sim_app::TcpFront> front_;
   std::map<std::string, std::unique_ptr<sim_app::TcpFront>> vehicle_fronts_;
   std::unique_ptr<WebviewServer> webview_;
+  std::map<std::string, std::unique_ptr<sim_app::UdpComEndpoint>> coms_;
   PeriodicTimer latency_sampler_;
   std::map<std::string, LatencyWindow> latency_windows_;
   struct Previous {

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "sim_app/common_options.hpp"
+#include "sim_app/udp_com.hpp"
 #include "streamer_app/streamer_simulation.hpp"
 
 namespace ocp {
@@ -14,6 +15,9 @@ struct StreamerCli {
   sim_app::CommonOptions common;
   std::string vehicle = "vehicle";
   double operator_rate_hz = 100.0;
+  std::string com_listen;          // ADDR:PORT; empty: the simulated operator
+  sim_app::ComOptions com;
+  std::optional<boost::asio::ip::udp::endpoint> com_endpoint;   // com_listen, resolved
 
   StreamerSimOptions simulation_options() const;
 };

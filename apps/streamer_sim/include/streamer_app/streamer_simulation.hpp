@@ -5,6 +5,7 @@
 // AsioExecutor. Tests build it directly; the executable adds the command line and signals.
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,7 @@
 #include "sim_app/pair_rejection_notes.hpp"
 #include "sim_app/simulated_world_options.hpp"
 #include "sim_app/tcp_front.hpp"
+#include "sim_app/udp_com.hpp"
 
 namespace ocp {
 
@@ -25,6 +27,10 @@ struct StreamerSimOptions : sim_app::SimulatedWorldOptions {   // tcp_port is th
   std::string vehicle = "vehicle";
   double operator_frame_rate_hz = 100.0;
   Micros operator_phase{0};              // the operator's frames this long after the control ticks
+  // --com-listen: the operator is a real Player (player_sim on another host) over UDP at this
+  // address, instead of the simulated one; the link's to_player impairments still apply here.
+  std::optional<boost::asio::ip::udp::endpoint> com_listen;
+  com::ComKey com_key;                   // empty: --com-insecure
 };
 
 class StreamerSimulation {
@@ -45,6 +51,7 @@ class StreamerSimulation {
   StreamerCore& streamer() { return world_.streamer(options_.vehicle); }
   PlayerCore& player() { return world_.player(); }
   sim_app::TcpFront& front() { return *front_; }
+  sim_app::UdpComEndpoint* com() { return com_.get(); }   // nullptr without --com-listen
 
   // The once-per-second status line; rates are per second since the previous call, latency
   // min/avg/max over the samples since then (every control tick while a vehicle is connected);
@@ -52,12 +59,15 @@ class StreamerSimulation {
   std::string status_line();
 
  private:
+  void attach_remote_operator();
+
   AsioExecutor& executor_;
   StreamerSimOptions options_;
   Logger logger_;
   World world_;
   sim_app::PairRejectionNotes pair_notes_;   // why the loop does not close, for the status line
   std::unique_ptr<sim_app::TcpFront> front_;
+  std::unique_ptr<sim_app::UdpComEndpoint> com_;
   PeriodicTimer latency_sampler_;
   LatencyWindow latency_window_;
   struct Previous {

@@ -1,0 +1,258 @@
+// The com channel over UDP: the socket side (sim_app/udp_com.hpp).
+#include "sim_app/udp_com.hpp"
+
+#include <openssl/rand.h>
+
+#include <CLI/CLI.hpp>
+#include <boost/asio/ip/udp.hpp>
+#include <fmt/format.h>
+
+#include <charconv>
+#include <fstream>
+#include <iterator>
+#include <system_error>
+
+namespace ocp::sim_app {
+namespace {
+
+using boost::asio::ip::udp;
+
+Error usage(const std::string& what) { return Error{std::make_error_code(std::errc::invalid_argument), what}; }
+
+std::string endpoint_text(const udp::endpoint& endpoint) {
+  const auto address = endpoint.address();
+  return (address.is_v6() ? "[" + address.to_string() + "]" : address.to_string()) + ":" +
+         std::to_string(endpoint.port());
+}
+
+std::uint64_t random_session() {
+  std::uint64_t session = 0;
+  if (RAND_bytes(reinterpret_cast<unsigned char*>(&session), sizeof session) != 1) session = 1;
+  return session;
+}
+
+}  // namespace
+
+void add_com_options(CLI::App& app, ComOptions& options) {
+  app.add_option("--com-key", options.key_file,
+                 "FILE: the com channel's pre-shared key (16..1024 bytes, e.g. head -c 32 /dev/urandom > FILE), "
+                 "the same file on both hosts; every datagram is authenticated with HMAC-SHA256")
+      ->group("Com channel over UDP");
+  app.add_flag("--com-insecure", options.insecure,
+               "run the UDP com channel without a key (loopback addresses only; anyone on this host could inject)")
+      ->group("Com channel over UDP");
+  app.add_flag("--com-allow-remote", options.allow_remote,
+               "--com-listen may bind a non-loopback address (off: 127.0.0.1 or ::1 only)")
+      ->group("Com channel over UDP");
+}
+
+Result<udp::endpoint> resolve_udp_endpoint(const std::string& text, bool allow_any_port) {
+  const std::size_t colon = text.rfind(':');
+  if (colon == std::string::npos || colon == 0) return usage("'" + text + "': expected HOST:PORT, e.g. 127.0.0.1:5000");
+  std::string host = text.substr(0, colon);
+  if (host.size() > 2 && host.front() == '[' && host.back() == ']') host = host.substr(1, host.size() - 2);
+  const std::string port_text = text.substr(colon + 1);
+  unsigned port = 0;
+  const auto [end, error] = std::from_chars(port_text.data(), port_text.data() + port_text.size(), port);
+  if (port_text.empty() || error != std::errc{} || end != port_text.data() + port_text.size() || port > 65535 ||
+      (port == 0 && !allow_any_port)) {
+    return usage("'" + text + "': expected a port number " + (allow_any_port ? "0" : "1") + "..65535, got '" +
+                 port_text + "'");
+  }
+  boost::asio::io_context io;
+  udp::resolver resolver(io);
+  boost::system::error_code failed;
+  const auto results = resolver.resolve(udp::v4(), host, port_text, udp::resolver::numeric_service, failed);
+  if (!failed && !results.empty()) return results.begin()->endpoint();
+  const auto results6 = resolver.resolve(host, port_text, udp::resolver::numeric_service, failed);
+  if (failed || results6.empty()) return usage("'" + text + "': cannot resolve '" + host + "'");
+  return results6.begin()->endpoint();
+}
+
+Status check_com_options(ComOptions& options, const udp::endpoint& endpoint, bool listener) {
+  const bool loopback = endpoint.address().is_loopback();
+  if (listener && !loopback && !options.allow_remote) {
+    return usage("--com-listen " + endpoint_text(endpoint) +
+                 ": not a loopback address; binding one is an explicit opt-in: add --com-allow-remote");
+  }
+  if (options.insecure && !options.key_file.empty()) return usage("--com-insecure and --com-key: give one of them");
+  if (options.insecure) {
+    if (!loopback) {
+      return usage("--com-insecure is for loopback only, and " + endpoint_text(endpoint) +
+                   " is not; give the same --com-key FILE on both hosts");
+    }
+    options.key.clear();
+    return Ok{};
+  }
+  if (options.key_file.empty()) {
+    return usage("the UDP com channel needs --com-key FILE (the same file on both hosts; make one with "
+                 "`head -c 32 /dev/urandom > FILE`), or --com-insecure on loopback");
+  }
+  std::ifstream file(options.key_file, std::ios::binary);
+  if (!file) return usage("--com-key " + options.key_file + ": cannot read the file");
+  com::ComKey key;
+  char byte = 0;
+  while (key.size() <= com::max_key_bytes && file.get(byte)) key.push_back(static_cast<std::uint8_t>(byte));
+  if (file.bad()) return usage("--com-key " + options.key_file + ": cannot read the file");
+  if (key.size() < com::min_key_bytes || key.size() > com::max_key_bytes) {
+    return usage(fmt::format("--com-key {}: a key is {}..{} bytes, this file has {}{} (make one with "
+                             "`head -c 32 /dev/urandom > FILE`)",
+                             options.key_file, com::min_key_bytes, com::max_key_bytes,
+                             key.size() > com::max_key_bytes ? "more" : "", key.size()));
+  }
+  options.key = std::move(key);
+  return Ok{};
+}
+
+UdpComEndpoint::UdpComEndpoint(AsioExecutor& executor, bool streamer_side, com::ComKey key, Logger logger)
+    : executor_(executor),
+      streamer_side_(streamer_side),
+      logger_(std::move(logger)),
+      socket_(executor.io()),
+      sealer_(key, random_session()),
+      opener_(std::move(key), streamer_side),
+      summary_timer_(executor, RepeatedWarning::default_period, [this](SimTime) { summarise(); }) {}
+
+UdpComEndpoint::~UdpComEndpoint() {
+  *alive_ = false;
+  stop();
+}
+
+Status UdpComEndpoint::listen(const udp::endpoint& local) {
+  boost::system::error_code failed;
+  socket_.open(local.protocol(), failed);
+  if (!failed) socket_.bind(local, failed);
+  if (failed) {
+    if (socket_.is_open()) socket_.close();
+    return Error{std::make_error_code(std::errc::address_in_use),
+                 "com channel: cannot bind UDP " + endpoint_text(local) + ": " + failed.message()};
+  }
+  socket_.non_blocking(true, failed);
+  logger_.info("com channel: listening on UDP {} ({} datagrams of at most {} bytes)", endpoint_text(socket_.local_endpoint()),
+               "HMAC-SHA256", com::max_datagram_bytes);
+  receive();
+  summary_timer_.start(executor_.now() + summary_timer_.period());
+  return Ok{};
+}
+
+Status UdpComEndpoint::connect(const udp::endpoint& peer) {
+  boost::system::error_code failed;
+  socket_.open(peer.protocol(), failed);
+  if (!failed) socket_.bind(udp::endpoint(peer.protocol(), 0), failed);
+  if (failed) return Error{std::make_error_code(std::errc::io_error), "com channel: cannot open a UDP socket: " + failed.message()};
+  socket_.non_blocking(true, failed);
+  peer_ = peer;
+  logger_.info("com channel: UDP to the Streamer at {} from port {}", endpoint_text(peer), socket_.local_endpoint().port());
+  receive();
+  summary_timer_.start(executor_.now() + summary_timer_.period());
+  return Ok{};
+}
+
+void UdpComEndpoint::stop() {
+  summary_timer_.stop();
+  if (socket_.is_open()) {
+    boost::system::error_code ignored;
+    socket_.close(ignored);
+  }
+}
+
+std::uint16_t UdpComEndpoint::local_port() const {
+  boost::system::error_code failed;
+  const auto local = socket_.local_endpoint(failed);
+  return failed ? 0 : local.port();
+}
+
+void UdpComEndpoint::send(const LinkMessage& message) {
+  if (!peer_ || !socket_.is_open()) return;
+  outgoing_.clear();
+  if (!sealer_.seal(message, outgoing_)) {
+    ++counters_.messages_not_sent;
+    return;
+  }
+  for (const auto& datagram : outgoing_) {
+    boost::system::error_code failed;
+    socket_.send_to(boost::asio::buffer(datagram), *peer_, 0, failed);
+    // A full socket buffer or an unreachable peer loses the datagram, as the network would.
+    if (failed) ++counters_.send_errors; else ++counters_.datagrams_sent;
+  }
+}
+
+void UdpComEndpoint::receive() {
+  socket_.async_receive_from(boost::asio::buffer(buffer_), sender_,
+                             [this, alive = alive_](const boost::system::error_code& failed, std::size_t size) {
+                               if (!*alive || failed == boost::asio::error::operation_aborted || !socket_.is_open()) return;
+                               // Other errors (an ICMP "port unreachable" while the peer is
+                               // down) are the network's: keep receiving.
+                               if (!failed) on_datagram(size);
+                               receive();
+                             });
+}
+
+void UdpComEndpoint::on_datagram(std::size_t size) {
+  const SimTime now = executor_.now();
+  if (!streamer_side_ && peer_ && sender_ != *peer_) {
+    ++counters_.unknown_peer;
+    if (unknown_peer_.occurred(now)) {
+      logger_.warn("com channel: dropping datagrams from {}, which is not the Streamer ({})", endpoint_text(sender_),
+                   endpoint_text(*peer_));
+    }
+    return;
+  }
+  auto opened = opener_.open({buffer_.data(), size});
+  if (opened.drop != com::Drop::none) {
+    warn_drop(opened.drop);
+    return;
+  }
+  if (streamer_side_ && (!peer_ || *peer_ != sender_)) {
+    // The first Player, a restarted one, or the same one behind a NAT that rebound its port.
+    if (peer_) ++counters_.peer_changes;
+    logger_.info("com channel: the Player is at {}{}", endpoint_text(sender_),
+                 peer_ ? " (was " + endpoint_text(*peer_) + ")" : std::string());
+    peer_ = sender_;
+  }
+  if (opened.new_session && opener_.counters().sessions > 1) {
+    logger_.info("com channel: the {} restarted (new session)", streamer_side_ ? "Player" : "Streamer");
+  }
+  if (opened.message && receiver_) receiver_(std::move(*opened.message));
+}
+
+void UdpComEndpoint::warn_drop(com::Drop drop) {
+  const SimTime now = executor_.now();
+  if (drop == com::Drop::bad_mac) {
+    if (wrong_key_.occurred(now)) {
+      logger_.warn("com channel: a datagram from {} failed authentication: the key does not match (or it was "
+                   "altered); dropped, and so is every such datagram until they stop", endpoint_text(sender_));
+    }
+    return;
+  }
+  if (junk_.occurred(now)) {
+    logger_.warn("com channel: dropped a datagram from {}: {}; further drops are counted", endpoint_text(sender_),
+                 com::drop_name(drop));
+  }
+}
+
+void UdpComEndpoint::summarise() {
+  const SimTime now = executor_.now();
+  if (auto summary = wrong_key_.summary(now)) {
+    logger_.warn("com channel: key does not match: {}{}", summary->text("datagrams dropped"),
+                 summary->episode_ended ? " (they stopped)" : "");
+  }
+  if (auto summary = junk_.summary(now)) {
+    logger_.warn("com channel: invalid datagrams: {}{}", summary->text("dropped"),
+                 summary->episode_ended ? " (they stopped)" : "");
+  }
+  if (auto summary = unknown_peer_.summary(now)) {
+    logger_.warn("com channel: datagrams from unknown peers: {}", summary->text("dropped"));
+  }
+}
+
+std::string UdpComEndpoint::describe() const {
+  const auto& in = opener_.counters();
+  return fmt::format("com udp :{} ⇄ {} | in {} msgs | out {} datagrams | dropped: {} bad MAC, {} replayed, {} other, "
+                     "{} unknown peer, {} frames lost",
+                     local_port(), peer_ ? endpoint_text(*peer_) : std::string("no peer yet"), in.messages,
+                     counters_.datagrams_sent, in.bad_mac, in.replayed,
+                     in.dropped() - in.bad_mac - in.replayed, counters_.unknown_peer, in.messages_lost);
+}
+
+}  // namespace ocp::sim_app
