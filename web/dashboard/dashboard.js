@@ -144,7 +144,7 @@
 
   function makeChart(card) {
     if (typeof uPlot === "undefined") {
-      card.chartBox.textContent = "chart library missing (run scripts/setup, then rebuild)";
+      card.chartBox.textContent = "chart library missing (web/vendor/uPlot.iife.min.js was not served)";
       return null;
     }
     const axis = { stroke: "#8aa0b4", grid: { stroke: "#1f2d3a", width: 1 }, ticks: { stroke: "#1f2d3a" },
