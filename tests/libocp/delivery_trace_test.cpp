@@ -52,7 +52,9 @@ TEST(DeliveryTrace, FirstAtOrAfterAgreesWithTimeOfEverywhere) {
   for (std::int64_t at = 0; at < 40'000; at += 250) {
     const std::uint64_t index = trace.first_at_or_after(Micros{at});
     ASSERT_GE(trace.time_of(index), Micros{at}) << at;
-    if (index > 0) ASSERT_LT(trace.time_of(index - 1), Micros{at}) << at;
+    if (index > 0) {
+      ASSERT_LT(trace.time_of(index - 1), Micros{at}) << at;
+    }
   }
 }
 

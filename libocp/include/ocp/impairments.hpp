@@ -26,7 +26,7 @@ struct Impairments {
   std::size_t queue_limit_bytes = 0;       // 0 = unlimited; tail-drop beyond it
   // Trace-driven capacity (Mahimahi format) instead of `bandwidth_bits_per_second`: a drop-tail
   // queue limited by queue_limit_bytes and/or queue_limit_packets (neither: TraceQueue's default).
-  std::shared_ptr<const DeliveryTrace> trace;
+  std::shared_ptr<const DeliveryTrace> trace = nullptr;
   std::size_t queue_limit_packets = 0;     // 0 = no packet limit (trace-driven links only)
   double duplicate_probability = 0.0;
   double reorder_probability = 0.0;        // a reordered message gets `reorder_extra_delay`
