@@ -15,6 +15,7 @@
 #include <string>
 
 #include "loop/process_usage.hpp"
+#include "ocp/com_channel.hpp"
 #include "ocp/delivery_trace.hpp"
 #include "ocp/virtual_executor.hpp"
 #include "world/world.hpp"
@@ -99,6 +100,40 @@ BENCHMARK(BM_WorldOneHour)->Unit(benchmark::kMillisecond)->Iterations(1);
 // Short run for profiling (valgrind --tool=callgrind … --benchmark_filter=OneMinute).
 void BM_WorldOneMinute(benchmark::State& state) { run_world(state, Micros{60'000'000}); }
 BENCHMARK(BM_WorldOneMinute)->Unit(benchmark::kMillisecond);
+
+// The link alone, per message: 3 kB video frames (2 packets) every millisecond (24 Mbit/s
+// offered) through one direction, 40 ms ± 5 ms, without and with the 24 Mbit/s trace (which
+// carries them all, queueing some): the trace-driven link's cost per message against the
+// fixed-delay link's.
+void run_link(benchmark::State& state, bool trace_link) {
+  constexpr int messages = 200'000;
+  Impairments impairments;
+  impairments.delay = Millis{40};
+  impairments.jitter_kind = Impairments::JitterKind::uniform;
+  impairments.jitter = Millis{5};
+  if (trace_link) impairments.trace = constant_trace();
+  for (auto _ : state) {
+    VirtualExecutor executor;
+    LinkDirection link(executor, 7);
+    link.set_impairments(impairments);
+    std::uint64_t delivered = 0;
+    link.set_receiver([&delivered](LinkMessage&&) { ++delivered; });
+    VideoFrame frame{"front", 0, std::nullopt, 2900};
+    for (int i = 0; i < messages; ++i) {
+      executor.run_until(SimTime{i * 1000});
+      frame.frame_number = static_cast<std::uint64_t>(i);
+      link.send(frame);
+    }
+    executor.run_for(Micros{10'000'000});
+    benchmark::DoNotOptimize(delivered);
+    state.counters["delivered"] = static_cast<double>(delivered);
+  }
+  state.SetItemsProcessed(state.iterations() * messages);
+}
+void BM_LinkFixedDelay(benchmark::State& state) { run_link(state, false); }
+BENCHMARK(BM_LinkFixedDelay)->Unit(benchmark::kMillisecond);
+void BM_LinkTrace(benchmark::State& state) { run_link(state, true); }
+BENCHMARK(BM_LinkTrace)->Unit(benchmark::kMillisecond);
 
 void BM_WorldOneHourTraceLink(benchmark::State& state) { run_world(state, Micros{3'600'000'000}, true); }
 BENCHMARK(BM_WorldOneHourTraceLink)->Unit(benchmark::kMillisecond)->Iterations(1);

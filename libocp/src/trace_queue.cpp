@@ -19,13 +19,19 @@ std::uint64_t TraceQueue::served_by(SimTime now) const {
 
 std::size_t TraceQueue::queued_packets(SimTime now) const {
   if (!trace_) return 0;
-  const std::uint64_t served = served_by(now);
+  return packets_after(served_by(now));
+}
+
+std::size_t TraceQueue::packets_after(std::uint64_t served) const {
   return next_free_ > served ? static_cast<std::size_t>(next_free_ - served) : 0;
 }
 
 std::size_t TraceQueue::queued_bytes(SimTime now) {
   if (!trace_) return 0;
-  const std::uint64_t served = served_by(now);
+  return bytes_after(served_by(now));
+}
+
+std::size_t TraceQueue::bytes_after(std::uint64_t served) {
   while (!queued_.empty() && queued_.front().last < served) {
     queued_total_bytes_ -= queued_.front().bytes;
     queued_.pop_front();
@@ -41,12 +47,17 @@ std::size_t TraceQueue::queued_bytes(SimTime now) {
 std::optional<SimTime> TraceQueue::enqueue(SimTime now, std::size_t size_bytes, Limits limits) {
   const std::uint64_t packets = packets_of(size_bytes);
   if (limits.bytes == 0 && limits.packets == 0) limits.packets = default_limit_packets;
-  if (limits.packets > 0 && queued_packets(now) + packets > limits.packets) return std::nullopt;
-  if (limits.bytes > 0 && queued_bytes(now) + size_bytes > limits.bytes) return std::nullopt;
-  const std::uint64_t first = std::max(next_free_, trace_->first_at_or_after(now - start_));
+  // One look-up of the timetable per message: what has left by now (also forgets it, so the
+  // deque stays within the limit) and where this message's packets start.
+  const std::uint64_t served = served_by(now);
+  const std::size_t bytes_waiting = bytes_after(served);
+  if (limits.packets > 0 && packets_after(served) + packets > limits.packets) return std::nullopt;
+  if (limits.bytes > 0 && bytes_waiting + size_bytes > limits.bytes) return std::nullopt;
+  // The first free opportunity at or after now: unclaimed ones exactly at now still count.
+  std::uint64_t first = std::max(next_free_, served);
+  while (first > next_free_ && trace_->time_of(first - 1) == now - start_) --first;
   const std::uint64_t last = first + packets - 1;
   next_free_ = last + 1;
-  queued_bytes(now);  // forgets what has left, so the deque stays within the limit
   queued_.push_back(Queued{first, last, size_bytes});
   queued_total_bytes_ += size_bytes;
   return start_ + trace_->time_of(last);

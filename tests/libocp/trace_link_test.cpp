@@ -89,6 +89,19 @@ TEST(TraceLink, AnIdleLinkWastesItsOpportunities) {
   EXPECT_EQ(arrivals.list[0].second, SimTime{110'000});
 }
 
+TEST(TraceLink, OpportunitiesExactlyAtNowAreUsable) {
+  VirtualExecutor executor;
+  LinkDirection link(executor, 1);
+  link.set_impairments(Impairments{.trace = trace_of("10\n10\n10\n20\n")});
+  Arrivals arrivals;
+  arrivals.attach(link, executor);
+  executor.run_until(SimTime{10'000});
+  link.send(frame_of_wire_size(1, 4500));   // three packets, all three at 10 ms
+  link.send(frame_of_wire_size(2, 100));    // the next: 20 ms
+  executor.run_for(1s);
+  EXPECT_EQ(arrivals.list, (std::vector<std::pair<std::uint64_t, SimTime>>{{1, SimTime{10'000}}, {2, SimTime{20'000}}}));
+}
+
 TEST(TraceLink, QueueOverflowDropsWholeMessagesAndPublishesIt) {
   VirtualExecutor executor;
   LinkDirection link(executor, 1);

@@ -40,6 +40,8 @@ class TraceQueue {
 
  private:
   std::uint64_t served_by(SimTime now) const;  // opportunities used up by `now`
+  std::size_t packets_after(std::uint64_t served) const;
+  std::size_t bytes_after(std::uint64_t served);  // also forgets messages fully served
   struct Queued {
     std::uint64_t first = 0;  // its packets ride opportunities first..last
     std::uint64_t last = 0;
