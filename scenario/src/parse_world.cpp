@@ -134,7 +134,9 @@ ImpairmentPatch Parser::impairments(const YAML::Node& node, bool targeted) {
   if (node["queue_limit_packets"]) p.queue_limit_packets = read_.integer(node["queue_limit_packets"]);
   if (node["trace"]) {
     // The trace replaces the bandwidth cap; having both would leave one silently unused.
-    if (node["bandwidth_bps"]) read_.fail(node["trace"], "trace and bandwidth_bps exclude each other: the trace is the capacity");
+    if (p.bandwidth_bps && *p.bandwidth_bps > 0) {
+      read_.fail(node["trace"], "trace and bandwidth_bps exclude each other: the trace is the capacity");
+    }
     p.trace = delivery_trace(node["trace"]);
   }
   if (node["down"]) p.down = read_.boolean(node["down"]);
