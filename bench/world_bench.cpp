@@ -3,6 +3,7 @@
 // vehicle client in-process over a pipe — must take at most 2 s of wall time with flat memory.
 //
 //   build-*/bench/world_bench --benchmark_filter=OneHour
+//   build-*/bench/world_bench --benchmark_filter=TraceLink   # same world, trace-driven link
 //
 // Counters: events run by the executor (and per CPU second), resident memory after 1 minute
 // and after the full run (flat memory ⇒ equal within noise), control frames and responses.
@@ -10,9 +11,12 @@
 
 #include <cstdio>
 #include <cstring>
+#include <memory>
 #include <string>
 
 #include "loop/process_usage.hpp"
+#include "ocp/com_channel.hpp"
+#include "ocp/delivery_trace.hpp"
 #include "ocp/virtual_executor.hpp"
 #include "world/world.hpp"
 
@@ -22,7 +26,15 @@ using namespace ocp;
 
 using ocp::bench::resident_kib;
 
-WorldConfig bench_config() {
+// 24 Mbit/s (two 1500-byte opportunities per millisecond), looping every second: the
+// trace-driven link's cost per message, against the fixed-delay link of the same world.
+std::shared_ptr<const DeliveryTrace> constant_trace() {
+  std::string text;
+  for (int ms = 1; ms <= 1000; ++ms) text += std::to_string(ms) + "\n" + std::to_string(ms) + "\n";
+  return std::make_shared<const DeliveryTrace>(DeliveryTrace::parse(text, "24mbps").value());
+}
+
+WorldConfig bench_config(bool trace_link) {
   WorldConfig config;
   config.seed = 7;
   config.deterministic_keys = true;
@@ -33,18 +45,19 @@ WorldConfig bench_config() {
   link.delay = Millis{40};
   link.jitter_kind = Impairments::JitterKind::uniform;
   link.jitter = Millis{5};
+  if (trace_link) link.trace = constant_trace();
   vehicle.to_streamer = link;
   vehicle.to_player = link;
   config.vehicles.push_back(vehicle);
   return config;
 }
 
-void run_world(benchmark::State& state, Micros simulated) {
+void run_world(benchmark::State& state, Micros simulated, bool trace_link = false) {
   for (auto _ : state) {
     state.PauseTiming();
     const double rss_before = resident_kib();
     VirtualExecutor executor;
-    World world(executor, bench_config(), make_null_sink());
+    World world(executor, bench_config(trace_link), make_null_sink());
     if (!world.start()) {
       state.SkipWithError("world did not start");
       return;
@@ -87,5 +100,42 @@ BENCHMARK(BM_WorldOneHour)->Unit(benchmark::kMillisecond)->Iterations(1);
 // Short run for profiling (valgrind --tool=callgrind … --benchmark_filter=OneMinute).
 void BM_WorldOneMinute(benchmark::State& state) { run_world(state, Micros{60'000'000}); }
 BENCHMARK(BM_WorldOneMinute)->Unit(benchmark::kMillisecond);
+
+// The link alone, per message: 3 kB video frames (2 packets) every millisecond (24 Mbit/s
+// offered) through one direction, 40 ms ± 5 ms, without and with the 24 Mbit/s trace (which
+// carries them all, queueing some): the trace-driven link's cost per message against the
+// fixed-delay link's.
+void run_link(benchmark::State& state, bool trace_link) {
+  constexpr int messages = 200'000;
+  Impairments impairments;
+  impairments.delay = Millis{40};
+  impairments.jitter_kind = Impairments::JitterKind::uniform;
+  impairments.jitter = Millis{5};
+  if (trace_link) impairments.trace = constant_trace();
+  for (auto _ : state) {
+    VirtualExecutor executor;
+    LinkDirection link(executor, 7);
+    link.set_impairments(impairments);
+    std::uint64_t delivered = 0;
+    link.set_receiver([&delivered](LinkMessage&&) { ++delivered; });
+    VideoFrame frame{"front", 0, std::nullopt, 2900};
+    for (int i = 0; i < messages; ++i) {
+      executor.run_until(SimTime{i * 1000});
+      frame.frame_number = static_cast<std::uint64_t>(i);
+      link.send(frame);
+    }
+    executor.run_for(Micros{10'000'000});
+    benchmark::DoNotOptimize(delivered);
+    state.counters["delivered"] = static_cast<double>(delivered);
+  }
+  state.SetItemsProcessed(state.iterations() * messages);
+}
+void BM_LinkFixedDelay(benchmark::State& state) { run_link(state, false); }
+BENCHMARK(BM_LinkFixedDelay)->Unit(benchmark::kMillisecond);
+void BM_LinkTrace(benchmark::State& state) { run_link(state, true); }
+BENCHMARK(BM_LinkTrace)->Unit(benchmark::kMillisecond);
+
+void BM_WorldOneHourTraceLink(benchmark::State& state) { run_world(state, Micros{3'600'000'000}, true); }
+BENCHMARK(BM_WorldOneHourTraceLink)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 }  // namespace

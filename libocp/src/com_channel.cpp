@@ -38,6 +38,8 @@ void LinkDirection::set_identity(std::string_view name, LinkRoute route) {
 }
 
 void LinkDirection::set_impairments(const Impairments& impairments) {
+  // A new trace starts now with an empty queue; other changes leave a running trace alone.
+  if (impairments.trace != trace_queue_.trace_shared()) trace_queue_.reset(impairments.trace, executor_.now());
   impairments_ = impairments;
   if (events_.active()) {
     events_.publish(Event{executor_.now(), Component{ComponentKind::link, name_},
@@ -127,6 +129,7 @@ DropReason LinkDirection::lost_in_transit() {
 }
 
 std::size_t LinkDirection::backlog_bytes(SimTime now) const {
+  if (impairments_.trace) return trace_queue_.queued_bytes(now);
   if (impairments_.bandwidth_bits_per_second <= 0.0 || link_free_at_ <= now) {
     return 0;
   }
@@ -138,6 +141,24 @@ std::size_t LinkDirection::backlog_bytes(SimTime now) const {
 const DirectionCounters& LinkDirection::counters() const {
   counters_.queue_depth_bytes = backlog_bytes(executor_.now());
   return counters_;
+}
+
+std::optional<SimTime> LinkDirection::queue_for_capacity(SimTime now, std::size_t size_bytes) {
+  if (impairments_.trace) {
+    return trace_queue_.enqueue(now, size_bytes,
+                                TraceQueue::Limits{impairments_.queue_limit_bytes, impairments_.queue_limit_packets});
+  }
+  if (impairments_.bandwidth_bits_per_second <= 0.0) return now;
+  // Serialisation: a FIFO queue drained at the bandwidth cap, tail-dropping beyond its limit.
+  // The queue holds every byte not yet on the wire, including the message being sent.
+  if (impairments_.queue_limit_bytes > 0 && backlog_bytes(now) + size_bytes > impairments_.queue_limit_bytes) {
+    return std::nullopt;
+  }
+  const double transmit_micros = static_cast<double>(size_bytes) * bits_per_byte * micros_per_second /
+                                 impairments_.bandwidth_bits_per_second;
+  const SimTime start = std::max(now, link_free_at_);
+  link_free_at_ = start + Micros{static_cast<std::int64_t>(std::ceil(transmit_micros - 1e-9))};
+  return link_free_at_;
 }
 
 void LinkDirection::send(LinkMessage message) {
@@ -152,20 +173,10 @@ void LinkDirection::send(LinkMessage message) {
     return;
   }
 
-  // Serialisation: a FIFO queue drained at the bandwidth cap, tail-dropping beyond its limit.
-  // The queue holds every byte not yet on the wire, including the message being sent.
-  SimTime on_wire_at = now;
-  if (impairments_.bandwidth_bits_per_second > 0.0) {
-    if (impairments_.queue_limit_bytes > 0 &&
-        backlog_bytes(now) + size_bytes > impairments_.queue_limit_bytes) {
-      drop(message, size_bytes, message_id, DropReason::queue_full);
-      return;
-    }
-    const double transmit_micros = static_cast<double>(size_bytes) * bits_per_byte * micros_per_second /
-                                   impairments_.bandwidth_bits_per_second;
-    const SimTime start = std::max(now, link_free_at_);
-    link_free_at_ = start + Micros{static_cast<std::int64_t>(std::ceil(transmit_micros - 1e-9))};
-    on_wire_at = link_free_at_;
+  const std::optional<SimTime> on_wire_at = queue_for_capacity(now, size_bytes);
+  if (!on_wire_at) {
+    drop(message, size_bytes, message_id, DropReason::queue_full);
+    return;
   }
 
   // Loss happens in transit, after the message used its share of the bandwidth.
@@ -175,7 +186,7 @@ void LinkDirection::send(LinkMessage message) {
   }
 
   const Micros delay = std::max(Micros{0}, impairments_.delay + jitter_sample());
-  SimTime deliver_at = on_wire_at + delay;
+  SimTime deliver_at = *on_wire_at + delay;
   const bool reordered = impairments_.reorder_probability > 0.0 && uniform_unit() < impairments_.reorder_probability;
   if (reordered) {
     // Held back without holding back the others: later messages may overtake it.

@@ -25,6 +25,8 @@ Impairments apply_patch(Impairments base, const ImpairmentPatch& patch) {
   if (patch.loss_in_bad) base.loss_in_bad = *patch.loss_in_bad;
   if (patch.down) base.down = *patch.down;
   if (patch.queue_limit_bytes) base.queue_limit_bytes = *patch.queue_limit_bytes;
+  if (patch.queue_limit_packets) base.queue_limit_packets = *patch.queue_limit_packets;
+  if (patch.trace) base.trace = *patch.trace;
   return base;
 }
 

@@ -1,6 +1,11 @@
 // Scenario files: the `world` section (vehicles, links, timers, misbehaviours, gamepad).
 #include "parser.hpp"
 
+#include <filesystem>
+
+#include "ocp/delivery_trace.hpp"
+#include "scenario/parse.hpp"
+
 namespace ocp::scenario {
 
 void Parser::world(const YAML::Node& node) {
@@ -102,12 +107,13 @@ ImpairmentPatch Parser::impairments(const YAML::Node& node, bool targeted) {
   if (targeted) {
     read_.check_keys(node, "impair",
                      {"vehicle", "direction", "delay", "jitter", "jitter_kind", "loss", "burst_loss",
-                      "bandwidth_bps", "queue_limit_bytes", "duplicate", "reorder",
-                      "reorder_extra_delay", "down"});
+                      "bandwidth_bps", "queue_limit_bytes", "queue_limit_packets", "trace", "duplicate",
+                      "reorder", "reorder_extra_delay", "down"});
   } else {
     read_.check_keys(node, "impairments",
                      {"delay", "jitter", "jitter_kind", "loss", "burst_loss", "bandwidth_bps",
-                      "queue_limit_bytes", "duplicate", "reorder", "reorder_extra_delay", "down"});
+                      "queue_limit_bytes", "queue_limit_packets", "trace", "duplicate", "reorder",
+                      "reorder_extra_delay", "down"});
   }
   ImpairmentPatch p;
   if (node["delay"]) p.delay = read_.duration(node["delay"]);
@@ -125,6 +131,14 @@ ImpairmentPatch Parser::impairments(const YAML::Node& node, bool targeted) {
   if (node["reorder_extra_delay"]) p.reorder_extra_delay = read_.duration(node["reorder_extra_delay"]);
   if (node["bandwidth_bps"]) p.bandwidth_bps = read_.number(node["bandwidth_bps"], 0, 1e12);
   if (node["queue_limit_bytes"]) p.queue_limit_bytes = read_.integer(node["queue_limit_bytes"]);
+  if (node["queue_limit_packets"]) p.queue_limit_packets = read_.integer(node["queue_limit_packets"]);
+  if (node["trace"]) {
+    // The trace replaces the bandwidth cap; having both would leave one silently unused.
+    if (p.bandwidth_bps && *p.bandwidth_bps > 0) {
+      read_.fail(node["trace"], "trace and bandwidth_bps exclude each other: the trace is the capacity");
+    }
+    p.trace = delivery_trace(node["trace"]);
+  }
   if (node["down"]) p.down = read_.boolean(node["down"]);
   if (const YAML::Node burst = node["burst_loss"]) {
     if (burst.IsScalar()) {
@@ -139,6 +153,25 @@ ImpairmentPatch Parser::impairments(const YAML::Node& node, bool targeted) {
     }
   }
   return p;
+}
+
+std::shared_ptr<const DeliveryTrace> Parser::delivery_trace(const YAML::Node& node) {
+  const std::string name = read_.text(node);
+  if (name.empty()) read_.fail(node, "trace: expected a file name");
+  std::filesystem::path path(name);
+  if (path.is_relative()) path = std::filesystem::path(scenario_.path).parent_path() / path;
+  const std::string key = path.lexically_normal().string();
+  if (const auto known = delivery_traces_.find(key); known != delivery_traces_.end()) return known->second;
+  auto loaded = DeliveryTrace::load(key);
+  if (!loaded) {
+    // The trace's own file:line first, then where the scenario names it.
+    const Mark at = read_.mark(node);
+    throw ScenarioError(key, loaded.error().detail + " (the trace of " + read_.file() + ":" +
+                                 std::to_string(at.line) + ":" + std::to_string(at.column) + ")");
+  }
+  auto trace = std::make_shared<const DeliveryTrace>(std::move(loaded).value());
+  delivery_traces_.emplace(key, trace);
+  return trace;
 }
 
 Controller Parser::controller(const YAML::Node& node) {

@@ -3,6 +3,8 @@
 // parse.cpp (top level), parse_world.cpp, parse_timeline.cpp and parse_expect.cpp.
 #include <yaml-cpp/yaml.h>
 
+#include <map>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -29,6 +31,8 @@ class Parser {
   void misbehave(const YAML::Node& node, Misbehaviour& m, bool targeted = false);
   // `targeted`: the timeline's impair action, which also names vehicle and direction.
   ImpairmentPatch impairments(const YAML::Node& node, bool targeted = false);
+  // A `trace:` value: the Mahimahi file, relative to the scenario file, loaded once per path.
+  std::shared_ptr<const DeliveryTrace> delivery_trace(const YAML::Node& node);
   Controller controller(const YAML::Node& node);
   GamepadScriptSetting gamepad_script(const YAML::Node& node);
   const VehicleSpec* find_vehicle(const std::string& name) const;
@@ -64,6 +68,7 @@ class Parser {
 
   YamlReader read_;
   Scenario scenario_;
+  std::map<std::string, std::shared_ptr<const DeliveryTrace>> delivery_traces_;
 };
 
 }  // namespace ocp::scenario

@@ -6,8 +6,10 @@
 #include <yaml-cpp/yaml.h>
 
 #include <charconv>
+#include <filesystem>
 #include <sstream>
 
+#include "ocp/delivery_trace.hpp"
 #include "vehicle_client/misbehaviour.hpp"
 
 namespace ocp::scenario {
@@ -37,6 +39,11 @@ std::string_view jitter_kind_name(Impairments::JitterKind kind) {
 }
 
 // Every field of a whole setting (a vehicle's link at start).
+// Absolute: the written file may live elsewhere than the scenario that named the trace.
+std::string trace_file_text(const DeliveryTrace& trace) {
+  return std::filesystem::absolute(trace.name()).lexically_normal().string();
+}
+
 YAML::Node impairments_node(const Impairments& in) {
   YAML::Node out;
   out["delay"] = duration_text(in.delay);
@@ -55,6 +62,10 @@ YAML::Node impairments_node(const Impairments& in) {
   }
   out["bandwidth_bps"] = shortest_number(in.bandwidth_bits_per_second);
   out["queue_limit_bytes"] = in.queue_limit_bytes;
+  if (in.trace) {
+    out["trace"] = trace_file_text(*in.trace);
+    out["queue_limit_packets"] = in.queue_limit_packets;
+  }
   out["duplicate"] = shortest_number(in.duplicate_probability);
   out["reorder"] = shortest_number(in.reorder_probability);
   out["reorder_extra_delay"] = duration_text(in.reorder_extra_delay);
@@ -81,6 +92,8 @@ void patch_fields(YAML::Node& out, const ImpairmentPatch& p) {
   }
   if (p.bandwidth_bps) out["bandwidth_bps"] = shortest_number(*p.bandwidth_bps);
   if (p.queue_limit_bytes) out["queue_limit_bytes"] = *p.queue_limit_bytes;
+  if (p.queue_limit_packets) out["queue_limit_packets"] = *p.queue_limit_packets;
+  if (p.trace && *p.trace) out["trace"] = trace_file_text(**p.trace);
   if (p.duplicate) out["duplicate"] = shortest_number(*p.duplicate);
   if (p.reorder) out["reorder"] = shortest_number(*p.reorder);
   if (p.reorder_extra_delay) out["reorder_extra_delay"] = duration_text(*p.reorder_extra_delay);

@@ -2,11 +2,14 @@
 // the product spells it, link impairments, cameras, log level, and the built-in gamepad script.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
 #include <vector>
 
 #include "sim_app/common_options.hpp"
 #include "ocp/exit_codes.hpp"
 #include "sim_app/gamepad_script.hpp"
+#include "ocp/delivery_trace.hpp"
 
 namespace ocp::sim_app {
 namespace {
@@ -88,6 +91,31 @@ TEST(CommonOptions, LinkOptionsBecomeImpairmentsInMicroseconds) {
   EXPECT_EQ(impairments.jitter, Micros{3'000});
   EXPECT_DOUBLE_EQ(impairments.loss_probability, 0.25);
   EXPECT_EQ(parsed.options.duration(), Micros{1'500'000});
+}
+
+TEST(CommonOptions, LinkTracesLoadPerDirection) {
+  const auto path = std::filesystem::temp_directory_path() / "ocp_common_options_up.trace";
+  std::ofstream(path) << "1\n1\n2\n";
+  const Parsed parsed = parse({"--link-trace-up", path.c_str(), "--link-queue-packets", "64"});
+  std::filesystem::remove(path);
+  ASSERT_FALSE(parsed.exit_code.has_value());
+  const SimulatedWorldOptions world = parsed.options.world_options();
+  ASSERT_TRUE(world.to_player().trace);   // up: the vehicle's uplink
+  EXPECT_EQ(world.to_player().trace->opportunities_per_period(), 3u);
+  EXPECT_EQ(world.to_player().queue_limit_packets, 64u);
+  EXPECT_FALSE(world.to_streamer().trace);
+}
+
+TEST(CommonOptions, BadLinkTracesAreUsageErrors) {
+  const auto path = std::filesystem::temp_directory_path() / "ocp_common_options_bad.trace";
+  std::ofstream(path) << "4\nsoon\n";
+  const Parsed bad = parse({"--link-trace-down", path.c_str()});
+  std::filesystem::remove(path);
+  ASSERT_TRUE(bad.exit_code.has_value());
+  EXPECT_EQ(*bad.exit_code, ocp::cli::exit_usage_error);
+  const Parsed missing = parse({"--link-trace-up", "/nonexistent/up.trace"});
+  ASSERT_TRUE(missing.exit_code.has_value());
+  EXPECT_EQ(*missing.exit_code, ocp::cli::exit_usage_error);
 }
 
 TEST(CommonOptions, CamerasTakeAnOptionalFrameRate) {

@@ -6,6 +6,7 @@
 #include <string>
 #include <type_traits>
 
+#include "ocp/delivery_trace.hpp"
 #include "world/trace.hpp"
 
 namespace ocp {
@@ -141,6 +142,10 @@ void write_body(JsonWriter& json, const ImpairmentChange& change, const TraceOpt
   real(json, "loss_in_bad", set.loss_in_bad);
   real(json, "bandwidth_bps", set.bandwidth_bits_per_second);
   number(json, "queue_limit_bytes", set.queue_limit_bytes);
+  if (set.trace) {  // only then, so traces of runs without one keep their shape
+    text(json, "trace", set.trace->name());
+    number(json, "queue_limit_packets", set.queue_limit_packets);
+  }
   real(json, "duplicate", set.duplicate_probability);
   real(json, "reorder", set.reorder_probability);
   signed_number(json, "reorder_extra_delay_us", set.reorder_extra_delay.count());

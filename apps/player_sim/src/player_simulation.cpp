@@ -30,8 +30,8 @@ WorldConfig make_world_config(const PlayerSimOptions& options) {
     vehicle.streamer.latency_limit = options.plugin_params.latency_limit;
     vehicle.streamer.ack_time_offset = options.ack_time_offset;
     if (!options.cameras.empty()) vehicle.streamer.cameras = options.cameras;
-    vehicle.to_streamer = options.link;
-    vehicle.to_player = options.link;
+    vehicle.to_streamer = options.to_streamer();
+    vehicle.to_player = options.to_player();
     // The reference vehicle client over an in-memory pipe, unless an external one connects
     // over TCP (--vehicle-tcp).
     vehicle.in_process_client = !options.vehicle_tcp_ports.contains(name) && !options.udp_vehicles.contains(name);

@@ -79,11 +79,15 @@ Impairments CommonOptions::link_impairments() const {
     impairments.jitter = from_ms(link_jitter_ms);
   }
   impairments.loss_probability = link_loss;
+  impairments.queue_limit_packets = link_queue_packets;
   return impairments;
 }
 
 SimulatedWorldOptions CommonOptions::world_options() const {
-  return SimulatedWorldOptions{plugin_params, cameras, link_impairments(), seed, gamepad, ack_time_offset};
+  SimulatedWorldOptions options{plugin_params, cameras, link_impairments(), seed, gamepad, ack_time_offset};
+  options.link_trace_up = link_trace_up;
+  options.link_trace_down = link_trace_down;
+  return options;
 }
 
 std::optional<Micros> CommonOptions::duration() const {
@@ -110,6 +114,15 @@ void add_common_options(CLI::App& app, CommonOptions& options) {
       ->type_name("MS")->capture_default_str()->check(cli::real(0.0, 60'000.0))->group(link);
   app.add_option("--link-loss", options.link_loss, "random loss probability per message, 0..1")
       ->type_name("P")->capture_default_str()->check(cli::real(0.0, 1.0))->group(link);
+  app.add_option("--link-trace-up", options.link_trace_up_path,
+                 "Mahimahi delivery trace for the vehicle's uplink (video, feedback; docs/usage.md)")
+      ->type_name("FILE")->group(link);
+  app.add_option("--link-trace-down", options.link_trace_down_path,
+                 "Mahimahi delivery trace for the operator's downlink (control, pings)")
+      ->type_name("FILE")->group(link);
+  app.add_option("--link-queue-packets", options.link_queue_packets,
+                 "drop-tail queue in front of a trace, in 1500-byte packets (0 = 1000)")
+      ->type_name("N")->capture_default_str()->check(cli::whole(0, 1'000'000))->group(link);
 
   auto* general = "General";
   app.add_option("--camera", options.camera_texts,
@@ -189,6 +202,13 @@ Status finish_common_options(CommonOptions& options) {
   auto offset = parse_ack_time_offset(options.ack_time_offset_text);
   if (!offset) return offset.error();
   options.ack_time_offset = *offset;
+  for (auto [path, trace] : {std::pair{&options.link_trace_up_path, &options.link_trace_up},
+                             std::pair{&options.link_trace_down_path, &options.link_trace_down}}) {
+    if (path->empty()) continue;
+    auto loaded = DeliveryTrace::load(*path);
+    if (!loaded) return usage_error(loaded.error().detail);
+    *trace = std::make_shared<const DeliveryTrace>(std::move(loaded).value());
+  }
   return Ok{};
 }
 

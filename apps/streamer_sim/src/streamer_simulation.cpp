@@ -22,8 +22,8 @@ WorldConfig make_world_config(const StreamerSimOptions& options) {
   vehicle.streamer.latency_limit = options.plugin_params.latency_limit;
   vehicle.streamer.ack_time_offset = options.ack_time_offset;
   if (!options.cameras.empty()) vehicle.streamer.cameras = options.cameras;
-  vehicle.to_streamer = options.link;
-  vehicle.to_player = options.link;
+  vehicle.to_streamer = options.to_streamer();
+  vehicle.to_player = options.to_player();
   vehicle.in_process_client = false;   // the vehicle client is whoever connects over TCP
   config.vehicles.push_back(std::move(vehicle));
   return config;

@@ -16,6 +16,7 @@
 #include "ocp/executor.hpp"
 #include "ocp/impairments.hpp"
 #include "ocp/link_messages.hpp"
+#include "ocp/trace_queue.hpp"
 
 namespace ocp {
 
@@ -62,6 +63,8 @@ class LinkDirection {
   Micros jitter_sample();
   double uniform_unit();  // [0, 1) from 53 random bits
   std::size_t backlog_bytes(SimTime now) const;
+  // When the message is on the wire (its last bit sent), or nullopt: tail-dropped by a queue.
+  std::optional<SimTime> queue_for_capacity(SimTime now, std::size_t size_bytes);
   void schedule_delivery(SimTime deliver_at, LinkMessage message, std::size_t size_bytes,
                          std::uint64_t message_id);
   void deliver(std::uint32_t slot);
@@ -77,6 +80,7 @@ class LinkDirection {
   mutable DirectionCounters counters_;
   bool in_bad_state_ = false;
   SimTime link_free_at_{};  // when the bandwidth-limited serialiser is next idle
+  mutable TraceQueue trace_queue_;  // trace-driven capacity (impairments_.trace)
   SimTime last_delivery_at_{};  // keeps FIFO order unless reordering is requested
   SimTime outage_until_{};      // outage_for(): down while now < outage_until_
   // Messages in flight wait in a reused pool, so a delivery task captures only (this, slot):

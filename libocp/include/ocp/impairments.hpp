@@ -2,10 +2,13 @@
 // Impairments of one direction of the fake com channel (com_channel.hpp), changeable at any
 // moment. Kept apart so that events (events.hpp) can describe a change without the channel.
 #include <cstddef>
+#include <memory>
 
 #include "ocp/time.hpp"
 
 namespace ocp {
+
+class DeliveryTrace;  // delivery_trace.hpp
 
 struct Impairments {
   Micros delay{0};                   // fixed one-way delay
@@ -21,6 +24,10 @@ struct Impairments {
   double loss_in_bad = 1.0;
   double bandwidth_bits_per_second = 0.0;  // 0 = unlimited; otherwise FIFO serialisation queue
   std::size_t queue_limit_bytes = 0;       // 0 = unlimited; tail-drop beyond it
+  // Trace-driven capacity (Mahimahi format) instead of `bandwidth_bits_per_second`: a drop-tail
+  // queue limited by queue_limit_bytes and/or queue_limit_packets (neither: TraceQueue's default).
+  std::shared_ptr<const DeliveryTrace> trace = nullptr;
+  std::size_t queue_limit_packets = 0;     // 0 = no packet limit (trace-driven links only)
   double duplicate_probability = 0.0;
   double reorder_probability = 0.0;        // a reordered message gets `reorder_extra_delay`
   Micros reorder_extra_delay{0};

@@ -4,6 +4,7 @@
 // expectations refer to events that exist. The runner (runner.hpp) never re-validates.
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <variant>
@@ -31,7 +32,8 @@ struct ImpairmentPatch {
   std::optional<double> loss, duplicate, reorder, bandwidth_bps;
   std::optional<double> good_to_bad, bad_to_good, loss_in_good, loss_in_bad;
   std::optional<bool> burst_loss, down;
-  std::optional<std::size_t> queue_limit_bytes;
+  std::optional<std::size_t> queue_limit_bytes, queue_limit_packets;
+  std::optional<std::shared_ptr<const DeliveryTrace>> trace;
 };
 Impairments apply_patch(Impairments base, const ImpairmentPatch& patch);
 // Linear interpolation of the numeric fields (delay, jitter, probabilities, bandwidth) at

@@ -2,6 +2,7 @@
 // Command-line option groups both simulator executables share:
 //   --plugin-param NAME VALUE   (repeatable; the product's settings, SPEC §9)
 //   --link-delay-ms, --link-jitter-ms, --link-loss   (the fake com channel, both directions)
+//   --link-trace-up FILE, --link-trace-down FILE      (Mahimahi delivery traces, per direction)
 //   --seed, --log-level, --camera NAME[:FPS] (repeatable), --duration-s
 //   --gamepad idle|drive|FILE   (the simulated operator's gamepad)
 //   --ack-time-offset N|high    (added to every ack_time the Streamer issues, SPEC §5)
@@ -15,11 +16,13 @@
 //   if (auto exit_code = sim_app::parse_command_line(app, argc, argv, options)) return *exit_code;
 #include <CLI/CLI.hpp>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "ocp/com_channel.hpp"
+#include "ocp/delivery_trace.hpp"
 #include "ocp/error.hpp"
 #include "ocp/log.hpp"
 #include "ocp/plugin_params.hpp"
@@ -36,6 +39,9 @@ struct CommonOptions {
   double link_delay_ms = 20.0;       // one-way
   double link_jitter_ms = 0.0;       // uniform ±
   double link_loss = 0.0;            // probability 0..1 per message
+  std::string link_trace_up_path;    // "" = none; vehicle → operator (to_player)
+  std::string link_trace_down_path;  // "" = none; operator → vehicle (to_streamer)
+  std::size_t link_queue_packets = 0;  // the trace queue's limit; 0 = TraceQueue's default
   std::uint64_t seed = 1;
   std::string log_level_text = "info";
   std::vector<std::string> camera_texts;   // NAME or NAME:FPS
@@ -50,6 +56,7 @@ struct CommonOptions {
   std::vector<CameraConfig> cameras;       // empty when no --camera was given
   GamepadScript gamepad;
   std::uint64_t ack_time_offset = 0;
+  std::shared_ptr<const DeliveryTrace> link_trace_up, link_trace_down;
   // Printed to stderr by parse_command_line too: --plugin-param names that do nothing in this
   // executable (the other simulator's port).
   std::vector<std::string> warnings;
