@@ -5,28 +5,12 @@
 #include <string>
 #include <string_view>
 
+#include "sim_app/report_text.hpp"
 #include "stats.hpp"
 
 namespace ocp::bench {
 
-inline std::string json_string(std::string_view text) {
-  std::string out = "\"";
-  for (const char c : text) {
-    switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\t': out += "\\t"; break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20) {
-          out += fmt::format("\\u{:04x}", static_cast<unsigned>(c));
-        } else {
-          out += c;
-        }
-    }
-  }
-  return out + "\"";
-}
+inline std::string json_string(std::string_view text) { return "\"" + report::json_escape(text) + "\""; }
 
 // Finite numbers only: JSON has no NaN or infinity.
 inline std::string json_number(double value) {

@@ -7,32 +7,14 @@
 #include <sstream>
 
 #include "campaign/results.hpp"
+#include "sim_app/report_text.hpp"
 
 namespace ocp::campaign {
 
 namespace {
 constexpr std::size_t violations_per_world = 5;
 
-std::string json_string(const std::string& text) {
-  std::string out = "\"";
-  for (const char c : text) {
-    switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\t': out += "\\t"; break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20) {
-          char buffer[8];
-          std::snprintf(buffer, sizeof buffer, "\\u%04x", static_cast<unsigned>(c));
-          out += buffer;
-        } else {
-          out += c;
-        }
-    }
-  }
-  return out + "\"";
-}
+std::string json_string(const std::string& text) { return "\"" + report::json_escape(text) + "\""; }
 }  // namespace
 
 Summary summarise(const CampaignOptions& options, const CampaignRun& run) {

@@ -189,7 +189,8 @@
     renderFaultNames(cells[3], f.receiver_fault);
     renderFaultNames(cells[4], f.sender_fault);
     const note = loopNote(card.name);
-    const open = (f.receiver_fault || []).includes("InvalidMac");
+    // The Streamer's hint comes with the status, the fault with the next feedback: either says it.
+    const open = !!note || (f.receiver_fault || []).includes("InvalidMac");
     cells[5].textContent = open ? "not closed" : "closed";
     cells[5].className = `loop ${open ? "fault" : "none"}`;
     cells[5].title = note || "";

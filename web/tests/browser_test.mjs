@@ -244,8 +244,9 @@ async function dashboardScenario(browser) {
   check(await note.isVisible(), `truck-1's card says why its loop does not close (${await note.textContent()})`);
   check(/ack_time differs by \d+ from issued pair \(ack_time \d+/.test(await note.textContent()),
         "the note names the pair the Streamer issued");
-  check(/not closed/.test(await page.locator('#fleet-overview tr[data-vehicle="truck-1"] .loop').textContent()),
-        "truck-1's overview row shows the loop not closed");
+  const loopCell = page.locator('#fleet-overview tr[data-vehicle="truck-1"] .loop');
+  await waitFor("truck-1's overview row to show the loop not closed", async () => /not closed/.test(await loopCell.textContent()));
+  check(/not closed/.test(await loopCell.textContent()), "truck-1's overview row shows the loop not closed");
   check(/latency loop not closed \(InvalidMac\): returned pair/.test(sim.output()), "player_sim logs the same hint");
   await screenshot(page, "dashboard_loop_not_closed.png", { fullPage: true });
   vehicle.roundAckTime = false;
