@@ -1,9 +1,11 @@
 #pragma once
 // Ctrl-C, the same in every tool (docs/usage.md, "Exit codes"): the first SIGINT or SIGTERM
 // asks the run to stop. The tool then finishes what it can report, prints "interrupted",
-// marks its reports `"interrupted": true` and exits 130. A second signal ends the process at
-// once (still 130), after an optional async-signal-safe cleanup such as killing launched clients.
+// marks its reports `"interrupted": true` and exits 130. A second signal (a second later or
+// more) ends the process at once (still 130), after an optional async-signal-safe cleanup such
+// as killing launched clients.
 #include <signal.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -14,10 +16,27 @@ namespace ocp::cli {
 
 namespace detail {
 inline std::atomic<int> interrupt_signals{0};
+inline std::atomic<long long> first_interrupt_ns{0};
 inline void (*interrupt_cleanup)() = nullptr;
 
+inline long long monotonic_ns() {   // clock_gettime is async-signal-safe
+  timespec now{};
+  clock_gettime(CLOCK_MONOTONIC, &now);
+  return static_cast<long long>(now.tv_sec) * 1'000'000'000LL + now.tv_nsec;
+}
+
+// A repeat within this time is the same Ctrl-C delivered twice, not a second one: `timeout`
+// signals its child and then its whole process group, and a terminal signals every process of
+// the foreground group.
+inline constexpr long long same_interrupt_ns = 1'000'000'000LL;
+
 extern "C" inline void on_interrupt_signal(int) {
-  if (interrupt_signals.fetch_add(1) == 0) return;
+  const long long now = monotonic_ns();
+  if (interrupt_signals.fetch_add(1) == 0) {
+    first_interrupt_ns.store(now);
+    return;
+  }
+  if (now - first_interrupt_ns.load() < same_interrupt_ns) return;
   if (interrupt_cleanup) interrupt_cleanup();
   _exit(exit_interrupted);
 }
@@ -27,7 +46,7 @@ extern "C" inline void on_interrupt_signal(int) {
 // Call again after something else handled the signals (an Asio signal_set puts the default
 // action back when it ends); the count of signals so far is kept.
 inline void install_interrupt_handlers(void (*cleanup)() = nullptr) {
-  static_assert(std::atomic<int>::is_always_lock_free);
+  static_assert(std::atomic<int>::is_always_lock_free && std::atomic<long long>::is_always_lock_free);
   detail::interrupt_cleanup = cleanup;
   struct sigaction action {};
   action.sa_handler = detail::on_interrupt_signal;
