@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <iostream>
 #include <optional>
@@ -113,16 +114,8 @@ std::optional<std::string> queued_tasks(const std::string& job, std::string& err
 }
 
 
-}  // namespace
-
-int run_slurm(const SlurmOptions& o) {
-  namespace fs = std::filesystem;
-  const std::string executable = self_executable();
-  const std::string script = sbatch_script(o, executable);
-  if (o.print_only) {
-    std::cout << script;
-    return 0;
-  }
+// The profile, and the Slurm commands on PATH: an exit code when one is missing.
+std::optional<int> check_before_submitting(const SlurmOptions& o) {
   try {   // a bad profile is one message here, not one failed task per shard
     const std::string& p = o.profile;
     load_profile(p.find('/') == std::string::npos && p.find('.') == std::string::npos ? shipped_profile_path(p) : p);
@@ -137,7 +130,14 @@ int run_slurm(const SlurmOptions& o) {
       return exit_usage;
     }
   }
-  const fs::path out = fs::absolute(o.out).lexically_normal();
+  return std::nullopt;
+}
+
+// Writes the script into the output folder, cleared of an earlier run's shards; its path, or
+// nullopt when it cannot be written.
+std::optional<std::filesystem::path> write_script(const SlurmOptions& o, const std::filesystem::path& out,
+                                                  const std::string& script) {
+  namespace fs = std::filesystem;
   std::error_code error_code;
   fs::create_directories(out, error_code);
   // Shards of an earlier run in the same folder would be merged as if this run wrote them.
@@ -149,19 +149,15 @@ int run_slurm(const SlurmOptions& o) {
   std::ofstream(script_path) << script;
   if (!fs::exists(script_path)) {
     std::cerr << "ocp_campaign slurm: cannot write " << script_path.string() << "\n";
-    return exit_usage;
+    return std::nullopt;
   }
-  const auto start = std::chrono::steady_clock::now();
-  const auto [submitted, ok] = capture("sbatch --parsable " + quoted(script_path.string()) + " 2>&1");
-  const std::string job = submitted.substr(0, submitted.find_first_of(";\n"));
-  if (!ok || job.empty() || job.find_first_not_of("0123456789") != std::string::npos) {
-    std::cerr << "ocp_campaign slurm: sbatch failed (is slurmctld reachable?): " << submitted << "\n";
-    return exit_usage;
-  }
-  std::cerr << "submitted job array " << job << " (" << o.tasks << " tasks, script " << script_path.string()
-            << "); polling squeue\n";
+  return script_path;
+}
+
+// Polls squeue until the job array has left the queue (nullopt), or gives the exit code of
+// Ctrl-C, a controller that stops answering, or --timeout (the job is cancelled then).
+std::optional<int> wait_for_job(const SlurmOptions& o, const std::string& job, const std::function<double()>& elapsed) {
   cli::install_interrupt_handlers();
-  const auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   int failures_in_a_row = 0;
   std::string last_states;
   for (;;) {
@@ -180,7 +176,7 @@ int run_slurm(const SlurmOptions& o) {
       }
     } else {
       failures_in_a_row = 0;
-      if (states->empty()) break;
+      if (states->empty()) return std::nullopt;
       if (*states != last_states) std::cerr << "job " << job << ": " << *states << "\n";
       last_states = *states;
     }
@@ -192,11 +188,14 @@ int run_slurm(const SlurmOptions& o) {
     }
     std::this_thread::sleep_for(std::chrono::duration<double>(o.poll_seconds));
   }
-  std::cerr << "job " << job << " done after " << elapsed() << " s; merging\n";
+}
+
+// `ocp_campaign merge` of every task's shard; a task that left no summary is an error.
+int merge_shards(const SlurmOptions& o, const std::string& executable, const std::filesystem::path& out) {
   std::string merge = quoted(executable) + " merge --out " + quoted(out.string());
   for (int task = 0; task < o.tasks; ++task) {
-    const fs::path shard = out / ("shard-" + std::to_string(task));
-    if (!fs::exists(shard / "summary.json")) {
+    const std::filesystem::path shard = out / ("shard-" + std::to_string(task));
+    if (!std::filesystem::exists(shard / "summary.json")) {
       std::cerr << "ocp_campaign slurm: task " << task << " left no summary.json (see " << out.string() << "/shard-"
                 << task << ".log)\n";
       return exit_usage;
@@ -205,6 +204,34 @@ int run_slurm(const SlurmOptions& o) {
   }
   const int status = std::system(merge.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : exit_usage;
+}
+
+}  // namespace
+
+int run_slurm(const SlurmOptions& o) {
+  const std::string executable = self_executable();
+  const std::string script = sbatch_script(o, executable);
+  if (o.print_only) {
+    std::cout << script;
+    return 0;
+  }
+  if (auto exit_code = check_before_submitting(o)) return *exit_code;
+  const std::filesystem::path out = std::filesystem::absolute(o.out).lexically_normal();
+  const auto script_path = write_script(o, out, script);
+  if (!script_path) return exit_usage;
+  const auto start = std::chrono::steady_clock::now();
+  const auto [submitted, ok] = capture("sbatch --parsable " + quoted(script_path->string()) + " 2>&1");
+  const std::string job = submitted.substr(0, submitted.find_first_of(";\n"));
+  if (!ok || job.empty() || job.find_first_not_of("0123456789") != std::string::npos) {
+    std::cerr << "ocp_campaign slurm: sbatch failed (is slurmctld reachable?): " << submitted << "\n";
+    return exit_usage;
+  }
+  std::cerr << "submitted job array " << job << " (" << o.tasks << " tasks, script " << script_path->string()
+            << "); polling squeue\n";
+  const auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  if (auto exit_code = wait_for_job(o, job, elapsed)) return *exit_code;
+  std::cerr << "job " << job << " done after " << elapsed() << " s; merging\n";
+  return merge_shards(o, executable, out);
 }
 
 }  // namespace ocp::campaign

@@ -28,12 +28,10 @@ PlayerSimOptions PlayerCli::simulation_options() const {
   return options;
 }
 
-std::optional<int> parse_player_cli(int argc, const char* const* argv, PlayerCli& cli) {
-  CLI::App app{
-      "OCP Player simulator: serves the operator-side TCP API (SPEC §4) on 127.0.0.1:4001,\n"
-      "linked through fake com channels to simulated vehicles (Streamer + reference vehicle\n"
-      "client, in-process). Connect your operator-side client to it.",
-      "player_sim"};
+namespace {
+
+// The options player_sim adds to the common ones.
+void add_player_options(CLI::App& app, PlayerCli& cli) {
   sim_app::add_common_options(app, cli.common);
   app.add_option("--vehicle", cli.vehicles, "simulated vehicle name (repeatable; several form a fleet; default: vehicle); NAME=udp://HOST:PORT: "
                  "that vehicle is a real Streamer (streamer_sim --com-listen HOST:PORT) over a UDP com channel")
@@ -63,8 +61,11 @@ std::optional<int> parse_player_cli(int argc, const char* const* argv, PlayerCli
           "ORIGIN"))
       ->group("Web view");
   sim_app::add_com_options(app, cli.com);
-  if (auto exit_code = sim_app::parse_command_line(app, argc, argv, cli.common)) return exit_code;
+}
 
+// After parsing: the vehicle names (NAME=udp://… split off), their --vehicle-tcp ports and
+// UDP Streamers, each checked; an exit code when one is wrong.
+std::optional<int> complete_vehicles(PlayerCli& cli) {
   std::map<std::string, std::string> udp_texts;
   for (auto& text : cli.vehicles) {
     const std::size_t scheme = text.find("=udp://");
@@ -108,6 +109,19 @@ std::optional<int> parse_player_cli(int argc, const char* const* argv, PlayerCli
     cli.udp_vehicles[name] = *endpoint;
   }
   return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<int> parse_player_cli(int argc, const char* const* argv, PlayerCli& cli) {
+  CLI::App app{
+      "OCP Player simulator: serves the operator-side TCP API (SPEC §4) on 127.0.0.1:4001,\n"
+      "linked through fake com channels to simulated vehicles (Streamer + reference vehicle\n"
+      "client, in-process). Connect your operator-side client to it.",
+      "player_sim"};
+  add_player_options(app, cli);
+  if (auto exit_code = sim_app::parse_command_line(app, argc, argv, cli.common)) return exit_code;
+  return complete_vehicles(cli);
 }
 
 }  // namespace ocp

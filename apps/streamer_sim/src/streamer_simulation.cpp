@@ -75,11 +75,13 @@ Status StreamerSimulation::start() {
                  "delay {} ms, jitter ±{} ms, loss {}{}",
                  options_.vehicle, com_->local_port(), to_whole_ms(options_.link.delay), to_whole_ms(options_.link.jitter),
                  options_.link.loss_probability, options_.com_key.empty() ? "; INSECURE (no key)" : "");
-  } else logger_.info("simulated operator: gamepad '{}', link delay {} ms, jitter ±{} ms, loss {}, latency_limit {} ms, "
-               "ack_time offset {}",
-               options_.gamepad.description, to_whole_ms(options_.link.delay),
-               to_whole_ms(options_.link.jitter), options_.link.loss_probability,
-               options_.plugin_params.latency_limit.count(), options_.ack_time_offset);
+  } else {
+    logger_.info("simulated operator: gamepad '{}', link delay {} ms, jitter ±{} ms, loss {}, latency_limit {} ms, "
+                 "ack_time offset {}",
+                 options_.gamepad.description, to_whole_ms(options_.link.delay),
+                 to_whole_ms(options_.link.jitter), options_.link.loss_probability,
+                 options_.plugin_params.latency_limit.count(), options_.ack_time_offset);
+  }
   latency_sampler_.start(executor_.now() + latency_sampler_.period());
   previous_ = Previous{executor_.now(), 0, 0, 0};
   return Ok{};
