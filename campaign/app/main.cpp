@@ -1,12 +1,15 @@
 // ocp_campaign: seeded random worlds against an independent oracle (docs/campaigns.md).
 //   ocp_campaign run   --seed S --worlds N [--profile P] [-j J] [--shard I/N] [--out DIR] [--world I]
+//                      [--client 'CMD {port}' [--max-world-seconds S]]
 //   ocp_campaign check FILE.yaml          (one scenario file under the oracle: the repro command)
 //   ocp_campaign merge DIR… --out DIR     (shard results → one result, as one run would write it)
 //   ocp_campaign slurm …                  (an sbatch job array of shards, then merge)
 // Exit codes: 0 no failure, 1 a world failed, 2 bad usage or input, 130 interrupted (Ctrl-C).
 #include <CLI/CLI.hpp>
 
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -22,6 +25,7 @@
 #include "campaign/slurm.hpp"
 #include "campaign/world_check.hpp"
 #include "ocp/cli_checks.hpp"
+#include "sim_app/client_process.hpp"
 #include "ocp/exit_codes.hpp"
 #include "ocp/interrupt.hpp"
 #include "scenario/parse.hpp"
@@ -88,7 +92,62 @@ struct RunCommand {
   int shrink_runs = 300;
   int shrink_max = 10;
   bool quiet = false;
+  std::optional<std::string> client;   // --client: worlds in real time against this vehicle client
+  std::optional<double> max_world_seconds;
 };
+
+// The first word of a shell command line, its quotes taken off ('a b' and "a b" are one word).
+std::string first_shell_word(const std::string& command) {
+  std::string word;
+  char quote = 0;
+  std::size_t at = command.find_first_not_of(" \t");
+  for (; at < command.size(); ++at) {
+    const char c = command[at];
+    if (quote != 0) {
+      if (c == quote) {
+        quote = 0;
+      } else {
+        word += c;
+      }
+    } else if (c == '\'' || c == '"') {
+      quote = c;
+    } else if (c == ' ' || c == '\t') {
+      break;
+    } else {
+      word += c;
+    }
+  }
+  return word;
+}
+
+// --client's program, checked before any world starts: a command that cannot be found is a
+// usage error (exit 2), not a campaign of failed worlds. Only the first word is checked (a
+// shell line may set variables first: then the shell says it when the world starts).
+std::optional<std::string> client_problem(const std::string& command) {
+  const std::string program = first_shell_word(command);
+  if (program.empty()) return "--client: empty command";
+  if (program.find('=') != std::string::npos) return std::nullopt;
+  if (program.find('/') != std::string::npos) {
+    if (access(program.c_str(), X_OK) != 0) return "--client: cannot run '" + program + "': " + std::strerror(errno);
+    return std::nullopt;
+  }
+  const char* path = std::getenv("PATH");
+  std::stringstream dirs(path != nullptr ? path : "/usr/bin:/bin");
+  for (std::string dir; std::getline(dirs, dir, ':');) {
+    if (access(((dir.empty() ? "." : dir) + "/" + program).c_str(), X_OK) == 0) return std::nullopt;
+  }
+  return "--client: cannot run '" + program + "': not found in PATH";
+}
+
+// --client and --max-world-seconds as a ClientRun (client logs under <out>/client-logs).
+std::optional<ClientRun> client_run_of(const RunCommand& command) {
+  if (!command.client) return std::nullopt;
+  ClientRun run;
+  run.command = *command.client;
+  if (command.max_world_seconds) run.max_world = ocp::Micros{static_cast<std::int64_t>(*command.max_world_seconds * 1e6)};
+  run.log_dir = (fs::path(command.out) / "client-logs").string();
+  return run;
+}
 
 // The shard: --shard, else SLURM_ARRAY_TASK_ID / SLURM_ARRAY_TASK_COUNT, else the whole campaign.
 std::optional<Shard> choose_shard(const RunCommand& command, std::string& error) {
@@ -135,72 +194,99 @@ void write_outputs(const Summary& summary, const fs::path& out) {
   write_text(out / "index.html", html_index(summary));
 }
 
-int run_command(const RunCommand& command) {
-  Profile profile;
+// The campaign options of a run command; false (after saying why) on a usage error.
+bool campaign_options_of(const RunCommand& command, CampaignOptions& options) {
   try {
-    profile = resolve_profile(command.profile);
+    options.profile = resolve_profile(command.profile);
   } catch (const ProfileError& error) {
     std::cerr << error.what() << "\n";
-    return exit_usage;
+    return false;
   }
   std::string error;
   const auto shard = choose_shard(command, error);
   if (!shard) {
     std::cerr << "ocp_campaign run: " << error << "\n";
-    return exit_usage;
+    return false;
   }
   if (command.world && *command.world >= command.worlds) {
     std::cerr << "ocp_campaign run: --world " << *command.world << " is not below --worlds " << command.worlds << "\n";
-    return exit_usage;
+    return false;
   }
-  CampaignOptions options;
+  if (command.client) {
+    if (const auto problem = client_problem(*command.client)) {
+      std::cerr << "ocp_campaign run: " << *problem << "\n";
+      return false;
+    }
+    std::error_code made;
+    fs::create_directories(fs::path(command.out) / "client-logs", made);
+  }
   options.seed = command.seed;
   options.worlds = command.worlds;
-  options.profile = profile;
   options.jobs = command.jobs;
   options.shard = *shard;
   options.stop = ocp::cli::interrupt_requested;
-  ocp::cli::install_interrupt_handlers();
-  CampaignRun run;
-  ProgressLine progress(command.quiet);
-  std::mutex progress_mutex;
-  if (command.world) {
-    // One world, for a repro: same generator, same checks.
-    const auto world = generate_world(profile, command.seed, *command.world);
-    WorldOutcome outcome = check_world(world, {true});
-    outcome.index = *command.world;
-    run.outcomes.push_back(outcome);
-    for (const Violation& v : outcome.violations) {
-      std::cout << check_name(v.check) << " at " << v.at.count() << " us " << v.vehicle << ": " << v.detail << "\n";
-    }
-    return outcome.failed() ? exit_fail : exit_pass;
-  }
-  run = run_campaign(options, [&](const Progress& p) { progress.update(p); });
-  progress.end();
-  const Summary summary = summarise(options, run);
-  const fs::path out(command.out);
-  try {
-    write_outputs(summary, out);
-    FailureFilesOptions files{command.out, command.seed, command.worlds, command.profile, !command.no_shrink,
-                              command.shrink_runs};
-    int shrunk = 0;
-    for (const WorldRecord& record : summary.records) {
-      if (!record.failed() || ocp::cli::interrupt_requested()) continue;
-      files.shrink = !command.no_shrink && shrunk < command.shrink_max;
-      write_failure_files(profile, record.index, files);
-      ++shrunk;
-    }
-  } catch (const std::exception& failure) {
-    std::cerr << "ocp_campaign run: " << failure.what() << "\n";
+  options.client = client_run_of(command);
+  return true;
+}
+
+// --world I: one world, for a repro: same generator, same checks, its violations printed.
+int run_one_world(const CampaignOptions& options, std::uint64_t index) {
+  const WorldOutcome outcome = check_campaign_world(options, index);
+  if (!outcome.error.empty()) {
+    std::cerr << "ocp_campaign run: world " << index << ": " << outcome.error << "\n";
     return exit_usage;
   }
-  std::cout << summary_table(summary);
+  for (const Violation& v : outcome.violations) {
+    std::cout << check_name(v.check) << " at " << v.at.count() << " us " << v.vehicle << ": " << v.detail << "\n";
+  }
+  return outcome.failed() ? exit_fail : exit_pass;
+}
+
+// The results folder: summary, JUnit, index, and each failure's folder (shrunk, up to --shrink-max).
+void write_campaign_results(const RunCommand& command, const CampaignOptions& options, const Summary& summary) {
+  write_outputs(summary, fs::path(command.out));
+  FailureFilesOptions files{command.out, command.seed, command.worlds, command.profile, !command.no_shrink,
+                            command.shrink_runs, std::nullopt};
+  if (options.client) files.client = FailureFilesOptions::Client{*command.client, command.max_world_seconds, options.client->max_world};
+  int shrunk = 0;
+  for (const WorldRecord& record : summary.records) {
+    if (!record.failed() || ocp::cli::interrupt_requested()) continue;
+    files.shrink = !command.no_shrink && shrunk < command.shrink_max;
+    write_failure_files(options.profile, record.index, files);
+    ++shrunk;
+  }
+}
+
+void print_rates(const CampaignRun& run) {
   double simulated = 0;
   for (const WorldOutcome& outcome : run.outcomes) simulated += static_cast<double>(outcome.duration.count()) / 1e6;
   std::printf("%zu worlds in %.2f s wall (%.1f worlds/s), %.2f s CPU, %.0f simulated s per CPU s\n", run.outcomes.size(),
               run.wall_seconds, run.wall_seconds > 0 ? static_cast<double>(run.outcomes.size()) / run.wall_seconds : 0.0,
               run.cpu_seconds, run.cpu_seconds > 0 ? simulated / run.cpu_seconds : 0.0);
-  std::cout << "results: " << (out / "index.html").string() << "\n";
+}
+
+int run_command(const RunCommand& command) {
+  CampaignOptions options;
+  if (!campaign_options_of(command, options)) return exit_usage;
+  ocp::cli::install_interrupt_handlers(ocp::sim_app::kill_all_clients);
+  if (command.world) return run_one_world(options, *command.world);
+  ProgressLine progress(command.quiet);
+  const CampaignRun run = run_campaign(options, [&](const Progress& p) { progress.update(p); });
+  progress.end();
+  if (!run.harness_error.empty()) {
+    std::cerr << "ocp_campaign run: " << run.harness_error << "\n";
+    return exit_usage;
+  }
+  const Summary summary = summarise(options, run);
+  try {
+    write_campaign_results(command, options, summary);
+  } catch (const std::exception& failure) {
+    std::cerr << "ocp_campaign run: " << failure.what() << "\n";
+    return exit_usage;
+  }
+  std::cout << summary_table(summary);
+  print_rates(run);
+  std::cout << "results: " << (fs::path(command.out) / "index.html").string() << "\n";
   if (run.interrupted || ocp::cli::interrupt_requested()) {
     std::cout << "interrupted\n";
     return exit_interrupted;
@@ -283,6 +369,11 @@ int main(int argc, char** argv) {
   run_app->add_option("--shrink-max", run.shrink_max, "failing worlds to shrink (the rest get world.yaml only)")
       ->check(CLI::Range(0, 100'000))->capture_default_str();
   run_app->add_flag("-q,--quiet", run.quiet, "no progress line");
+  run_app->add_option("--client", run.client,
+                      "run every world in real time against this vehicle client, a shell command line with {port} "
+                      "(also in env OCP_PORT); one process per vehicle, output in OUT/client-logs");
+  run_app->add_option("--max-world-seconds", run.max_world_seconds, "with --client: cut every world to this long")
+      ->check(ocp::cli::real(1.0, 3600.0));
 
   std::string check_file;
   CLI::App* check_app = app.add_subcommand("check", "run one scenario file under the oracle (exit 1 on a violation)");

@@ -15,6 +15,17 @@ bool determinism_sampled(const Profile& profile, std::uint64_t campaign_seed, st
   return static_cast<double>(draw >> 11) * 0x1.0p-53 < profile.determinism_share;
 }
 
+WorldOutcome check_campaign_world(const CampaignOptions& options, std::uint64_t index) {
+  const scenario::Scenario world = generate_world(options.profile, options.seed, index);
+  if (options.client) {
+    return check_world_with_client(for_external_client(world, options.client->max_world), index, *options.client,
+                                   options.stop);
+  }
+  WorldOutcome outcome = check_world(world, {determinism_sampled(options.profile, options.seed, index)});
+  outcome.index = index;
+  return outcome;
+}
+
 CampaignRun run_campaign(const CampaignOptions& options, const std::function<void(const Progress&)>& on_progress) {
   const auto wall_start = std::chrono::steady_clock::now();
   std::vector<std::uint64_t> indices;
@@ -28,6 +39,7 @@ CampaignRun run_campaign(const CampaignOptions& options, const std::function<voi
   Progress progress;
   progress.total = indices.size();
   bool interrupted = false;
+  std::string harness_error;
 
   auto worker = [&] {
     for (;;) {
@@ -38,11 +50,13 @@ CampaignRun run_campaign(const CampaignOptions& options, const std::function<voi
       }
       const std::size_t slot = next.fetch_add(1);
       if (slot >= indices.size()) return;
-      const std::uint64_t index = indices[slot];
-      const scenario::Scenario world = generate_world(options.profile, options.seed, index);
-      WorldOutcome outcome = check_world(world, {determinism_sampled(options.profile, options.seed, index)});
-      outcome.index = index;
+      WorldOutcome outcome = check_campaign_world(options, indices[slot]);
       const std::lock_guard lock(mutex);
+      if (options.client && !outcome.error.empty()) {   // the client, not the world: stop here
+        if (harness_error.empty()) harness_error = outcome.error;
+        next = indices.size();
+        return;
+      }
       outcomes[slot] = std::move(outcome);
       finished[slot] = true;
       ++progress.done;
@@ -59,6 +73,7 @@ CampaignRun run_campaign(const CampaignOptions& options, const std::function<voi
 
   CampaignRun run;
   run.interrupted = interrupted && progress.done < progress.total;
+  run.harness_error = harness_error;
   for (std::size_t slot = 0; slot < indices.size(); ++slot) {
     if (!finished[slot]) continue;
     run.cpu_seconds += outcomes[slot].cpu_seconds;

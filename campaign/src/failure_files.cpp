@@ -1,9 +1,12 @@
 // A failing world's folder (failure_files.hpp).
 #include "campaign/failure_files.hpp"
 
+#include <fmt/format.h>
+
 #include <filesystem>
 #include <fstream>
 
+#include "campaign/client_world.hpp"
 #include "campaign/generator.hpp"
 #include "campaign/shrink.hpp"
 #include "campaign/world_check.hpp"
@@ -30,19 +33,39 @@ scenario::Scenario with_placeholder_expectation(scenario::Scenario world) {
   return world;
 }
 
+// One shell word: 'text', with every ' written as '\''.
+std::string shell_quoted(const std::string& text) {
+  std::string quoted = "'";
+  for (const char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+std::string replay_command(std::uint64_t index, const FailureFilesOptions& options) {
+  std::string command = "ocp_campaign run --seed " + std::to_string(options.campaign_seed) + " --worlds " +
+                        std::to_string(options.worlds) + " --profile " + options.profile_argument + " --world " +
+                        std::to_string(index);
+  if (options.client) {
+    command += " --client " + shell_quoted(options.client->command);
+    if (options.client->max_world_seconds) {
+      command += " --max-world-seconds " + fmt::format("{:g}", *options.client->max_world_seconds);
+    }
+  }
+  return command;
+}
+
 }  // namespace
 
 int write_failure_files(const Profile& profile, std::uint64_t index, const FailureFilesOptions& options) {
   namespace fs = std::filesystem;
   const fs::path dir = fs::path(options.out_dir) / ("failures/world-" + std::to_string(index));
   fs::create_directories(dir);
-  const scenario::Scenario world = generate_world(profile, options.campaign_seed, index);
-  const std::string replay = "ocp_campaign run --seed " + std::to_string(options.campaign_seed) + " --worlds " +
-                             std::to_string(options.worlds) + " --profile " + options.profile_argument + " --world " +
-                             std::to_string(index);
+  scenario::Scenario world = generate_world(profile, options.campaign_seed, index);
+  if (options.client) world = for_external_client(std::move(world), options.client->max_world);
+  const std::string replay = replay_command(index, options);
   write_text(dir / "world.yaml",
              scenario::write_scenario_yaml(with_placeholder_expectation(world), "World " + std::to_string(index) +
                                                                                     " as generated.\nReplay: " + replay));
+  if (options.client) return -1;
   const WorldOutcome outcome = check_world(world, {true});
   if (outcome.violations.empty() || !options.shrink) return -1;
   const ShrinkResult shrunk = shrink(world, ShrinkTarget::of(outcome.violations.front()), options.shrink_runs);

@@ -27,6 +27,9 @@ std::string_view check_name(Check check) {
     case Check::liveness: return "liveness";
     case Check::conservation: return "conservation";
     case Check::determinism: return "determinism";
+    case Check::client_echo: return "client.echo";
+    case Check::client_reconnect: return "client.reconnect";
+    case Check::client_alive: return "client.alive";
   }
   return "?";
 }
@@ -170,7 +173,7 @@ void Oracle::check_controller(VehicleState& state, SimTime now, const WireFrame&
   // The oracle's own view too: no operator message for longer than the timeout.
   if (state.spec != nullptr) {
     const SimTime last = state.last_control_delivered.value_or(SimTime{0});
-    if (now - last > state.spec->streamer.no_control_timeout) control_fault = true;
+    if (now - last > state.spec->streamer.no_control_timeout + tolerances_.real_time_slack) control_fault = true;
   }
   if (!control_fault) return;
   rapidjson::Document document;

@@ -42,13 +42,14 @@ void Oracle::on_latency_sample(const Event& event, const LatencySample& sample) 
   const SimTime now = event.time - origin_;
   // Latency loop: the sample is now − ack_time of a pair this Streamer issued and the vehicle
   // echoed with its MAC, and never an older pair than one already accepted.
-  if (sample.latency_ms) {
+  if (sample.latency_ms && tolerances_.judge_timing) {
     const auto ms = static_cast<std::int64_t>(*sample.latency_ms);
     const SimTime newest_issue = now - Micros{ms * 1000};   // issued in (now − (ms+1) ms, now − ms ms]
+    const SimTime oldest_issue = newest_issue - Micros{1000};   // exclusive
     auto found = std::upper_bound(state.issued.begin(), state.issued.end(), newest_issue,
                                   [](SimTime t, const IssuedPair& pair) { return t < pair.issued; });
-    const bool covered = !state.issued.empty() && state.issued.front().issued <= newest_issue - Micros{1000};
-    if (found == state.issued.begin() || (found - 1)->issued <= newest_issue - Micros{1000}) {
+    const bool covered = !state.issued.empty() && state.issued.front().issued <= oldest_issue;
+    if (found == state.issued.begin() || (found - 1)->issued <= oldest_issue) {
       if (covered) {
         report(Check::latency_loop, now, state.name,
                "latency " + std::to_string(ms) + " ms: no pair was issued " + std::to_string(ms) + " ms ago");
@@ -69,9 +70,11 @@ void Oracle::on_latency_sample(const Event& event, const LatencySample& sample) 
     }
   }
   state.last_latency_ms = sample.latency_ms;
-  check_fault_model(state, now, sample);
-  check_operator_faults(state, now);
-  if (liveness_possible_ && !state.liveness_done && now >= liveness_at_) check_liveness(state, now, sample);
+  if (tolerances_.judge_timing) {
+    check_fault_model(state, now, sample);
+    check_operator_faults(state, now);
+    if (liveness_possible_ && !state.liveness_done && now >= liveness_at_) check_liveness(state, now, sample);
+  }
   // Counters about ten times a second (on the first vehicle's ticks), and at the end.
   if (world_ != nullptr && &state == vehicles_.begin()->second.get() && (now.count() / 10'000) % 10 == 0) {
     check_counters(*world_, now);

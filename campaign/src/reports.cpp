@@ -1,4 +1,5 @@
 // JUnit, the HTML index and the terminal table of a campaign (results.hpp).
+#include <algorithm>
 #include <map>
 #include <sstream>
 
@@ -93,10 +94,15 @@ std::string summary_table(const Summary& s) {
   out << "campaign " << s.seed << ", profile " << s.profile << ": " << s.records.size() << " of " << s.worlds
       << " worlds, " << static_cast<std::uint64_t>(simulated) << " s simulated, " << failures(s) << " failed\n";
   out << "  check                     worlds failing\n";
-  for (const char* check : {"safety.controller", "safety.monitor", "safety.frame_size", "fault_model", "latency_loop",
-                            "latency_loop.stale_pair", "liveness", "conservation", "determinism", "world_refused_to_start"}) {
+  // Every oracle check, then any other that failed (the client.* checks of a --client campaign).
+  std::vector<std::string> rows{"safety.controller", "safety.monitor", "safety.frame_size", "fault_model", "latency_loop",
+                                "latency_loop.stale_pair", "liveness", "conservation", "determinism", "world_refused_to_start"};
+  for (const auto& [check, count] : by_check) {
+    if (std::find(rows.begin(), rows.end(), check) == rows.end()) rows.push_back(check);
+  }
+  for (const std::string& check : rows) {
     char line[80];
-    std::snprintf(line, sizeof line, "  %-25s %llu\n", check, static_cast<unsigned long long>(by_check[check]));
+    std::snprintf(line, sizeof line, "  %-25s %llu\n", check.c_str(), static_cast<unsigned long long>(by_check[check]));
     out << line;
   }
   return out.str();

@@ -10,7 +10,7 @@
 #include <iostream>
 
 #include "conformance/baseline.hpp"
-#include "conformance/client_launcher.hpp"
+#include "sim_app/client_process.hpp"
 #include "conformance/reports.hpp"
 #include "conformance/runner.hpp"
 #include "conformance/vehicle_cases.hpp"
@@ -146,7 +146,7 @@ int main(int argc, char** argv) {
   if (!complete_run_options(line, operator_suite)) return 2;
   // Ctrl-C stops the run after the finished cases are reported; a second one ends it at once,
   // killing the launched clients first (async-signal-safe), so they never outlive us.
-  ocp::cli::install_interrupt_handlers(kill_all_clients);
+  ocp::cli::install_interrupt_handlers(ocp::sim_app::kill_all_clients);
   line.options.stop_requested = ocp::cli::interrupt_requested;
   signal(SIGPIPE, SIG_IGN);
 

@@ -9,10 +9,13 @@
 #include <thread>
 
 #include "conformance/case_context.hpp"
-#include "conformance/client_launcher.hpp"
+#include "sim_app/client_process.hpp"
 #include "conformance/streamer_host.hpp"
 
 namespace ocp::conformance {
+using sim_app::ClientProcess;
+using sim_app::describe_exit_status;
+using sim_app::last_lines_of;
 namespace {
 
 using Clock = std::chrono::steady_clock;

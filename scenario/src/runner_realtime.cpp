@@ -13,7 +13,8 @@ namespace ocp::scenario {
 
 RunResult run_scenario_realtime(const Scenario& scenario, const RunOptions& options,
                                 const RealTimeOptions& real_time) {
-  sim_app::RealTimeRunner runner;   // first: destroyed last, after the servers
+  sim_app::RealTimeRunner runner(real_time.handle_signals ? sim_app::RealTimeRunner::Signals::handle
+                                                         : sim_app::RealTimeRunner::Signals::leave_to_caller);   // first: destroyed last
   std::vector<std::unique_ptr<TcpServer>> servers;
   return run_world(runner.executor(), scenario, options, false, [&](World& world, SimTime end) {
     std::uint16_t port = real_time.tcp_port;

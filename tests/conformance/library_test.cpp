@@ -7,7 +7,7 @@
 #include <set>
 
 #include "conformance/baseline.hpp"
-#include "conformance/client_launcher.hpp"
+#include "sim_app/client_process.hpp"
 #include "conformance/control_frames.hpp"
 #include "conformance/observations.hpp"
 #include "conformance/reports.hpp"
@@ -16,6 +16,8 @@
 #include "ocp/json_codec.hpp"
 
 namespace ocp::conformance {
+using sim_app::ClientProcess;
+using sim_app::substitute_port;
 namespace {
 
 TEST(ControlFrames, EveryShapeDecodesWithTheProtocolCodec) {

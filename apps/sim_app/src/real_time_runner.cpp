@@ -9,12 +9,13 @@
 
 namespace ocp::sim_app {
 
-RealTimeRunner::RealTimeRunner() : executor_(io_), signals_(io_) {
+RealTimeRunner::RealTimeRunner(Signals signals) : executor_(io_), signals_(io_) {
   // Linux lets timers of this thread fire up to 50 µs late by default (timer slack) to batch
   // wake-ups; that would show up directly as lateness of the 10 ms control tick.
   prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
   // Catch SIGINT/SIGTERM from construction on: a signal that arrives while the program is
   // still starting (its port may already accept connections) is queued, not fatal.
+  if (signals == Signals::leave_to_caller) return;
   boost::system::error_code ignored;
   signals_.add(SIGINT, ignored);
   signals_.add(SIGTERM, ignored);

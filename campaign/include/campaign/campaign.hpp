@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "campaign/client_world.hpp"
 #include "campaign/profile.hpp"
 #include "campaign/world_check.hpp"
 
@@ -25,6 +26,9 @@ struct CampaignOptions {
   int jobs = 1;
   Shard shard;
   std::function<bool()> stop;   // true: take no new world (Ctrl-C)
+  // Set: every world runs in real time against this vehicle client (client_world.hpp). A world
+  // whose client cannot be started ends the campaign (CampaignRun::harness_error).
+  std::optional<ClientRun> client;
 };
 
 struct Progress {
@@ -35,8 +39,12 @@ struct Progress {
 struct CampaignRun {
   std::vector<WorldOutcome> outcomes;   // by world index
   bool interrupted = false;
+  std::string harness_error;   // --client: the client could not be started (exit 2)
   double wall_seconds = 0, cpu_seconds = 0;
 };
+
+// World `index` of the campaign, checked as `options` say (virtual time, or against the client).
+WorldOutcome check_campaign_world(const CampaignOptions& options, std::uint64_t index);
 
 // Is world `index` of this campaign one of the sampled share that runs twice?
 bool determinism_sampled(const Profile& profile, std::uint64_t campaign_seed, std::uint64_t index);

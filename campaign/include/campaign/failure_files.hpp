@@ -2,9 +2,11 @@
 // The files of one failing world (failures/world-<i>/ under the results folder): world.yaml
 // (the generated world as it ran), shrunk.yaml (the shrunk regression scenario with its
 // repro command) and report.html (the scenario runner's report of the shrunk world).
+#include <optional>
 #include <string>
 
 #include "campaign/profile.hpp"
+#include "ocp/time.hpp"
 
 namespace ocp::campaign {
 
@@ -15,6 +17,14 @@ struct FailureFilesOptions {
   std::string profile_argument;   // as the user gave it, for the repro command
   bool shrink = true;
   int shrink_runs = 300;
+  // A --client campaign: world.yaml is the client world, the repro command names the client,
+  // and nothing is shrunk (every try would be a real-time run).
+  struct Client {
+    std::string command;
+    std::optional<double> max_world_seconds;   // as the user gave it
+    std::optional<Micros> max_world;
+  };
+  std::optional<Client> client;
 };
 
 // Writes the folder for world `index`. Returns the shrunk world's timeline size (−1: not shrunk).

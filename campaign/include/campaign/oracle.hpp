@@ -32,8 +32,13 @@ enum class Check {
   liveness,            // after the last disturbance, a fault did not clear or the loop did not close
   conservation,        // sent ≠ delivered + lost + in flight on a link direction
   determinism,         // the same world twice, two different traces
+  // An external vehicle client (ocp_campaign run --client), judged from the Streamer's side
+  // by ClientWatch (client_watch.hpp), not by the Oracle:
+  client_echo,         // an echo that is not byte-exact, or not the current pair
+  client_reconnect,    // no new connection within the bound after the Streamer closed one
+  client_alive,        // the client process exited or crashed during the world
 };
-inline constexpr int check_count = 9;
+inline constexpr int check_count = 12;
 std::string_view check_name(Check check);
 
 struct Violation {
@@ -52,7 +57,17 @@ struct Violation {
 // observe directly gets the smallest window that covers it.
 struct OracleTolerances {
   Micros player_frame{10'000};   // the Player evaluates its faults once a frame
+  // Real time (ocp_campaign --client): what a time observed on the event stream may differ from
+  // the instant the core acted on it (0 in virtual time, where both are the same instant).
+  Micros real_time_slack{0};
+  // The fault model, liveness and which pair a latency sample came from hold to the tick in
+  // virtual time. In real time a loaded machine runs frame loops, ticks and writes late, and
+  // the simulator then truly raises CameraLost or NoFeedbackMessage for its own lateness: not
+  // a finding about the client, and judged exactly by virtual-time campaigns instead.
+  bool judge_timing = true;
 };
+// The slack of a real-time world: a loaded 2-core machine runs a tick or a write tens of ms late.
+inline constexpr Micros real_time_oracle_slack{50'000};
 
 class Oracle {
  public:

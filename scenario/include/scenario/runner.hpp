@@ -65,6 +65,9 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options);
 // (0: ephemeral ports). `on_listening(vehicle, address)` tells where.
 struct RealTimeOptions {
   std::uint16_t tcp_port = 4000;
+  // False: SIGINT/SIGTERM are the caller's (it stops the run through RunOptions::interrupted),
+  // as when several worlds run at once on threads (ocp_campaign --client).
+  bool handle_signals = true;
   std::function<void(const std::string& vehicle, const std::string& address)> on_listening;
 };
 RunResult run_scenario_realtime(const Scenario& scenario, const RunOptions& options,

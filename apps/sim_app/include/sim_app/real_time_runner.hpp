@@ -23,7 +23,10 @@ namespace ocp::sim_app {
 
 class RealTimeRunner {
  public:
-  RealTimeRunner();
+  // leave_to_caller: the caller watches SIGINT/SIGTERM itself (a tool running several worlds
+  // on threads, ocp/interrupt.hpp) and stops the run with request_stop.
+  enum class Signals { handle, leave_to_caller };
+  explicit RealTimeRunner(Signals signals = Signals::handle);
   ~RealTimeRunner();
   RealTimeRunner(const RealTimeRunner&) = delete;
   RealTimeRunner& operator=(const RealTimeRunner&) = delete;

@@ -1,4 +1,4 @@
-#include "conformance/client_launcher.hpp"
+#include "sim_app/client_process.hpp"
 
 #include <fcntl.h>
 #include <signal.h>
@@ -20,7 +20,7 @@ extern char** environ;   // POSIX: the process environment (unistd.h declares it
 #include <thread>
 #include <vector>
 
-namespace ocp::conformance {
+namespace ocp::sim_app {
 namespace {
 
 // Live children, for kill_all_clients() from a signal handler: a fixed array of atomics.
@@ -194,4 +194,4 @@ void kill_all_clients() noexcept {
   }
 }
 
-}  // namespace ocp::conformance
+}  // namespace ocp::sim_app

@@ -13,7 +13,7 @@
 
 #include "ocp/error.hpp"
 
-namespace ocp::conformance {
+namespace ocp::sim_app {
 
 class ClientProcess {
  public:
@@ -46,4 +46,4 @@ std::vector<std::string> substitute_port(const std::vector<std::string>& command
 // Kills every client still running (from a signal handler: only async-signal-safe calls).
 void kill_all_clients() noexcept;
 
-}  // namespace ocp::conformance
+}  // namespace ocp::sim_app

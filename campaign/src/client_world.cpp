@@ -1,0 +1,118 @@
+// Client worlds (client_world.hpp).
+#include "campaign/client_world.hpp"
+
+#include <algorithm>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include "sim_app/client_process.hpp"
+#include "world/world.hpp"
+
+namespace ocp::campaign {
+
+namespace {
+
+// One client process per vehicle, launched when the world's server for it listens.
+struct LaunchedClient {
+  std::string vehicle;
+  std::string log_path;
+  std::unique_ptr<sim_app::ClientProcess> process;
+};
+
+std::uint16_t port_of(const std::string& address) {
+  const auto colon = address.rfind(':');
+  return static_cast<std::uint16_t>(std::stoul(address.substr(colon + 1)));
+}
+
+// The client processes' end of the world: each must have connected and still be running. One
+// that ended before it ever connected could not be started (a harness error, exit 2).
+void judge_clients(std::vector<LaunchedClient>& clients, const ClientWatch& watch, SimTime end, WorldOutcome& outcome) {
+  for (LaunchedClient& client : clients) {
+    const bool running = client.process->running();
+    if (!running && !watch.ever_connected(client.vehicle)) {
+      std::string reason = "the client (" + client.vehicle + ") " +
+                           sim_app::describe_exit_status(client.process->exit_status().value_or(-1)) + " before it connected";
+      const std::string tail = sim_app::last_lines_of(client.log_path, 5);
+      throw scenario::HarnessError(tail.empty() ? reason : reason + "; its last lines:\n" + tail);
+    }
+    if (!watch.ever_connected(client.vehicle)) {
+      ++outcome.violation_count;
+      outcome.violations.push_back({Check::client_reconnect, end, client.vehicle, "the client never connected", std::nullopt, false});
+    }
+    if (running) continue;
+    std::string detail = "the client " + sim_app::describe_exit_status(client.process->exit_status().value_or(-1)) +
+                         " during the world";
+    const std::string tail = sim_app::last_lines_of(client.log_path, 3);
+    if (!tail.empty()) detail += "; its last lines:\n" + tail;
+    ++outcome.violation_count;
+    outcome.violations.push_back({Check::client_alive, end, client.vehicle, detail, std::nullopt, false});
+  }
+}
+
+void take_violations(WorldOutcome& outcome, const std::vector<Violation>& violations, std::uint64_t count) {
+  outcome.violations.insert(outcome.violations.end(), violations.begin(), violations.end());
+  outcome.violation_count += count;
+}
+
+}  // namespace
+
+scenario::Scenario for_external_client(scenario::Scenario world, std::optional<Micros> max_world) {
+  for (VehicleSpec& vehicle : world.world.vehicles) {
+    vehicle.in_process_client = false;
+    vehicle.client.misbehave = {};
+  }
+  if (max_world && world.duration > *max_world) world.duration = *max_world;
+  std::erase_if(world.timeline, [&](const scenario::TimelineEvent& event) {
+    return event.at >= world.duration || std::holds_alternative<scenario::SetMisbehaviour>(event.action);
+  });
+  return world;
+}
+
+WorldOutcome check_world_with_client(const scenario::Scenario& world, std::uint64_t index, const ClientRun& run,
+                                     const std::function<bool()>& stop) {
+  WorldOutcome outcome;
+  outcome.index = index;
+  outcome.seed = world.seed;
+  outcome.duration = world.duration;
+  outcome.vehicles = static_cast<int>(world.world.vehicles.size());
+  outcome.timeline_events = static_cast<int>(world.timeline.size());
+  std::vector<LaunchedClient> clients;
+  Oracle oracle(world, OracleTolerances{.real_time_slack = real_time_oracle_slack, .judge_timing = false});
+  ClientWatch watch(run.bounds);
+  scenario::RunOptions options;
+  options.trace = false;
+  options.interrupted = stop;
+  options.on_built = [&](World& built) {
+    oracle.attach(built);
+    watch.attach(built);
+  };
+  options.on_finished = [&](World& built) {
+    oracle.finish(built);
+    watch.finish(built);
+  };
+  scenario::RealTimeOptions real_time;
+  real_time.tcp_port = 0;
+  real_time.handle_signals = false;
+  real_time.on_listening = [&](const std::string& vehicle, const std::string& address) {
+    LaunchedClient client{vehicle, run.log_dir.empty() ? "" : run.log_dir + "/world-" + std::to_string(index) + "-" + vehicle + ".log", nullptr};
+    auto launched = sim_app::ClientProcess::launch({"/bin/sh", "-c", run.command}, port_of(address), client.log_path);
+    if (!launched) throw scenario::HarnessError("cannot start the client: " + launched.error().message());
+    client.process = std::move(*launched);
+    clients.push_back(std::move(client));
+  };
+  try {
+    const scenario::RunResult result = scenario::run_scenario_realtime(world, options, real_time);
+    outcome.cpu_seconds = result.cpu_seconds;
+    outcome.events = oracle.events_seen();
+    outcome.liveness_checked = oracle.liveness_checked();
+    take_violations(outcome, oracle.violations(), oracle.violation_count());
+    take_violations(outcome, watch.violations(), watch.violation_count());
+    judge_clients(clients, watch, result.ran, outcome);
+  } catch (const scenario::HarnessError& error) {
+    outcome.error = error.what();
+  }
+  return outcome;
+}
+
+}  // namespace ocp::campaign
