@@ -448,22 +448,24 @@ end
 local function read_controller(r, tree)
   local buttons_range = r.take(2)
   local bits = buttons_range:le_uint()
-  local sub = tree:add(cf.controller, buttons_range, "")
-  sub:add_le(cf.buttons, buttons_range)
-  local pressed, moved = {}, {}
+  local pressed, moved, axes = {}, {}, {}
   for i, name in ipairs(button_names) do
     if bit32.band(bits, bit32.lshift(1, i - 1)) ~= 0 then pressed[#pressed + 1] = name end
   end
-  for _, name in ipairs(axis_names) do
-    local range = r.take(8)
-    local value = range:le_float()
-    sub:add_le(cf.axis, range):set_text(string.format("%s: %g", name, value))
+  for i, name in ipairs(axis_names) do
+    axes[i] = r.take(8)
+    local value = axes[i]:le_float()
     local rest = name:match("trigger") and -1 or 0
     if value ~= rest then moved[#moved + 1] = string.format("%s=%.3g", name, value) end
   end
   local text = (#pressed == 0 and #moved == 0) and "default (safe): no button, sticks 0, triggers -1"
     or string.format("buttons [%s] axes [%s]", table.concat(pressed, " "), table.concat(moved, " "))
-  sub:set_text("Controller state: " .. text)
+  local whole = r.tvb(buttons_range:offset(), 2 + 8 * #axis_names)
+  local sub = tree:add(cf.controller, whole, text)
+  sub:add_le(cf.buttons, buttons_range)
+  for i, name in ipairs(axis_names) do
+    sub:add_le(cf.axis, axes[i]):set_text(string.format("%s: %g", name, axes[i]:le_float()))
+  end
   return text
 end
 

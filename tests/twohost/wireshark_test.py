@@ -129,7 +129,8 @@ def as_list(value):
 
 
 def dissect(args, capture, options):
-    command = ["tshark", "-X", f"lua_script:{args.lua}", "-r", capture, "-T", "json", "--no-duplicate-keys", *options]
+    command = ["tshark", "-X", f"lua_script:{args.lua}", "-r", capture, "-T", "json", "--no-duplicate-keys",
+               "-j", "tcp udp ocp_vehicle ocp_operator ocp_com", *options]   # -j: not the JSON dissector's trees
     result = subprocess.run(command, capture_output=True, text=True)
     if result.returncode != 0:
         fail(f"{' '.join(command)} exited {result.returncode}: {result.stderr[-2000:]}")
