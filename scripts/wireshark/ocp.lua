@@ -425,7 +425,7 @@ p_com.prefs.udp_port = Pref.uint("UDP port", 5000, "the com channel's port (it i
 local function reader(tvb)
   local r = { tvb = tvb, at = 0 }
   function r.take(n)
-    if r.at + n > tvb:len() then error("body too short") end
+    if r.at + n > tvb:len() then error("body too short", 0) end
     local range = tvb(r.at, n)
     r.at = r.at + n
     return range
@@ -433,7 +433,7 @@ local function reader(tvb)
   function r.flag(tree, name)
     local range = r.take(1)
     local value = range:uint()
-    if value > 1 then error("flag " .. name .. " is " .. value) end
+    if value > 1 then error("flag " .. name .. " is " .. value, 0) end
     return value == 1
   end
   function r.text(tree, field)
@@ -563,9 +563,12 @@ end
 
 -- Reassembly state, rebuilt on every (re)load of a capture: the first pass records each
 -- fragment, later passes (the GUI, tshark -2) find the result by frame number.
-local partials, reassembled, reassembled_in, fragment_frames = {}, {}, {}, {}
+-- At most MAX_PARTIALS messages wait for their missing pieces (junk or heavy loss cannot grow
+-- this without bound); past that the oldest is forgotten, as the programs do.
+local MAX_PARTIALS = 256
+local partials, partial_order, reassembled, reassembled_in, fragment_frames = {}, {}, {}, {}, {}
 p_com.init = function()
-  partials, reassembled, reassembled_in, fragment_frames = {}, {}, {}, {}
+  partials, partial_order, reassembled, reassembled_in, fragment_frames = {}, {}, {}, {}, {}
 end
 
 local function remember_fragment(pinfo, key, index, count, piece)
@@ -573,6 +576,8 @@ local function remember_fragment(pinfo, key, index, count, piece)
   if not partial or partial.count ~= count then
     partial = { count = count, pieces = {}, received = 0, frames = {} }
     partials[key] = partial
+    partial_order[#partial_order + 1] = key
+    if #partial_order > MAX_PARTIALS then partials[table.remove(partial_order, 1)] = nil end
   end
   if partial.pieces[index] then return end            -- a duplicate
   partial.pieces[index] = piece
