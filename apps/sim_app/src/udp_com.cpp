@@ -206,8 +206,10 @@ void UdpComEndpoint::on_datagram(std::size_t size) {
   if (streamer_side_ && (!peer_ || *peer_ != sender_)) {
     // The first Player, a restarted one, or the same one behind a NAT that rebound its port.
     if (peer_) ++counters_.peer_changes;
-    logger_.info("com channel: the Player is at {}{}", endpoint_text(sender_),
-                 peer_ ? " (was " + endpoint_text(*peer_) + ")" : std::string());
+    if (!peer_ || peer_moves_.occurred(now)) {
+      logger_.info("com channel: the Player is at {}{}", endpoint_text(sender_),
+                   peer_ ? " (was " + endpoint_text(*peer_) + ")" : std::string());
+    }
     peer_ = sender_;
   }
   if (opened.new_session && opener_.counters().sessions > 1) {
@@ -240,6 +242,10 @@ void UdpComEndpoint::summarise() {
   if (auto summary = junk_.summary(now)) {
     logger_.warn("com channel: invalid datagrams: {}{}", summary->text("dropped"),
                  summary->episode_ended ? " (they stopped)" : "");
+  }
+  if (auto summary = peer_moves_.summary(now)) {
+    logger_.warn("com channel: the Player's address changed again: {} (two Players with the same key?)",
+                 summary->text("times"));
   }
   if (auto summary = unknown_peer_.summary(now)) {
     logger_.warn("com channel: datagrams from unknown peers: {}", summary->text("dropped"));

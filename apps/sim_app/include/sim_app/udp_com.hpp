@@ -103,6 +103,9 @@ class UdpComEndpoint {
   RepeatedWarning wrong_key_;
   RepeatedWarning junk_;
   RepeatedWarning unknown_peer_;
+  // The Streamer's peer moving: logged in full once per episode, so two Players with the same
+  // key (each datagram moves the peer back and forth) cannot flood the log.
+  RepeatedWarning peer_moves_;
   PeriodicTimer summary_timer_;
   UdpComCounters counters_;
   std::shared_ptr<bool> alive_ = std::make_shared<bool>(true);
