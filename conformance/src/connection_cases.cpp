@@ -1,5 +1,7 @@
 // Connection lifecycle (SPEC §3.1, seed 000 "Connect from the vehicle process"): reconnect
 // after the server closes and after a Streamer restart, and never echo a stale pair.
+#include <algorithm>
+
 #include "case_helpers.hpp"
 #include "conformance/vehicle_cases.hpp"
 
@@ -68,6 +70,62 @@ Outcome after_restart(CaseContext& context) {
   return grade_reconnect(context, break_us, old_pairs);
 }
 
+// One connection at a time (SPEC §3.1, seed 000): the Streamer accepts a second connection
+// and closes it at once, so a client that opens one next to the working connection (a
+// "health probe", a second thread) has half of its traffic cut off.
+Outcome single_vehicle_connection(CaseContext& context) {
+  Outcome outcome;
+  if (!connected(context, outcome)) return outcome;
+  context.run_for(milliseconds(1000));
+  std::size_t refused = 0;
+  std::string first;
+  for (const WireLogEntry& entry : context.entries()) {
+    if (entry.kind != WireEntryKind::refused) continue;
+    if (refused++ == 0) first = fmt::format(" (the first at {:.0f} ms: {})", static_cast<double>(entry.time_us) / 1000.0, entry.text);
+  }
+  const Observations observed = Observations::from(context.entries());
+  if (refused > 0) {
+    return failed(fmt::format("{} more connection(s) opened while one was up, refused by the Streamer{}", refused, first));
+  }
+  if (observed.opened_us.size() > 1) return failed(fmt::format("{} connections in 1 s; the Streamer closed none", observed.opened_us.size()));
+  return ok("one connection for 1 s; no second connection opened");
+}
+
+// "Reconnect after a short delay" (seed 000, Practical connection rules): the seed's own
+// example client sleeps 100 ms before it reconnects (seed 000, the Rust example:
+// `thread::sleep(Duration::from_millis(100))`), and the Streamer's 2 s read timeout and
+// 1 s NoControlMessage bound what "short" can mean. So: at least 20 ms (a client that
+// reconnects at once hammers a restarting Streamer in a tight loop) and at most 1 s (the
+// vehicle is without control meanwhile). Three server closes, each one measured.
+constexpr std::int64_t reconnect_min_us = 20'000;
+constexpr std::int64_t reconnect_max_us = 1'000'000;
+
+Outcome reconnect_delay(CaseContext& context) {
+  Outcome outcome;
+  if (!connected(context, outcome)) return outcome;
+  std::vector<double> delays_ms;
+  for (int round = 0; round < 3; ++round) {
+    context.run_for(milliseconds(200));
+    if (!context.streamer().vehicle_connected()) break;
+    const std::int64_t break_us = context.now_us();
+    context.note("server closes the vehicle connection");
+    context.streamer().close_vehicle_connection();
+    const bool back = context.wait_until(
+        [&] { return !Observations::from(context.entries(), break_us).opened_us.empty(); }, milliseconds(3000));
+    if (!back) break;
+    delays_ms.push_back(static_cast<double>(Observations::from(context.entries(), break_us).opened_us.front() - break_us) / 1000.0);
+  }
+  std::string list;
+  for (const double d : delays_ms) list += fmt::format("{}{:.1f} ms", list.empty() ? "" : ", ", d);
+  const std::string counts = fmt::format("reconnect delays after {} server closes: {}", delays_ms.size(), list.empty() ? "none" : list);
+  if (delays_ms.size() < 3) return non_strict(counts + fmt::format("; no reconnect within 3 s after close {}", delays_ms.size() + 1));
+  const double shortest = *std::min_element(delays_ms.begin(), delays_ms.end());
+  const double longest = *std::max_element(delays_ms.begin(), delays_ms.end());
+  if (shortest < static_cast<double>(reconnect_min_us) / 1000.0) return non_strict(counts + " (at once: a tight reconnect loop; wait ~100 ms)");
+  if (longest > static_cast<double>(reconnect_max_us) / 1000.0) return non_strict(counts + " (seconds: the vehicle is without control meanwhile)");
+  return ok(counts);
+}
+
 }  // namespace
 
 void add_connection_cases(std::vector<VehicleCase>& cases) {
@@ -85,6 +143,23 @@ void add_connection_cases(std::vector<VehicleCase>& cases) {
                      {"OK: reconnects to the restarted Streamer within 5 s and echoes only its pairs"},
                      "broken_client.py sticky-pair (or no-reconnect)"},
                     after_restart},
+                   {}});
+  cases.push_back({{{"vehicle/3.1/3", "one connection at a time", "SPEC §3.1, seed 000 (Connect from the vehicle process)",
+                     "\"OCP accepts one active vehicle-side TCP connection at a time.\" — \"One active vehicle connection at a time. "
+                     "Decision: a second connection arriving while one is active is accepted and closed at once\"",
+                     Tier::must, milliseconds(10'000),
+                     {"OK: the client keeps one connection for 1 s; no second connection is refused"},
+                     "broken_client.py second-connection"},
+                    single_vehicle_connection},
+                   {}});
+  cases.push_back({{{"vehicle/3.1/4", "reconnects after a short delay: not at once, not after seconds",
+                     "seed 000 (Practical connection rules; the Rust example's 100 ms sleep)",
+                     "\"Treat disconnects as normal lifecycle events and reconnect after a short delay.\"",
+                     Tier::should, milliseconds(15'000),
+                     {"OK: after each of 3 server closes the client reconnects 20 ms to 1 s later",
+                      "NON-STRICT: it reconnects in under 20 ms (a tight loop) or after more than 1 s (a practical rule: SHOULD)"},
+                     "broken_client.py reconnect-at-once (NON-STRICT); broken_client.py reconnect-slowly (NON-STRICT)"},
+                    reconnect_delay},
                    {}});
 }
 
