@@ -26,6 +26,7 @@ bool coverage_starts_with(const std::string& text, const std::string& prefix) { 
 
 // An alternative named in "(or …)": a switch of the primary client's program, or a mode.
 std::string alternative_client(const std::string& primary, const std::string& alt) {
+  if (coverage_starts_with(alt, "vehicle_client ") || coverage_starts_with(alt, "broken_client.py ")) return alt;
   if (coverage_starts_with(alt, "--")) return "vehicle_client " + alt;
   if (coverage_starts_with(primary, "broken_client.py ")) return "broken_client.py " + alt;
   return alt;

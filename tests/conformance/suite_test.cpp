@@ -174,7 +174,9 @@ TEST_P(CoverageBrokenClient, GetsItsVerdict) {
   const SuiteRun r = run_suite("coverage_" + coverage_run_name({p, 0}), "--cases " + p.cases, client, p.suite);
   EXPECT_EQ(r.verdict(p.case_id), p.verdict) << r.output;
   // Exit 1 exactly when a MUST case failed (a run with other cases too may fail them as well).
-  if (p.cases == p.case_id) EXPECT_EQ(r.exit_code, p.verdict == "FAILED" && p.tier == "MUST" ? 1 : 0) << r.output;
+  if (p.cases == p.case_id) {
+    EXPECT_EQ(r.exit_code, p.verdict == "FAILED" && p.tier == "MUST" ? 1 : 0) << r.output;
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(FromTheCases, CoverageBrokenClient, ::testing::ValuesIn(coverage_runs()), coverage_run_name);

@@ -7,8 +7,9 @@
 //   broken_by   := "never fails (INFO)" | part ( "; " part )*
 //   part        := client [ " (" note ")" ]
 //   client      := "broken_client.py MODE" | "vehicle_client --misbehave-… [VALUE]"
-//   note        := "or " alt ( ", " alt )*   alternatives, graded the same (an alt that starts
-//                                           with "--" is a vehicle_client switch, else a mode)
+//   note        := "or " alt ( ", " alt )*   alternatives, graded the same (an alt is a whole
+//                                           client, a vehicle_client switch "--…", or a mode
+//                                           of the primary's broken_client.py)
 //                | "NON-STRICT" …           the verdict it gets (a SHOULD case never FAILS)
 //                | "FAILED" …
 //                | "with ID[,ID…]"          the run also plays these cases (a standing rule
