@@ -115,7 +115,7 @@ TEST(ConformanceSuite, ReferenceClientPassesEveryMustAndShouldCaseWithinAMinute)
                                reference + " 127.0.0.1:{port} --no-status");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   ASSERT_TRUE(r.index.IsObject()) << r.output;
-  EXPECT_GE(expect_every_case_ok(r, wall_clock_allowance), 21u);
+  EXPECT_GE(expect_every_case_ok(r, wall_clock_allowance), 19u);
   EXPECT_LT(r.index["duration_ms"].GetDouble(), 60'000.0);
   EXPECT_NE(read_file(dir + "/junit.xml").find("failures=\"0\""), std::string::npos);
 }
@@ -418,7 +418,7 @@ std::string example_client(const std::string& file) {
 TEST(ExampleClient, VehicleClientPassesTheVehicleSuite) {
   const SuiteRun r = run_suite("example_vehicle", "-j 2", example_client("vehicle_client.py"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_GE(expect_every_case_ok(r, wall_clock_allowance), 21u);
+  EXPECT_GE(expect_every_case_ok(r, wall_clock_allowance), 19u);
 }
 
 TEST(ExampleClient, OperatorClientPassesTheOperatorSuite) {
