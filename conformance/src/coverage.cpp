@@ -32,7 +32,7 @@ std::string alternative_client(const std::string& primary, const std::string& al
   return alt;
 }
 
-void add_part(const CaseInfo& info, const std::string& part, std::vector<BrokenClientRun>& runs) {
+void add_broken_client_part(const CaseInfo& info, const std::string& part, std::vector<BrokenClientRun>& runs) {
   const auto open = part.find(" (");
   std::string client = part.substr(0, open);
   while (!client.empty() && client.back() == ' ') client.pop_back();
@@ -56,7 +56,7 @@ void add_part(const CaseInfo& info, const std::string& part, std::vector<BrokenC
 
 std::vector<BrokenClientRun> broken_client_runs(const CaseInfo& info) {
   std::vector<BrokenClientRun> runs;
-  for (const std::string& part : split_outside_parentheses(info.broken_by, "; ")) add_part(info, part, runs);
+  for (const std::string& part : split_outside_parentheses(info.broken_by, "; ")) add_broken_client_part(info, part, runs);
   return runs;
 }
 
