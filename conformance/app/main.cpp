@@ -48,11 +48,16 @@ void add_suite_options(CLI::App& suite, bool is_vehicle, SuiteCommandLine& line)
   suite.add_flag("--restart-per-case", options.restart_per_case, "Launch a fresh client for every case");
   suite.add_option("--jobs,-j", options.jobs, "Cases run concurrently (launched clients only; one client and port per job)")
       ->check(CLI::Range(1, 16));
-  suite.add_flag("--list", line.list, "List the cases and exit");
-  suite.add_flag("--markdown", line.markdown, "With --list: the Markdown table of docs/conformance.md");
-  suite.add_flag("--coverage", line.coverage, "With --list: the Markdown coverage table (requirement, source, tier, case, broken client)");
+  CLI::Option* list = suite.add_flag("--list", line.list, "List the cases and exit");
+  suite.add_flag("--markdown", line.markdown, "With --list: the Markdown table of docs/conformance.md")->needs(list);
+  // One list at a time: without --list, or with another format, it is a usage error (exit 2).
+  CLI::Option* coverage =
+      suite.add_flag("--coverage", line.coverage, "With --list: the Markdown coverage table (requirement, source, tier, case, broken client)")
+          ->needs(list);
   suite.add_flag("--broken-clients", line.broken_clients,
-                 "With --list: every broken client that must fail a case, one a line: id, tier, verdict, cases, client (tab-separated)");
+                 "With --list: every broken client that must fail a case, one a line: id, tier, verdict, cases, client (tab-separated)")
+      ->needs(list)
+      ->excludes(coverage);
   suite.add_option("--cases", line.include, "Only these cases: comma-separated ids, prefixes or globs (vehicle/2,vehicle/3.3/*)");
   suite.add_option("--exclude", line.exclude, "Skip these cases (same syntax)");
   suite.add_option("--timeout-scale", options.timeout_scale, "Multiply every timeout (slow machines, sanitizers)")

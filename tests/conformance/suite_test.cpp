@@ -311,6 +311,8 @@ TEST(ConformanceSuite, HarnessErrorsExitTwo) {
   EXPECT_EQ(run(harness + " vehicle --cases no/such/case -- true", dir + "/b.txt"), 2);
   EXPECT_EQ(run(harness + " vehicle --bogus-option", dir + "/c.txt"), 2);
   EXPECT_EQ(run(harness + " operator --cases no/such/case -- true", dir + "/d.txt"), 2);
+  EXPECT_EQ(run(harness + " vehicle --coverage", dir + "/f.txt"), 2);   // a list format without --list
+  EXPECT_EQ(run(harness + " vehicle --list --coverage --broken-clients", dir + "/g.txt"), 2);
   // Port in use: a listener of our own.
   const int listener = socket(AF_INET, SOCK_STREAM, 0);
   sockaddr_in address{};
