@@ -37,7 +37,7 @@ OPERATOR = {"op-echo", "op-corrupt", "op-stale", "op-double", "op-oversized", "o
             "op-no-active", "op-monitor-active", "op-naive-recv", "op-reject-oversized",
             # The product's other VehicleOcpShared shapes (operator/4.1/1): each chokes on one.
             "op-need-vehicle-data", "op-no-lost-camera", "op-need-latency", "op-need-last-input", "op-strict-schema",
-            "op-fixed-active", "op-once-oversized"}
+            "op-fixed-active", "op-once-oversized", "op-reconnect-at-once", "op-reconnect-slowly"}
 HOSTILE = {"garbage", "flood", "huge-prefix", "half-open", "never-read"}
 FAULT_NAMES = {"", "Vehicle No Response", "No Control Message", "Camera Lost", "Streamer Slow", "High Latency",
                "Operator Station Has Error", "Latency Loop Not Closed", "Control Thread Channel Slow"}
@@ -386,8 +386,9 @@ def main():
             pass
         if MODE in ("no-reconnect", "op-no-reconnect"):
             sys.exit(1)
-        # reconnect-at-once: Bug: a tight loop; reconnect-slowly: Bug: seconds without control.
-        time.sleep({"reconnect-at-once": 0.0, "reconnect-slowly": 1.5}.get(MODE, 0.1))
+        # (op-)reconnect-at-once: Bug: a tight loop; (op-)reconnect-slowly: Bug: seconds without control.
+        time.sleep({"reconnect-at-once": 0.0, "reconnect-slowly": 1.5, "op-reconnect-at-once": 0.0,
+                    "op-reconnect-slowly": 1.5}.get(MODE, 0.1))
 
 
 if __name__ == "__main__":

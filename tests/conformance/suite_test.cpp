@@ -427,14 +427,14 @@ TEST(ExampleClient, OperatorClientPassesTheOperatorSuite) {
   const SuiteRun r = run_suite("example_operator", "-j 2", example_client("operator_client.py"), "operator");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   // It does send user_data, so 4.2/5 is graded.
-  EXPECT_GE(expect_every_case_ok(r, operator_info_cases), 17u);
+  EXPECT_GE(expect_every_case_ok(r, operator_info_cases), 18u);
 }
 
 // `ocp_conformance operator`: python's op-echo behaves; each op-* mode breaks one rule.
 TEST(OperatorSuite, WellBehavedClientPassesEveryCase) {
   const SuiteRun r = run_suite("operator_echo", "-j 2", python_client("op-echo"), "operator");
   EXPECT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_EQ(expect_every_case_ok(r, operator_info_cases), 17u);
+  EXPECT_EQ(expect_every_case_ok(r, operator_info_cases), 18u);
 }
 
 struct OperatorCase {
