@@ -10,6 +10,8 @@ response every 10 ms without control, and reconnects 100 ms after the connection
 The op-* modes are operator clients on the Player's :4001 API (op-echo behaves: it reads frames
 properly, skips frames over 16 KiB, answers every VehicleOcpShared, sends a keep-alive {} after
 0.5 s with nothing to answer, and reconnects).
+Which mode fails which case is in the cases themselves ("fails against", docs/conformance.md
+Coverage); the tests run every pair (suite_test.cpp, CoverageBrokenClient).
 """
 import json
 import os
@@ -306,8 +308,8 @@ def session(sock):
         operator_session(sock)
         return
     if MODE == "second-connection":
-        # Bug: a "health probe" connection next to the working one, kept open.
-        probe = socket.create_connection(("127.0.0.1", PORT))
+        # Bug: a "health probe" connection next to the working one, kept open while the session lasts.
+        probe = socket.create_connection(("127.0.0.1", PORT))  # noqa: F841 (held open on purpose)
     late = {"opened": time.monotonic()}
     sock.settimeout(0.01)
     deframer = Deframer(reject_oversized=MODE == "reject-oversized")
