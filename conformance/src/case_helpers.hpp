@@ -19,6 +19,11 @@ namespace ocp::conformance::detail {
 
 using std::chrono::milliseconds;
 
+// The Streamer's ack_time is its age in µs plus the setup's offset, and wraps past 2^64-1: an
+// offset just below it leaves this much life before the pairs become small again (and would
+// survive a double). 10 min: far beyond any case, with a client that takes seconds to start.
+inline constexpr std::uint64_t ocp_ack_time_headroom_us = 600'000'000;
+
 inline Outcome ok(std::string actual) { return {Verdict::ok, std::move(actual), {}}; }
 inline Outcome non_strict(std::string actual) { return {Verdict::non_strict, std::move(actual), {}}; }
 inline Outcome informational(std::string actual) { return {Verdict::informational, std::move(actual), {}}; }

@@ -71,7 +71,7 @@ Outcome ack_u64(CaseContext& context) {
     if (!first_echo(observed, p, run.start_us)) missing.push_back(p);
   }
   const std::string counts = fmt::format(
-      "Streamer ack_time from 2^64-1-3e6 upwards: {} exact echoes; extremes {} of {} echoed exactly",
+      "Streamer ack_time from 2^64-1-6e8 upwards: {} exact echoes; extremes {} of {} echoed exactly",
       normal_echoes, extremes.size() - missing.size(), extremes.size());
   if (!unknown.empty()) {
     return failed_over_altered_pairs(counts + "; echoed values that were never sent: " + list_pairs(unknown), unknown,
@@ -192,7 +192,7 @@ void add_echo_cases(std::vector<VehicleCase>& cases) {
                     latest_pair},
                    {}});
   StreamerSetup u64;
-  u64.ack_time_offset = std::numeric_limits<std::uint64_t>::max() - 3'000'000;
+  u64.ack_time_offset = std::numeric_limits<std::uint64_t>::max() - ocp_ack_time_headroom_us;
   cases.push_back({{{"vehicle/2/2", "ack_time above 2^53 (up to 2^64-1) and ack_time_mac above 2^31 survive byte-exact",
                      "SPEC §2, seed 000 (IMPORTANT box)",
                      "\"Integers ack_time (u64) and ack_time_mac (u32) must survive byte-exact: never pass them through a double. "

@@ -108,7 +108,7 @@ std::optional<StandingFinding> client_frame_rule(const WireLogEntry& entry) {
 void add_operator_echo_cases(std::vector<VehicleCase>& cases) {
   const StreamerSetup op = operator_setup();
   StreamerSetup big = op;
-  big.ack_time_offset = std::numeric_limits<std::uint64_t>::max() - 3'000'000;
+  big.ack_time_offset = std::numeric_limits<std::uint64_t>::max() - ocp_ack_time_headroom_us;
   cases.push_back({{{"operator/2/1", "client frames are valid and within 16 KiB", "SPEC §2, §4.2",
                      "\"Frame = uint32 little-endian payload length, then that many bytes of UTF-8 JSON. Maximum payload: 16 384 bytes\" (same framing as §2 on :4001)",
                      Tier::must, milliseconds(10'000),
