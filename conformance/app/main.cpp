@@ -10,10 +10,11 @@
 #include <iostream>
 
 #include "conformance/baseline.hpp"
-#include "sim_app/client_process.hpp"
+#include "conformance/coverage.hpp"
 #include "conformance/reports.hpp"
 #include "conformance/runner.hpp"
 #include "conformance/vehicle_cases.hpp"
+#include "sim_app/client_process.hpp"
 #include "ocp/cli_parse.hpp"
 #include "ocp/cli_checks.hpp"
 #include "ocp/interrupt.hpp"
@@ -33,7 +34,7 @@ struct SuiteCommandLine {
   RunOptions options;
   int port = -1;
   double connect_timeout_s = 3.0;
-  bool list = false, markdown = false;
+  bool list = false, markdown = false, coverage = false, broken_clients = false;
   std::string include, exclude, out_dir, junit, baseline_path, write_baseline;
   std::vector<std::string> command;
 };
@@ -47,8 +48,16 @@ void add_suite_options(CLI::App& suite, bool is_vehicle, SuiteCommandLine& line)
   suite.add_flag("--restart-per-case", options.restart_per_case, "Launch a fresh client for every case");
   suite.add_option("--jobs,-j", options.jobs, "Cases run concurrently (launched clients only; one client and port per job)")
       ->check(CLI::Range(1, 16));
-  suite.add_flag("--list", line.list, "List the cases and exit");
-  suite.add_flag("--markdown", line.markdown, "With --list: the Markdown table of docs/conformance.md");
+  CLI::Option* list = suite.add_flag("--list", line.list, "List the cases and exit");
+  suite.add_flag("--markdown", line.markdown, "With --list: the Markdown table of docs/conformance.md")->needs(list);
+  // One list at a time: without --list, or with another format, it is a usage error (exit 2).
+  CLI::Option* coverage =
+      suite.add_flag("--coverage", line.coverage, "With --list: the Markdown coverage table (requirement, source, tier, case, broken client)")
+          ->needs(list);
+  suite.add_flag("--broken-clients", line.broken_clients,
+                 "With --list: every broken client that must fail a case, one a line: id, tier, verdict, cases, client (tab-separated)")
+      ->needs(list)
+      ->excludes(coverage);
   suite.add_option("--cases", line.include, "Only these cases: comma-separated ids, prefixes or globs (vehicle/2,vehicle/3.3/*)");
   suite.add_option("--exclude", line.exclude, "Skip these cases (same syntax)");
   suite.add_option("--timeout-scale", options.timeout_scale, "Multiply every timeout (slow machines, sanitizers)")
@@ -64,10 +73,16 @@ void add_suite_options(CLI::App& suite, bool is_vehicle, SuiteCommandLine& line)
   suite.add_option("command", line.command, "-- CMD ARGS…: launch the client; OCP_PORT and {port} carry the port");
 }
 
-void print_case_list(const std::vector<VehicleCase>& cases, bool markdown) {
+void print_case_list(const std::vector<VehicleCase>& cases, const SuiteCommandLine& line) {
   std::vector<CaseInfo> infos;
   for (const auto& c : cases) infos.push_back(c.body.info);
-  std::cout << case_list(infos, markdown);
+  if (line.coverage) {
+    std::cout << coverage_table(infos);
+  } else if (line.broken_clients) {
+    std::cout << broken_client_lines(infos);
+  } else {
+    std::cout << case_list(infos, line.markdown);
+  }
 }
 
 // The rest of the run options: the port (well-known when waiting for an external client, any
@@ -127,7 +142,7 @@ int main(int argc, char** argv) {
   const std::string suite_name = operator_suite ? "operator" : "vehicle";
   std::vector<VehicleCase> cases = select_cases(operator_suite ? operator_cases() : vehicle_cases(), line.include, line.exclude);
   if (line.list) {
-    print_case_list(cases, line.markdown);
+    print_case_list(cases, line);
     return 0;
   }
   if (cases.empty()) {

@@ -19,6 +19,11 @@ namespace ocp::conformance::detail {
 
 using std::chrono::milliseconds;
 
+// The Streamer's ack_time is its age in µs plus the setup's offset, and wraps past 2^64-1: an
+// offset just below it leaves this much life before the pairs become small again (and would
+// survive a double). 10 min: far beyond any case, with a client that takes seconds to start.
+inline constexpr std::uint64_t ocp_ack_time_headroom_us = 600'000'000;
+
 inline Outcome ok(std::string actual) { return {Verdict::ok, std::move(actual), {}}; }
 inline Outcome non_strict(std::string actual) { return {Verdict::non_strict, std::move(actual), {}}; }
 inline Outcome informational(std::string actual) { return {Verdict::informational, std::move(actual), {}}; }
@@ -145,6 +150,42 @@ inline Outcome grade_crafted(CaseContext& context, const CraftedRun& run, const 
   }
   if (!last) return failed(fmt::format("{}; the last pair {} was never echoed", counts, describe(run.pairs.back())));
   return ok(fmt::format("{}; last pair echoed; connection kept", counts));
+}
+
+// "Reconnect after a short delay" (seed 000, Practical connection rules): the seed's own
+// example client sleeps 100 ms before it reconnects (seed 000, the Rust example:
+// `thread::sleep(Duration::from_millis(100))`), and the Streamer's 2 s read timeout and
+// 1 s NoControlMessage bound what "short" can mean. So: at least 20 ms (a client that
+// reconnects at once hammers a restarting Streamer in a tight loop) and at most 1 s (the
+// vehicle is without control meanwhile). Three server closes, each one measured.
+inline constexpr std::int64_t reconnect_min_us = 20'000;
+inline constexpr std::int64_t reconnect_max_us = 1'000'000;
+
+// `close` ends the client's connection from the server side (the Streamer's or the Player's).
+inline Outcome grade_reconnect_delays(CaseContext& context, const std::function<void()>& close) {
+  Outcome outcome;
+  if (!connected(context, outcome)) return outcome;
+  std::vector<double> delays_ms;
+  for (int round = 0; round < 3; ++round) {
+    context.run_for(milliseconds(200));
+    if (!context.host().client_connected()) break;
+    const std::int64_t break_us = context.now_us();
+    context.note("server closes the client's connection");
+    close();
+    const bool back = context.wait_until(
+        [&] { return !Observations::from(context.entries(), break_us).opened_us.empty(); }, milliseconds(3000));
+    if (!back) break;
+    delays_ms.push_back(static_cast<double>(Observations::from(context.entries(), break_us).opened_us.front() - break_us) / 1000.0);
+  }
+  std::string list;
+  for (const double d : delays_ms) list += fmt::format("{}{:.1f} ms", list.empty() ? "" : ", ", d);
+  const std::string counts = fmt::format("reconnect delays after {} server closes: {}", delays_ms.size(), list.empty() ? "none" : list);
+  if (delays_ms.size() < 3) return non_strict(counts + fmt::format("; no reconnect within 3 s after close {}", delays_ms.size() + 1));
+  const double shortest = *std::min_element(delays_ms.begin(), delays_ms.end());
+  const double longest = *std::max_element(delays_ms.begin(), delays_ms.end());
+  if (shortest < static_cast<double>(reconnect_min_us) / 1000.0) return non_strict(counts + " (at once: a tight reconnect loop; wait ~100 ms)");
+  if (longest > static_cast<double>(reconnect_max_us) / 1000.0) return non_strict(counts + " (seconds: the vehicle is without control, or the operator without feedback, meanwhile)");
+  return ok(counts);
 }
 
 }  // namespace ocp::conformance::detail

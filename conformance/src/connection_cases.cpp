@@ -68,6 +68,31 @@ Outcome after_restart(CaseContext& context) {
   return grade_reconnect(context, break_us, old_pairs);
 }
 
+// One connection at a time (SPEC §3.1, seed 000): the Streamer accepts a second connection
+// and closes it at once, so a client that opens one next to the working connection (a
+// "health probe", a second thread) has half of its traffic cut off.
+Outcome single_vehicle_connection(CaseContext& context) {
+  Outcome outcome;
+  if (!connected(context, outcome)) return outcome;
+  context.run_for(milliseconds(1000));
+  std::size_t refused = 0;
+  std::string first;
+  for (const WireLogEntry& entry : context.entries()) {
+    if (entry.kind != WireEntryKind::refused) continue;
+    if (refused++ == 0) first = fmt::format(" (the first at {:.0f} ms: {})", static_cast<double>(entry.time_us) / 1000.0, entry.text);
+  }
+  const Observations observed = Observations::from(context.entries());
+  if (refused > 0) {
+    return failed(fmt::format("{} more connection(s) opened while one was up, refused by the Streamer{}", refused, first));
+  }
+  if (observed.opened_us.size() > 1) return failed(fmt::format("{} connections in 1 s; the Streamer closed none", observed.opened_us.size()));
+  return ok("one connection for 1 s; no second connection opened");
+}
+
+Outcome reconnect_delay(CaseContext& context) {
+  return grade_reconnect_delays(context, [&context] { context.streamer().close_vehicle_connection(); });
+}
+
 }  // namespace
 
 void add_connection_cases(std::vector<VehicleCase>& cases) {
@@ -85,6 +110,23 @@ void add_connection_cases(std::vector<VehicleCase>& cases) {
                      {"OK: reconnects to the restarted Streamer within 5 s and echoes only its pairs"},
                      "broken_client.py sticky-pair (or no-reconnect)"},
                     after_restart},
+                   {}});
+  cases.push_back({{{"vehicle/3.1/3", "one connection at a time", "SPEC §3.1, seed 000 (Connect from the vehicle process)",
+                     "\"OCP accepts one active vehicle-side TCP connection at a time.\" — \"One active vehicle connection at a time. "
+                     "Decision: a second connection arriving while one is active is accepted and closed at once\"",
+                     Tier::must, milliseconds(10'000),
+                     {"OK: the client keeps one connection for 1 s; no second connection is refused"},
+                     "broken_client.py second-connection"},
+                    single_vehicle_connection},
+                   {}});
+  cases.push_back({{{"vehicle/3.1/4", "reconnects after a short delay: not at once, not after seconds",
+                     "seed 000 (Practical connection rules; the Rust example's 100 ms sleep)",
+                     "\"Treat disconnects as normal lifecycle events and reconnect after a short delay.\"",
+                     Tier::should, milliseconds(15'000),
+                     {"OK: after each of 3 server closes the client reconnects 20 ms to 1 s later",
+                      "NON-STRICT: it reconnects in under 20 ms (a tight loop) or after more than 1 s (a practical rule: SHOULD)"},
+                     "broken_client.py reconnect-at-once (NON-STRICT); broken_client.py reconnect-slowly (NON-STRICT)"},
+                    reconnect_delay},
                    {}});
 }
 

@@ -12,6 +12,8 @@ std::string control_payload(const CraftedControl& c) {
     case CraftedController::null:
       controller = "null";
       break;
+    case CraftedController::absent:
+      break;
     case CraftedController::driving:
     case CraftedController::safe_default: {
       const bool drive = c.controller == CraftedController::driving;
@@ -27,10 +29,12 @@ std::string control_payload(const CraftedControl& c) {
     }
   }
   std::string out = fmt::format(
-      R"({{{0}"controller":{1},"telemetry":{{"latency":12,"fault":{2},"fault_reason":"{3}","missing_cameras":[]{4}}},)"
-      R"("ack_time":{5},"ack_time_mac":{6})",
+      R"({{{0}{1}"telemetry":{{"latency":12,"fault":{2},"fault_reason":"{3}"{4}{5}}},)"
+      R"("ack_time":{6},"ack_time_mac":{7})",
       c.unknown_fields ? R"("protocol_revision":"2099.1","x_vendor":{"nested":[1,{"k":null}]},)" : "",
-      controller, c.fault ? "true" : "false", c.fault_reason,
+      c.controller == CraftedController::absent ? std::string() : R"("controller":)" + controller + ",",
+      c.fault ? "true" : "false", c.fault_reason,
+      c.missing_cameras.empty() ? std::string() : R"(,"missing_cameras":)" + c.missing_cameras,
       c.unknown_fields ? R"(,"jitter_ms":1.5)" : "", c.ack.ack_time, c.ack.ack_time_mac);
   if (!c.client_user_data.empty()) out += R"(,"client_user_data":)" + c.client_user_data;
   if (c.unknown_fields) out += R"(,"future_flag":false)";

@@ -167,6 +167,13 @@ Outcome responds_while_paused(CaseContext& context) {
   return ok(counts);
 }
 
+// vehicle/2/1 as a standing rule: every response of every case is a decodable frame ≤ 16 KiB.
+std::optional<StandingFinding> response_frame_rule(const WireLogEntry& entry) {
+  if (entry.drained) return StandingFinding{Verdict::failed, fmt::format("an oversized response (length prefix {} > 16 384)", entry.length_prefix)};
+  if (!entry.ack) return StandingFinding{Verdict::failed, "a response that does not decode as a VehicleResponseMessage"};
+  return std::nullopt;
+}
+
 }  // namespace
 
 void add_framing_cases(std::vector<VehicleCase>& cases) {
@@ -174,9 +181,10 @@ void add_framing_cases(std::vector<VehicleCase>& cases) {
                      "\"Frame = uint32 little-endian payload length, then that many bytes of UTF-8 JSON. Maximum payload: 16 384 bytes\" — "
                      "\"Malformed JSON, missing required response fields, and short reads close the active TCP connection.\"",
                      Tier::must, milliseconds(10'000),
-                     {"OK: ≥ 10 responses in 1 s, every one a decodable VehicleResponseMessage ≤ 16 KiB, connection never closed for bad input"},
-                     "vehicle_client --misbehave-oversized-frames (or --misbehave-malformed-json)"},
-                    valid_responses},
+                     {"OK: ≥ 10 responses in 1 s, every one a decodable VehicleResponseMessage ≤ 16 KiB, connection never closed for bad input; "
+                      "and every response of every other case of the run too (a standing rule: the first offending frame is named)"},
+                     "vehicle_client --misbehave-oversized-frames (or --misbehave-malformed-json); broken_client.py once-oversized (with vehicle/3.3/1)"},
+                    valid_responses, response_frame_rule},
                    {}});
   cases.push_back({{{"vehicle/2/3", "control frames split at every byte boundary", "SPEC §2",
                      "\"Frame = uint32 little-endian payload length, then that many bytes of UTF-8 JSON\" (TCP is a byte stream: a frame may arrive in any number of pieces)",

@@ -97,6 +97,16 @@ Outcome user_data_schema(CaseContext& context) {
   return ok(counts);
 }
 
+// vehicle/3.3/3 as a standing rule: the schema holds for every response of every case.
+std::optional<StandingFinding> user_data_schema_rule(const WireLogEntry& entry) {
+  if (entry.drained) return std::nullopt;   // vehicle/2/1's business
+  bool not_object = false, has = false;
+  const std::string problem = check_user_data(entry.text, not_object, has);
+  if (!problem.empty()) return StandingFinding{Verdict::failed, problem};
+  if (not_object) return StandingFinding{Verdict::non_strict, "user_data is not an object"};
+  return std::nullopt;
+}
+
 }  // namespace
 
 void add_message_cases(std::vector<VehicleCase>& cases) {
@@ -131,10 +141,12 @@ void add_message_cases(std::vector<VehicleCase>& cases) {
   cases.push_back({{{"vehicle/3.3/3", "vehicle_user_data follows the schema", "SPEC §3.3, seed 001 (respond message schema)",
                      "\"vehicle_user_data optional; when present user_data is required …, pos optional or null; when present it needs numeric lat and lon.\"",
                      Tier::must, milliseconds(10'000),
-                     {"OK: every vehicle_user_data is an object with user_data (an object) and pos absent, null or {lat: number, lon: number}",
+                     {"OK: every vehicle_user_data is an object with user_data (an object) and pos absent, null or {lat: number, lon: number}, "
+                      "in this case and in every other case of the run (a standing rule: the first offending frame is named)",
                       "NON-STRICT: user_data present but not an object (accepted by the SPEC Decision; seed 001 says object)"},
-                     "broken_client.py bad-pos (FAILED; the Streamer also drops it); broken_client.py scalar-user-data (NON-STRICT)"},
-                    user_data_schema},
+                     "broken_client.py bad-pos (FAILED; the Streamer also drops it); broken_client.py once-bad-pos (with vehicle/3.3/1); "
+                     "broken_client.py scalar-user-data (NON-STRICT)"},
+                    user_data_schema, user_data_schema_rule},
                    {}});
 }
 

@@ -3,6 +3,8 @@
 // and grades the operator client. This file: the suite's order and the echo cases (valid
 // frames, the latest pair per vehicle returned unchanged, byte-exact above 2^53, every control
 // vehicle's pair once the client holds the source, the return delay distribution).
+#include <rapidjson/document.h>
+
 #include <algorithm>
 #include <limits>
 
@@ -94,16 +96,26 @@ Outcome return_delay(CaseContext& context) {
                       percentile(delays_ms, 100)));
 }
 
+// operator/2/1 as a standing rule: every frame of every case is a JSON object ≤ 16 KiB.
+std::optional<StandingFinding> client_frame_rule(const WireLogEntry& entry) {
+  if (entry.drained) return StandingFinding{Verdict::failed, fmt::format("an oversized frame (length prefix {} > 16 384)", entry.length_prefix)};
+  rapidjson::Document doc;
+  doc.Parse(entry.text.data(), entry.text.size());
+  if (doc.HasParseError() || !doc.IsObject()) return StandingFinding{Verdict::failed, "a frame that is not a JSON object"};
+  return std::nullopt;
+}
+
 void add_operator_echo_cases(std::vector<VehicleCase>& cases) {
   const StreamerSetup op = operator_setup();
   StreamerSetup big = op;
-  big.ack_time_offset = std::numeric_limits<std::uint64_t>::max() - 3'000'000;
+  big.ack_time_offset = std::numeric_limits<std::uint64_t>::max() - ocp_ack_time_headroom_us;
   cases.push_back({{{"operator/2/1", "client frames are valid and within 16 KiB", "SPEC §2, §4.2",
                      "\"Frame = uint32 little-endian payload length, then that many bytes of UTF-8 JSON. Maximum payload: 16 384 bytes\" (same framing as §2 on :4001)",
                      Tier::must, milliseconds(10'000),
-                     {"OK: the client sends frames in 1.5 s, none oversized, the Player never closes the connection for bad input"},
-                     "broken_client.py op-oversized"},
-                    valid_frames},
+                     {"OK: the client sends frames in 1.5 s, none oversized, the Player never closes the connection for bad input; "
+                      "and every frame of every other case of the run is valid too (a standing rule: the first offending frame is named)"},
+                     "broken_client.py op-oversized; broken_client.py op-once-oversized (with operator/4.2/1)"},
+                    valid_frames, client_frame_rule},
                    op});
   cases.push_back({{{"operator/4.2/1", "returns the latest pair per vehicle, unchanged", "SPEC §4.1, §4.2",
                      "\"ack_time/ack_time_mac are the latest pair extracted from that vehicle's video SEI; the client must echo them back.\" — "
@@ -149,6 +161,7 @@ std::vector<VehicleCase> operator_cases() {
   add_operator_framing_cases(cases);
   add_operator_connection_cases(cases);
   add_operator_data_cases(cases);
+  add_operator_product_shape_cases(cases);
   // Stable order by id (section, then number) whatever the files add.
   std::stable_sort(cases.begin(), cases.end(),
                    [](const VehicleCase& a, const VehicleCase& b) { return a.body.info.id < b.body.info.id; });

@@ -109,6 +109,18 @@ void add_operator_connection_cases(std::vector<VehicleCase>& cases) {
                       return reconnects(context, [&] { context.host().player().close_client_connection(); }, "the Player closed the connection");
                     }},
                    op});
+  cases.push_back({{{"operator/4.2/7", "reconnects after a short delay: not at once, not after seconds",
+                     "seed 000 (Practical connection rules; the Rust example's 100 ms sleep), SPEC §4.2",
+                     "\"Treat disconnects as normal lifecycle events and reconnect after a short delay.\" (seed 000, for the vehicle "
+                     "side; the :4001 server follows the same rules)",
+                     Tier::should, milliseconds(15'000),
+                     {"OK: after each of 3 Player closes the client reconnects 20 ms to 1 s later",
+                      "NON-STRICT: it reconnects in under 20 ms (a tight loop) or after more than 1 s (a practical rule: SHOULD)"},
+                     "broken_client.py op-reconnect-at-once (NON-STRICT); broken_client.py op-reconnect-slowly (NON-STRICT)"},
+                    [](CaseContext& context) {
+                      return grade_reconnect_delays(context, [&context] { context.host().player().close_client_connection(); });
+                    }},
+                   op});
   cases.push_back({{{"operator/4.2/4", "reconnects after a Player restart (new Streamer keys); no stale pair", "SPEC §4.2, §5, seed 000",
                      "\"Treat disconnects as normal lifecycle events and reconnect after a short delay.\" — \"The 32-byte key is drawn "
                      "from a CSPRNG at Streamer start and never leaves it.\" (pairs from before the restart never validate again)",

@@ -9,22 +9,28 @@
 #include "operator_observations.hpp"
 
 namespace ocp::conformance {
-namespace {
-
-using namespace detail;
+namespace detail {
 
 // The Player's latest VehicleOcpShared with the hosted vehicle's pair replaced by `pair`: a
 // frame the client cannot tell from a real one, but whose return is unmistakable.
-std::string shared_frame(CaseContext& context, const AckPair& pair) {
+std::string shared_frame(CaseContext& context, const AckPair& pair, const std::function<void(VehicleOcpShared&)>& shape,
+                         bool unknown_fields) {
   VehicleOcpShared shared = context.host().player().last_shared();
   shared.vehicle_feedback[host_vehicle_name].ack = pair;
+  if (shape) shape(shared);
   std::string json;
   encode_vehicle_ocp_shared(shared, json);
+  if (unknown_fields) {
+    // Forward compatibility (SPEC §2): a field a later product adds, at top level and in the entry.
+    const std::string entry = std::string("\"") + host_vehicle_name + "\":{";
+    if (const auto at = json.find(entry); at != std::string::npos) json.insert(at + entry.size(), R"("x_future_metric":{"p99":[1.5,null]},)");
+    json.insert(1, R"("protocol_revision":"2099.1",)");
+  }
   return frame_bytes(json);
 }
 
 // Connected, settled, and the Player's own output paused; false (and `outcome` set) if not.
-bool ready(CaseContext& context, Outcome& outcome) {
+bool ready_for_crafted(CaseContext& context, Outcome& outcome) {
   if (!connected(context, outcome)) return false;
   context.run_for(milliseconds(300));
   context.host().player().set_client_output_paused(true);
@@ -54,7 +60,7 @@ void write_in_pieces(CaseContext& context, const std::string& bytes, const std::
 
 // The common verdict: connection kept since `start_us`, every pair in `required` returned,
 // no pair returned that the Player never published.
-Outcome grade(CaseContext& context, std::int64_t start_us, const std::vector<AckPair>& sent,
+Outcome grade_crafted_shared(CaseContext& context, std::int64_t start_us, const std::vector<AckPair>& sent,
               const std::vector<AckPair>& required, const std::string& what) {
   const OperatorObservations observed = OperatorObservations::from(context.entries());
   std::size_t returned = 0;
@@ -75,15 +81,21 @@ Outcome grade(CaseContext& context, std::int64_t start_us, const std::vector<Ack
   return ok(counts + "; connection kept");
 }
 
+}  // namespace detail
+
+namespace {
+
+using namespace detail;
+
 Outcome split_frames(CaseContext& context) {
   Outcome outcome;
-  if (!ready(context, outcome)) return outcome;
+  if (!ready_for_crafted(context, outcome)) return outcome;
   PlayerCore& player = context.host().player();
   const std::int64_t start = context.now_us();
   std::vector<AckPair> sent;
   // One frame dribbled byte by byte, 1 ms apart.
   sent.push_back(crafted_pair(51, 0));
-  const std::string whole = shared_frame(context, sent.back());
+  const std::string whole = shared_frame(context, sent.back(), {}, false);
   std::vector<std::size_t> every;
   for (std::size_t k = 1; k < whole.size(); ++k) every.push_back(k);
   write_in_pieces(context, whole, every, milliseconds(1));
@@ -95,17 +107,17 @@ Outcome split_frames(CaseContext& context) {
   for (const auto& at : cuts) {
     if (!player.client_connected()) break;
     sent.push_back(crafted_pair(52, sent.size()));
-    write_in_pieces(context, shared_frame(context, sent.back()), at, milliseconds(5));
+    write_in_pieces(context, shared_frame(context, sent.back(), {}, false), at, milliseconds(5));
     context.run_for(milliseconds(20));
   }
   context.run_for(milliseconds(200));
-  return grade(context, start, sent, {sent.front(), sent.back()},
+  return grade_crafted_shared(context, start, sent, {sent.front(), sent.back()},
                fmt::format("a {}-byte frame sent byte by byte, then {} frames cut at chosen offsets", n, sent.size() - 1));
 }
 
 Outcome coalesced_frames(CaseContext& context) {
   Outcome outcome;
-  if (!ready(context, outcome)) return outcome;
+  if (!ready_for_crafted(context, outcome)) return outcome;
   PlayerCore& player = context.host().player();
   const std::int64_t start = context.now_us();
   std::vector<AckPair> sent, lasts;
@@ -113,19 +125,19 @@ Outcome coalesced_frames(CaseContext& context) {
     std::string segment;
     for (std::size_t i = 0; i < 20; ++i) {
       sent.push_back(crafted_pair(61 + write, i));
-      segment += shared_frame(context, sent.back());
+      segment += shared_frame(context, sent.back(), {}, false);
     }
     lasts.push_back(sent.back());
     (void)player.write_raw_to_client(segment);
     context.run_for(milliseconds(150));
   }
   context.run_for(milliseconds(150));
-  return grade(context, start, sent, lasts, "3 writes of 20 frames each (the last pair of each must be returned)");
+  return grade_crafted_shared(context, start, sent, lasts, "3 writes of 20 frames each (the last pair of each must be returned)");
 }
 
 Outcome oversized_frame_skipped(CaseContext& context) {
   Outcome outcome;
-  if (!ready(context, outcome)) return outcome;
+  if (!ready_for_crafted(context, outcome)) return outcome;
   PlayerCore& player = context.host().player();
   const std::int64_t start = context.now_us();
   context.note("writing a 20000-byte VehicleOcpShared frame (over the 16 KiB limit)");
@@ -134,14 +146,14 @@ Outcome oversized_frame_skipped(CaseContext& context) {
   std::vector<AckPair> sent;
   for (std::size_t i = 0; i < 10 && player.client_connected(); ++i) {
     sent.push_back(crafted_pair(71, i));
-    (void)player.write_raw_to_client(shared_frame(context, sent.back()));
+    (void)player.write_raw_to_client(shared_frame(context, sent.back(), {}, false));
     context.run_for(milliseconds(10));
   }
   context.run_for(milliseconds(300));
   // Nothing sent when the client dropped the connection at once: grade() reports the close.
   const std::vector<AckPair> last = sent.empty() ? std::vector<AckPair>{} : std::vector<AckPair>{sent.back()};
   return beyond_what_the_product_sends(
-      grade(context, start, sent, last, fmt::format("a 20000-byte frame, then {} frames", sent.size())));
+      grade_crafted_shared(context, start, sent, last, fmt::format("a 20000-byte frame, then {} frames", sent.size())));
 }
 
 }  // namespace

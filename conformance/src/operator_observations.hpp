@@ -9,6 +9,10 @@
 #include <string>
 #include <vector>
 
+#include <functional>
+
+#include "conformance/case.hpp"
+#include "conformance/case_context.hpp"
 #include "conformance/observations.hpp"
 #include "conformance/streamer_host.hpp"
 #include "conformance/wire_log.hpp"
@@ -83,5 +87,17 @@ class VehicleWireWatch {
   std::map<std::string, std::vector<ControlSeen>> seen_;
   std::vector<EventBus::Subscription> subscriptions_;
 };
+
+// Hand-made VehicleOcpShared frames (operator_framing_cases.cpp), for the cases that feed the
+// client frames the Player would not produce on demand.
+// The Player's latest VehicleOcpShared with the hosted vehicle's pair replaced by `pair`, then
+// reshaped by `shape` (may be empty); `unknown_fields` adds fields a later product may add.
+std::string shared_frame(CaseContext& context, const AckPair& pair, const std::function<void(VehicleOcpShared&)>& shape,
+                         bool unknown_fields);
+// Connected, settled, and the Player's own output paused; false (and `outcome` set) if not.
+bool ready_for_crafted(CaseContext& context, Outcome& outcome);
+// Connection kept since `start_us`, every pair in `required` returned, none never published.
+Outcome grade_crafted_shared(CaseContext& context, std::int64_t start_us, const std::vector<AckPair>& sent,
+                             const std::vector<AckPair>& required, const std::string& what);
 
 }  // namespace ocp::conformance::detail

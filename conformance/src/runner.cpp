@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <memory>
@@ -9,8 +10,9 @@
 #include <thread>
 
 #include "conformance/case_context.hpp"
-#include "sim_app/client_process.hpp"
+#include "conformance/standing_rules.hpp"
 #include "conformance/streamer_host.hpp"
+#include "sim_app/client_process.hpp"
 
 namespace ocp::conformance {
 using sim_app::ClientProcess;
@@ -31,6 +33,9 @@ struct Shared {
   std::atomic<std::size_t> next{0};
   std::vector<CaseResult> results;
   std::size_t reported = 0;   // results[0, reported) went to on_result, in case order
+  std::size_t finished = 0;
+  // Per case that carries a standing rule: the first offending frame found in any case so far.
+  std::vector<std::optional<StandingHit>> standing_hits;
   std::mutex mutex;
   std::string harness_error;
   bool interrupted = false;
@@ -49,12 +54,31 @@ struct Shared {
   }
   // Stores one result and reports every result whose predecessors are all done: with jobs > 1
   // the lines still come out in case order.
+  // A case with a standing rule is reported only when every case is done (they run last: see
+  // run_cases), with the first offending frame of the whole run folded in.
   void finish_case(std::size_t index, CaseResult result) {
     std::lock_guard lock(mutex);
     results[index] = std::move(result);
+    ++finished;
+    report_in_order(false);
+  }
+  void report_in_order(bool run_over) {
     while (reported < results.size() && !results[reported].info.id.empty()) {
+      if (cases[reported].body.standing) {
+        if (!run_over && finished < results.size()) return;
+        if (standing_hits[reported]) apply_standing_hit(results[reported], *standing_hits[reported]);
+      }
       if (options.on_result) options.on_result(results[reported]);
       ++reported;
+    }
+  }
+  // Every standing rule of the run, over one finished case's wire log.
+  void scan_standing(std::size_t index, const std::vector<WireLogEntry>& entries) {
+    for (std::size_t rule = 0; rule < cases.size(); ++rule) {
+      auto hit = first_standing_violation(cases[rule].body.standing, entries, index, cases[index].body.info.id);
+      if (!hit) continue;
+      std::lock_guard lock(mutex);
+      keep_first_hit(standing_hits[rule], std::move(*hit));
     }
   }
 };
@@ -88,8 +112,9 @@ void wait_for_first_connection(StreamerHost& host, ClientProcess& client, const 
   throw std::runtime_error(fmt::format("the client {}; {}", what, said));
 }
 
-CaseResult run_one(Shared& shared, StreamerHost& host, const VehicleCase& test_case, std::unique_ptr<ClientProcess>& client,
+CaseResult run_one(Shared& shared, StreamerHost& host, std::size_t index, std::unique_ptr<ClientProcess>& client,
                    std::string& client_log, unsigned worker) {
+  const VehicleCase& test_case = shared.cases[index];
   const RunOptions& options = shared.options;
   CaseResult result;
   result.info = test_case.body.info;
@@ -142,6 +167,7 @@ CaseResult run_one(Shared& shared, StreamerHost& host, const VehicleCase& test_c
   }
   host.stop_streamer();
   log.detach();
+  shared.scan_standing(index, log.entries());
   if (options.restart_per_case) client.reset();
   result.duration_ms = ms_since(start);
   if (result.verdict != Verdict::ok) result.wire_log = log.take();
@@ -163,7 +189,7 @@ void worker_main(Shared& shared, unsigned worker) {
     const std::size_t index = shared.next.fetch_add(1);
     if (index >= shared.cases.size()) break;
     try {
-      shared.finish_case(index, run_one(shared, host, shared.cases[index], client, client_log, worker));
+      shared.finish_case(index, run_one(shared, host, index, client, client_log, worker));
     } catch (const RunInterrupted&) {
       shared.interrupt();
     } catch (const std::exception& error) {
@@ -181,18 +207,23 @@ RunSummary run_cases(const std::vector<VehicleCase>& cases, const RunOptions& op
   const unsigned jobs = options.command.empty() ? 1u : std::max(1u, std::min<unsigned>(options.jobs, static_cast<unsigned>(cases.size())));
   RunOptions effective = options;
   effective.jobs = jobs;
-  Shared run(cases, effective);
-  run.results.resize(cases.size());
+  // Cases with a standing rule run last, so they can be reported as soon as the rest is done.
+  std::vector<VehicleCase> ordered = cases;
+  std::stable_partition(ordered.begin(), ordered.end(), [](const VehicleCase& c) { return !c.body.standing; });
+  Shared run(ordered, effective);
+  run.results.resize(ordered.size());
+  run.standing_hits.resize(ordered.size());
   std::vector<std::thread> workers;
   for (unsigned w = 1; w < jobs; ++w) workers.emplace_back([&run, w] { worker_main(run, w); });
   worker_main(run, 0);
   for (std::thread& t : workers) t.join();
+  run.report_in_order(true);   // an interrupted or failed run still reports what it finished
   RunSummary summary;
   summary.duration_ms = ms_since(start);
   summary.harness_error = run.harness_error;
   summary.interrupted = run.interrupted;
   summary.cases_selected = cases.size();
-  for (std::size_t i = 0; i < cases.size(); ++i) {
+  for (std::size_t i = 0; i < ordered.size(); ++i) {
     if (!run.results[i].info.id.empty()) summary.results.push_back(std::move(run.results[i]));
   }
   return summary;

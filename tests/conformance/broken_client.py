@@ -10,6 +10,8 @@ response every 10 ms without control, and reconnects 100 ms after the connection
 The op-* modes are operator clients on the Player's :4001 API (op-echo behaves: it reads frames
 properly, skips frames over 16 KiB, answers every VehicleOcpShared, sends a keep-alive {} after
 0.5 s with nothing to answer, and reconnects).
+Which mode fails which case is in the cases themselves ("fails against", docs/conformance.md
+Coverage); the tests run every pair (suite_test.cpp, CoverageBrokenClient).
 """
 import json
 import os
@@ -25,12 +27,19 @@ LIMIT = 16384
 # Broken modes (each fails one case) and hostile modes (the harness must stay in control).
 BROKEN = {"echo-only", "timer-echo", "naive-recv", "reject-oversized", "require-controller",
           "fault-enum", "flat-user-data", "strict-schema", "bad-pos", "no-reconnect",
-          "sticky-pair", "early-echo", "slow-early-echo", "scalar-user-data", "float-ack", "slow-timer"}
+          "sticky-pair", "early-echo", "slow-early-echo", "scalar-user-data", "float-ack", "slow-timer",
+          # The product's other control shapes (vehicle/3.2/4): each chokes on one of them.
+          "need-controller-key", "need-user-data-object", "need-missing-cameras", "no-lost-camera",
+          "second-connection", "reconnect-at-once", "reconnect-slowly", "split-write", "once-oversized",
+          "once-bad-pos"}
 # Operator-side (:4001) clients: op-echo behaves (op-disable too, with the gamepad disabled);
 # the others break one rule.
 OPERATOR = {"op-echo", "op-corrupt", "op-stale", "op-double", "op-oversized", "op-no-keepalive", "op-no-reconnect",
             "op-sticky", "op-second-connection", "op-active-only", "op-wrong-name", "op-disable", "op-disable-once",
-            "op-no-active", "op-monitor-active", "op-naive-recv", "op-reject-oversized"}
+            "op-no-active", "op-monitor-active", "op-naive-recv", "op-reject-oversized",
+            # The product's other VehicleOcpShared shapes (operator/4.1/1): each chokes on one.
+            "op-need-vehicle-data", "op-no-lost-camera", "op-need-latency", "op-need-last-input", "op-strict-schema",
+            "op-fixed-active", "op-once-oversized", "op-reconnect-at-once", "op-reconnect-slowly"}
 HOSTILE = {"garbage", "flood", "huge-prefix", "half-open", "never-read"}
 FAULT_NAMES = {"", "Vehicle No Response", "No Control Message", "Camera Lost", "Streamer Slow", "High Latency",
                "Operator Station Has Error", "Latency Loop Not Closed", "Control Thread Channel Slow"}
@@ -85,17 +94,45 @@ class Deframer:
             yield payload
 
 
-def response(pair):
+ONCE_AFTER_S = 0.5   # once-*: the one bad frame goes out this long into the first connection
+once_sent = False
+
+
+def once_fault(state):
+    """True once per process, ONCE_AFTER_S into its first connection: the occasional bad frame
+    of the once-* modes. The case of the rule it breaks, played later on another connection,
+    never sees it: only a rule checked on every frame of the run does."""
+    global once_sent
+    if MODE not in ("once-oversized", "once-bad-pos", "op-once-oversized") or once_sent:
+        return False
+    if time.monotonic() - state["opened"] < ONCE_AFTER_S:
+        return False
+    once_sent = True
+    return True
+
+
+def response(pair, late=False):
     global last_echoed
     last_echoed = pair
-    pos = {"lat": "57.7", "lon": 11.9} if MODE == "bad-pos" else {"lat": 57.7, "lon": 11.9}
+    pos = {"lat": "57.7", "lon": 11.9} if MODE == "bad-pos" or (late and MODE == "once-bad-pos") else {"lat": 57.7, "lon": 11.9}
     user_data = 1.4 if MODE == "scalar-user-data" else {"mode": MODE}
+    if late and MODE == "once-oversized":
+        user_data = {"blob": "x" * 17000}
     return frame({"ack_time": pair[0], "ack_time_mac": pair[1],
                   "vehicle_user_data": {"pos": pos, "user_data": user_data}})
 
 
 def acceptable(msg):
     """False: this broken client rejects the message (closes the connection)."""
+    telemetry = msg.get("telemetry", {})
+    if MODE == "need-controller-key" and "controller" not in msg:
+        return False   # Bug: msg["controller"] read as required (seed 001: optional).
+    if MODE == "need-user-data-object" and "client_user_data" in msg and msg["client_user_data"] is None:
+        return False   # Bug: client_user_data present means an object (SPEC §3.2: or null).
+    if MODE == "need-missing-cameras" and "missing_cameras" not in telemetry:
+        return False   # Bug: telemetry.missing_cameras read as required (seed 001: not in the schema).
+    if MODE == "no-lost-camera" and telemetry.get("missing_cameras"):
+        return False   # Bug: never tested with a camera lost.
     if MODE == "require-controller" and msg.get("controller") is None:
         return False
     if MODE == "strict-schema":
@@ -142,6 +179,7 @@ def operator_reply(msg, state):
     """The ClientOcpShared answering one VehicleOcpShared (op-echo: every control vehicle's
     latest pair, user data for it, the first control vehicle as active_vehicle)."""
     feedback = msg.get("vehicle_feedback", {})
+    operator_shape_bugs(msg, feedback)
     control = sorted(name for name, f in feedback.items() if not f.get("is_monitor"))
     candidates = sorted(feedback) if MODE == "op-monitor-active" else control
     if state.get("active") not in candidates:
@@ -170,13 +208,38 @@ def operator_reply(msg, state):
         if MODE == "op-disable" or (MODE == "op-disable-once" and name not in disabled):
             entry["ocp_disable_gamepad"] = True    # op-disable-once: Bug: only in its first entry.
             disabled.add(name)
-        if MODE == "op-oversized":
+        if MODE == "op-oversized" or (name == control[0] and once_fault(state)):
             entry["user_data"] = {"blob": "x" * 17000}
         entries[name] = entry
     reply = {"client_user_data": entries}
     if state["active"] and MODE != "op-no-active":
-        reply["active_vehicle"] = state["active"]
+        # op-fixed-active: Bug: a hard-coded name, whatever the Player links.
+        reply["active_vehicle"] = "truck-1" if MODE == "op-fixed-active" else state["active"]
     return reply
+
+
+KNOWN_SHARED = {"vehicle_feedback", "last_input"}
+KNOWN_FEEDBACK = {"ping_latency_ms", "message_latency_roundtrip", "ms_since_last_vehicle_data", "missing_cameras",
+                  "sender_fault", "receiver_fault", "vehicle_data", "last_remote_input", "ack_time", "ack_time_mac",
+                  "is_monitor"}
+
+
+def operator_shape_bugs(msg, feedback):
+    """Each op-need-* / op-no-lost-camera / op-strict-schema client chokes on one form the
+    product may send (SPEC §4.1): it raises, which ends the connection."""
+    if MODE == "op-need-last-input":
+        msg["last_input"]["axes"]   # Bug: last_input read as always set (SPEC §4.1: or null).
+    if MODE == "op-strict-schema" and set(msg) - KNOWN_SHARED:
+        raise ValueError("unknown field")
+    for f in feedback.values():
+        if MODE == "op-need-vehicle-data":
+            f["vehicle_data"]["user_data"]   # Bug: vehicle_data read as always set (SPEC §4.1: or null).
+        if MODE == "op-need-latency":
+            int(f["message_latency_roundtrip"])   # Bug: null until measured (SPEC §4.1).
+        if MODE == "op-no-lost-camera" and f.get("missing_cameras"):
+            raise ValueError("camera lost")   # Bug: never tested with a camera lost.
+        if MODE == "op-strict-schema" and set(f) - KNOWN_FEEDBACK:
+            raise ValueError("unknown field")
 
 
 def operator_session(sock):
@@ -194,7 +257,7 @@ def operator_session(sock):
     sock.settimeout(0.05)
     # Bug (op-reject-oversized): an oversized frame ends the connection.
     deframer = Deframer(reject_oversized=MODE == "op-reject-oversized")
-    state = {}
+    state = {"opened": time.monotonic()}
     last_sent = time.monotonic()
     try:
         while True:
@@ -227,6 +290,16 @@ def operator_session(sock):
             extra.close()
 
 
+def write(sock, data):
+    """split-write: the length prefix and the payload in two writes, without TCP_NODELAY (as
+    the vendor's C++ example does): Nagle holds the payload until the prefix is acknowledged."""
+    if MODE == "split-write":
+        sock.sendall(data[:4])
+        sock.sendall(data[4:])
+    else:
+        sock.sendall(data)
+
+
 def session(sock):
     """One connection."""
     if MODE in HOSTILE:
@@ -234,6 +307,10 @@ def session(sock):
     if MODE in OPERATOR:
         operator_session(sock)
         return
+    if MODE == "second-connection":
+        # Bug: a "health probe" connection next to the working one, kept open while the session lasts.
+        probe = socket.create_connection(("127.0.0.1", PORT))  # noqa: F841 (held open on purpose)
+    late = {"opened": time.monotonic()}
     sock.settimeout(0.01)
     deframer = Deframer(reject_oversized=MODE == "reject-oversized")
     pair = last_echoed if MODE == "sticky-pair" else None
@@ -289,11 +366,11 @@ def session(sock):
                     next_timer += period
             continue
         if got_new:
-            sock.sendall(held + response(pair))
+            write(sock, held + response(pair, once_fault(late)))
             held = b""
             last_sent = now
         elif MODE != "echo-only" and pair and now - last_sent >= 0.01:
-            sock.sendall(response(pair))
+            write(sock, response(pair, once_fault(late)))
             last_sent = now
 
 
@@ -303,14 +380,17 @@ def main():
     while True:
         try:
             sock = socket.create_connection(("127.0.0.1", PORT))
-            sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+            if MODE != "split-write":
+                sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
             session(sock)
             sock.close()
-        except (OSError, ValueError, KeyError):
+        except (OSError, ValueError, KeyError, TypeError):
             pass
         if MODE in ("no-reconnect", "op-no-reconnect"):
             sys.exit(1)
-        time.sleep(0.1)
+        # (op-)reconnect-at-once: Bug: a tight loop; (op-)reconnect-slowly: Bug: seconds without control.
+        time.sleep({"reconnect-at-once": 0.0, "reconnect-slowly": 1.5, "op-reconnect-at-once": 0.0,
+                    "op-reconnect-slowly": 1.5}.get(MODE, 0.1))
 
 
 if __name__ == "__main__":

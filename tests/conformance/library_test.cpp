@@ -21,7 +21,7 @@ using sim_app::substitute_port;
 namespace {
 
 TEST(ControlFrames, EveryShapeDecodesWithTheProtocolCodec) {
-  for (auto controller : {CraftedController::driving, CraftedController::null, CraftedController::safe_default}) {
+  for (auto controller : {CraftedController::driving, CraftedController::null, CraftedController::safe_default, CraftedController::absent}) {
     for (bool unknown : {false, true}) {
       CraftedControl control{AckPair{~std::uint64_t{0}, 0xFFFFFFFFu}};
       control.controller = controller;
@@ -31,13 +31,29 @@ TEST(ControlFrames, EveryShapeDecodesWithTheProtocolCodec) {
       const auto decoded = decode_control_message(control_payload(control));
       ASSERT_TRUE(decoded.ok()) << decoded.error().message() << "\n" << control_payload(control);
       EXPECT_EQ(decoded->ack, control.ack);   // u64 max survives byte-exact
-      EXPECT_EQ(decoded->controller.has_value(), controller != CraftedController::null);
+      EXPECT_EQ(decoded->controller.has_value(), controller != CraftedController::null && controller != CraftedController::absent);
       if (controller == CraftedController::safe_default) {
         EXPECT_TRUE(decoded->controller->is_safe_default());
       }
       EXPECT_TRUE(decoded->telemetry.fault);
     }
   }
+}
+
+// vehicle/3.2/4's forms are ones the product may send: the protocol codec reads every one.
+TEST(ControlFrames, TheProductsOtherShapesDecodeWithTheProtocolCodec) {
+  CraftedControl control{AckPair{1, 2}};
+  control.controller = CraftedController::absent;
+  control.client_user_data = "null";
+  control.missing_cameras.clear();
+  const std::string bare = control_payload(control);
+  EXPECT_EQ(bare.find("controller"), std::string::npos) << bare;
+  EXPECT_EQ(bare.find("missing_cameras"), std::string::npos) << bare;
+  ASSERT_TRUE(decode_control_message(bare).ok()) << bare;
+  control.missing_cameras = R"(["rear"])";
+  const auto lost = decode_control_message(control_payload(control));
+  ASSERT_TRUE(lost.ok()) << control_payload(control);
+  EXPECT_EQ(lost->telemetry.missing_cameras, std::vector<std::string>{"rear"});
 }
 
 TEST(ControlFrames, FramesCarryALittleEndianPrefix) {

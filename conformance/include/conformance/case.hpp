@@ -3,6 +3,7 @@
 // the source, a tier, a timeout, every accepted outcome, and the body that plays it.
 #include <chrono>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,9 +31,21 @@ struct Outcome {
   std::string cause;         // the named cause behind it, when one was found (ocp/pair_diagnosis.hpp)
 };
 
+// A standing rule (issue #26): a requirement on every frame the client sends, in every case,
+// for the whole run (valid frames ≤ 16 KiB, the response schema). The runner applies it to each
+// case's wire log (standing_rules.hpp); the first offending frame found anywhere is reported
+// under the id of the case that carries the rule.
+struct StandingFinding {
+  Verdict verdict = Verdict::failed;
+  std::string problem;       // what is wrong with the frame
+};
+// nullopt: the entry is fine (or not a client frame).
+using StandingRule = std::function<std::optional<StandingFinding>(const WireLogEntry&)>;
+
 struct Case {
   CaseInfo info;
   std::function<Outcome(CaseContext&)> run;
+  StandingRule standing = {};   // empty: the case grades only its own window
 };
 
 struct CaseResult {

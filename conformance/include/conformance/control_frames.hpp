@@ -10,7 +10,8 @@
 
 namespace ocp::conformance {
 
-enum class CraftedController { driving, null, safe_default };
+// absent: no "controller" key at all (seed 001's schema makes it optional).
+enum class CraftedController { driving, null, safe_default, absent };
 
 struct CraftedControl {
   CraftedControl() = default;
@@ -20,6 +21,7 @@ struct CraftedControl {
   bool fault = false;
   std::string fault_reason;
   std::string client_user_data;   // raw JSON value; empty → field omitted
+  std::string missing_cameras = "[]";   // raw JSON value of telemetry.missing_cameras; empty → omitted
   bool unknown_fields = false;    // extra fields at top level, in telemetry and in controller
 };
 

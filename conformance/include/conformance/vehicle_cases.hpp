@@ -21,9 +21,11 @@ void add_echo_cases(std::vector<VehicleCase>& cases);
 void add_framing_cases(std::vector<VehicleCase>& cases);
 void add_message_cases(std::vector<VehicleCase>& cases);
 void add_connection_cases(std::vector<VehicleCase>& cases);
+void add_product_shape_cases(std::vector<VehicleCase>& cases);
 // By concern, concatenated by operator_cases().
 void add_operator_framing_cases(std::vector<VehicleCase>& cases);
 void add_operator_connection_cases(std::vector<VehicleCase>& cases);
 void add_operator_data_cases(std::vector<VehicleCase>& cases);
+void add_operator_product_shape_cases(std::vector<VehicleCase>& cases);
 
 }  // namespace ocp::conformance
