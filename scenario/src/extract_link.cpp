@@ -124,7 +124,7 @@ class LinkExtractor {
   std::vector<LatencyPoint> latencies_;
 };
 
-std::string vehicle_list(const std::set<std::string>& names) {
+std::string known_vehicle_names(const std::set<std::string>& names) {
   std::string list;
   for (const std::string& name : names) list += (list.empty() ? "" : ", ") + name;
   return list.empty() ? "none: the trace has no link or streamer events" : list;
@@ -189,13 +189,13 @@ ExtractedLink extract_link(std::string_view trace_jsonl, const ExtractLinkOption
   if (vehicle.empty()) {
     const LinkExtractor first = read_trace(trace_jsonl, options, "");
     if (first.vehicles().size() != 1) {
-      throw ExtractLinkError("name the vehicle with --vehicle NAME; the trace has: " + vehicle_list(first.vehicles()));
+      throw ExtractLinkError("name the vehicle with --vehicle NAME; the trace has: " + known_vehicle_names(first.vehicles()));
     }
     vehicle = *first.vehicles().begin();
   }
   const LinkExtractor extractor = read_trace(trace_jsonl, options, vehicle);
   if (!extractor.vehicles().contains(vehicle)) {
-    throw ExtractLinkError("unknown vehicle '" + vehicle + "'; the trace has: " + vehicle_list(extractor.vehicles()));
+    throw ExtractLinkError("unknown vehicle '" + vehicle + "'; the trace has: " + known_vehicle_names(extractor.vehicles()));
   }
   ExtractedLink extracted;
   extracted.recording.set_name(options.trace_path);
