@@ -59,6 +59,8 @@ def opportunities(segments):
 def recording(folder, tool):
     """The source scenario's link, as `ocp_scenario extract-link` records it from its trace."""
     source = folder / f"{RECORDING}.source.yaml"
+    if not pathlib.Path(tool).is_file():
+        raise SystemExit(f"{tool} not found: build it (scripts/build release ocp_scenario) or pass --ocp-scenario PATH")
     with tempfile.TemporaryDirectory() as out:
         run = subprocess.run([tool, "run", str(source), "--out", out], capture_output=True, text=True)
         if run.returncode != 0:

@@ -39,7 +39,8 @@ std::shared_ptr<const LinkRecording> Parser::link_recording(const YAML::Node& no
 void Parser::check_replayed_routes(const VehicleSpec& spec, const YAML::Node& node) {
   const auto check = [&](const Impairments& set, LinkRoute route, const char* key) {
     if (!set.replay || !set.replay->route(route).empty()) return;
-    const YAML::Node where = node[key] ? node[key]["replay"] : node["link"]["replay"];
+    // Named in the direction's own block, or else in `link`.
+    const YAML::Node where = node[key] && node[key]["replay"] ? node[key]["replay"] : node["link"]["replay"];
     read_.fail(where, set.replay->name() + " has no " + std::string(link_route_name(route)) +
                           " messages to replay (replay it on the other direction only: " +
                           std::string(link_route_name(route) == "to_streamer" ? "to_player" : "to_streamer") +

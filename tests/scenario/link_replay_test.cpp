@@ -108,6 +108,14 @@ TEST_F(ScenarioLinkReplay, PerDirectionAndCheckedAgainstTheRecording) {
     EXPECT_NE(std::string(error.what()).find("has no to_streamer messages"), std::string::npos) << error.what();
     EXPECT_EQ(error.line(), 8);
   }
+  // The direction's own block, without a replay of its own, does not hide where the replay is named.
+  write("bad2.yaml", story("      link: {replay: up_only.link}\n      to_streamer: {down: false}\n"));
+  try {
+    load_scenario(path("bad2.yaml"));
+    FAIL() << "no error";
+  } catch (const ScenarioError& error) {
+    EXPECT_EQ(error.line(), 8) << error.what();
+  }
 }
 
 TEST_F(ScenarioLinkReplay, ReplayExcludesTheOtherSettingsAndABadFileNamesItsLine) {
