@@ -51,6 +51,12 @@ std::string recording_file_text(const LinkRecording& recording) {
 
 YAML::Node impairments_node(const Impairments& in) {
   YAML::Node out;
+  if (in.replay) {
+    // A replayed direction uses nothing else (and the parser refuses the rest beside it).
+    out["replay"] = recording_file_text(*in.replay);
+    out["down"] = in.down;
+    return out;
+  }
   out["delay"] = duration_text(in.delay);
   out["jitter"] = duration_text(in.jitter);
   out["jitter_kind"] = std::string(jitter_kind_name(in.jitter_kind));
@@ -71,7 +77,6 @@ YAML::Node impairments_node(const Impairments& in) {
     out["trace"] = trace_file_text(*in.trace);
     out["queue_limit_packets"] = in.queue_limit_packets;
   }
-  if (in.replay) out["replay"] = recording_file_text(*in.replay);
   out["duplicate"] = shortest_number(in.duplicate_probability);
   out["reorder"] = shortest_number(in.reorder_probability);
   out["reorder_extra_delay"] = duration_text(in.reorder_extra_delay);
