@@ -40,6 +40,8 @@ void LinkDirection::set_identity(std::string_view name, LinkRoute route) {
 void LinkDirection::set_impairments(const Impairments& impairments) {
   // A new trace starts now with an empty queue; other changes leave a running trace alone.
   if (impairments.trace != trace_queue_.trace_shared()) trace_queue_.reset(impairments.trace, executor_.now());
+  // A new recording replays from its first message.
+  if (impairments.replay != impairments_.replay) replay_next_ = 0;
   impairments_ = impairments;
   if (events_.active()) {
     events_.publish(Event{executor_.now(), Component{ComponentKind::link, name_},
@@ -168,8 +170,14 @@ void LinkDirection::send(LinkMessage message) {
   counters_.bytes_sent += size_bytes;
   const std::uint64_t message_id = next_message_id_++;
   if (events_.active()) publish(LinkOutcome::sent, message, size_bytes, message_id);
+  const bool replaying = impairments_.replay && !impairments_.replay->route(route_).empty();
   if (is_down()) {
+    if (replaying) ++replay_next_;   // the n-th message stays the n-th of the recording
     drop(message, size_bytes, message_id, DropReason::outage);
+    return;
+  }
+  if (replaying) {
+    send_replayed(std::move(message), size_bytes, message_id);
     return;
   }
 
@@ -202,6 +210,16 @@ void LinkDirection::send(LinkMessage message) {
     schedule_delivery(deliver_at, message, size_bytes, message_id);
   }
   schedule_delivery(deliver_at, std::move(message), size_bytes, message_id);
+}
+
+void LinkDirection::send_replayed(LinkMessage message, std::size_t size_bytes, std::uint64_t message_id) {
+  const RecordedMessage& recorded = impairments_.replay->nth(route_, replay_next_++);
+  if (recorded.lost) {
+    drop(message, size_bytes, message_id, DropReason::recorded_loss);
+    return;
+  }
+  // Exactly the recorded delay: the recording already holds any queueing and reordering.
+  schedule_delivery(executor_.now() + recorded.delay, std::move(message), size_bytes, message_id);
 }
 
 void LinkDirection::schedule_delivery(SimTime deliver_at, LinkMessage message, std::size_t size_bytes,

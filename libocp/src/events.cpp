@@ -84,6 +84,7 @@ std::string_view drop_reason_name(DropReason reason) {
     case DropReason::burst_loss: return "burst_loss";
     case DropReason::outage: return "outage";
     case DropReason::queue_full: return "queue_full";
+    case DropReason::recorded_loss: return "recorded_loss";
   }
   return "?";
 }

@@ -1,5 +1,6 @@
 // ocp_scenario: runs scenario files in virtual time and judges their expectations.
 //   ocp_scenario run FILE… | DIR [--seed N] [--repeat K] [--junit FILE] [--out DIR] [--list]
+//   ocp_scenario extract-link TRACE [--vehicle NAME] [--rtt-half] > drive.link
 // Exit codes: 0 every expectation passed, 1 an expectation failed, 2 bad command line, bad file
 // or harness error, 130 interrupted (SIGINT / SIGTERM: the reports so far are written).
 #include <CLI/CLI.hpp>
@@ -11,6 +12,7 @@
 #include <fstream>
 #include <iostream>
 
+#include "scenario/extract_link.hpp"
 #include "scenario/metrics.hpp"
 #include "scenario/parse.hpp"
 #include "scenario/reports.hpp"
@@ -79,6 +81,17 @@ void add_run_command(CLI::App& app, ToolOptions& options) {
                 "external vehicle clients over TCP");
   run->add_option("--tcp-port", options.tcp_port, "--realtime: port of the first external vehicle (the next +1, …; 0: any)")
       ->capture_default_str();
+}
+
+// A run's trace → a link recording on stdout (docs/link-recording.md).
+CLI::App* add_extract_link_command(CLI::App& app, ExtractLinkOptions& options) {
+  CLI::App* extract = app.add_subcommand("extract-link", "write a link recording (for link: {replay: FILE}) of one "
+                                                         "vehicle from a run's trace.jsonl, to stdout");
+  extract->add_option("trace", options.trace_path, "a run's trace.jsonl")->required();
+  extract->add_option("--vehicle", options.vehicle, "the vehicle whose link to record (needed when the trace has several)");
+  extract->add_flag("--rtt-half", options.rtt_half,
+                    "the two ends' clocks differ (a two-host run): every delay is the Streamer's RTT/2");
+  return extract;
 }
 
 // Every file is parsed before any runs, so that one bad file is reported without running the
@@ -245,8 +258,11 @@ int run_tool(int argc, char** argv) {
   app.require_subcommand(1);
   ToolOptions options;
   add_run_command(app, options);
+  ExtractLinkOptions extract;
+  const CLI::App* extract_command = add_extract_link_command(app, extract);
   // --help is exit 0; a bad command line is a harness error like a bad file: 2.
   if (auto exit_code = ocp::cli::parse_or_exit_code(app, argc, argv)) return *exit_code;
+  if (extract_command->parsed()) return extract_link_command(extract, std::cout, std::cerr);
   const std::vector<Scenario> scenarios = load_every_scenario(expand(options.inputs));
   if (scenarios.empty()) return exit_error;
   if (options.list) {

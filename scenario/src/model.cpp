@@ -27,6 +27,7 @@ Impairments apply_patch(Impairments base, const ImpairmentPatch& patch) {
   if (patch.queue_limit_bytes) base.queue_limit_bytes = *patch.queue_limit_bytes;
   if (patch.queue_limit_packets) base.queue_limit_packets = *patch.queue_limit_packets;
   if (patch.trace) base.trace = *patch.trace;
+  if (patch.replay) base.replay = *patch.replay;
   return base;
 }
 

@@ -4,6 +4,7 @@
 
 #include <deque>
 
+#include "link_series.hpp"
 #include "ocp/json_codec.hpp"
 
 namespace ocp::scenario {
@@ -16,6 +17,8 @@ struct Observer::VehicleState {
   bool had_close = false;             // a connection closed: the next opened one is a reconnect
   bool awaiting_first_pair = false;   // first control frame on a new connection not yet seen
   std::optional<std::uint64_t> connection_first_ack;   // ack_time of that first frame
+  LinkSeriesBuilder to_streamer_series, to_player_series;
+  LinkSeriesBuilder& series(LinkRoute route) { return route == LinkRoute::to_streamer ? to_streamer_series : to_player_series; }
 };
 
 Observer::Observer(World& world, ObserverOptions options) : Observer(world.events(), options) {
@@ -33,7 +36,12 @@ void Observer::attach_parts() {
   subscriptions_.push_back(world_->player().events().subscribe(handler));
   for (const std::string& vehicle : world_->vehicles()) {
     subscriptions_.push_back(world_->streamer(vehicle).events().subscribe(handler));
-    if (options_.link_events) subscriptions_.push_back(world_->link(vehicle).events().subscribe(handler));
+    if (!options_.link_events) continue;
+    subscriptions_.push_back(world_->link(vehicle).events().subscribe(handler));
+    // The links' first impairments were set before anyone listened.
+    VehicleState& vehicle_state = state(vehicle);
+    vehicle_state.to_streamer_series.set_propagation_delay(world_->link(vehicle).to_streamer().impairments().delay);
+    vehicle_state.to_player_series.set_propagation_delay(world_->link(vehicle).to_player().impairments().delay);
   }
 }
 
@@ -76,6 +84,8 @@ void Observer::on_event(const Event& event) {
   } else if (const auto* connection = std::get_if<ConnectionEvent>(&event.body)) {
     if (connection->wire != Wire::vehicle || event.component.kind != ComponentKind::streamer) return;
     on_vehicle_connection(event.component.name, *connection);
+  } else if (const auto* set = std::get_if<ImpairmentChange>(&event.body)) {
+    state(event.component.name).series(set->route).set_propagation_delay(set->impairments->delay);
   } else if (const auto* change = std::get_if<ActiveVehicleChange>(&event.body)) {
     std::optional<std::string> vehicle;
     if (change->vehicle) vehicle = std::string(*change->vehicle);
@@ -92,6 +102,8 @@ void Observer::on_link(std::string_view name, const LinkEvent& link, SimTime now
     case LinkOutcome::delivered: ++counters.delivered; break;
     case LinkOutcome::dropped: ++counters.dropped; break;
   }
+  vehicle.series(link.route).on_link_event(link, now, link.route == LinkRoute::to_streamer ? vehicle.out->to_streamer_link
+                                                                                           : vehicle.out->to_player_link);
   if (link.outcome == LinkOutcome::delivered && link.kind == LinkMessageKind::feedback) {
     if (vehicle.last_feedback) vehicle.out->feedback_gap_ms.push_back({now, to_ms(now - *vehicle.last_feedback)});
     vehicle.last_feedback = now;

@@ -80,6 +80,7 @@ VehicleSpec Parser::vehicle(const YAML::Node& node) {
   }
   if (node["to_streamer"]) spec.to_streamer = apply_patch(spec.to_streamer, impairments(node["to_streamer"]));
   if (node["to_player"]) spec.to_player = apply_patch(spec.to_player, impairments(node["to_player"]));
+  check_replayed_routes(spec, node);
   if (node["misbehave"]) misbehave(node["misbehave"], spec.client.misbehave);
   if (spec.monitor && node["misbehave"]) read_.fail(node["misbehave"], "a monitor vehicle has no control path to misbehave on");
   return spec;
@@ -107,12 +108,12 @@ ImpairmentPatch Parser::impairments(const YAML::Node& node, bool targeted) {
   if (targeted) {
     read_.check_keys(node, "impair",
                      {"vehicle", "direction", "delay", "jitter", "jitter_kind", "loss", "burst_loss",
-                      "bandwidth_bps", "queue_limit_bytes", "queue_limit_packets", "trace", "duplicate",
+                      "bandwidth_bps", "queue_limit_bytes", "queue_limit_packets", "trace", "replay", "duplicate",
                       "reorder", "reorder_extra_delay", "down"});
   } else {
     read_.check_keys(node, "impairments",
                      {"delay", "jitter", "jitter_kind", "loss", "burst_loss", "bandwidth_bps",
-                      "queue_limit_bytes", "queue_limit_packets", "trace", "duplicate", "reorder",
+                      "queue_limit_bytes", "queue_limit_packets", "trace", "replay", "duplicate", "reorder",
                       "reorder_extra_delay", "down"});
   }
   ImpairmentPatch p;
@@ -139,6 +140,7 @@ ImpairmentPatch Parser::impairments(const YAML::Node& node, bool targeted) {
     }
     p.trace = delivery_trace(node["trace"]);
   }
+  if (node["replay"]) p.replay = link_recording(node["replay"], node);
   if (node["down"]) p.down = read_.boolean(node["down"]);
   if (const YAML::Node burst = node["burst_loss"]) {
     if (burst.IsScalar()) {

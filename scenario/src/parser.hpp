@@ -33,6 +33,11 @@ class Parser {
   ImpairmentPatch impairments(const YAML::Node& node, bool targeted = false);
   // A `trace:` value: the Mahimahi file, relative to the scenario file, loaded once per path.
   std::shared_ptr<const DeliveryTrace> delivery_trace(const YAML::Node& node);
+  // A `replay:` value (parse_replay.cpp): the link recording, loaded once per path; `fields`
+  // is the impairments node, whose other settings it must not be combined with.
+  std::shared_ptr<const LinkRecording> link_recording(const YAML::Node& node, const YAML::Node& fields);
+  // Each replayed direction of the vehicle has messages of its route in the recording.
+  void check_replayed_routes(const VehicleSpec& spec, const YAML::Node& node);
   Controller controller(const YAML::Node& node);
   GamepadScriptSetting gamepad_script(const YAML::Node& node);
   const VehicleSpec* find_vehicle(const std::string& name) const;
@@ -69,6 +74,7 @@ class Parser {
   YamlReader read_;
   Scenario scenario_;
   std::map<std::string, std::shared_ptr<const DeliveryTrace>> delivery_traces_;
+  std::map<std::string, std::shared_ptr<const LinkRecording>> link_recordings_;
 };
 
 }  // namespace ocp::scenario

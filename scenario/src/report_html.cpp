@@ -26,13 +26,14 @@ constexpr double width = 1100, plot_height = 260, left = 190, right = 10, top = 
 // A polyline of at most this many points per vehicle (max per bucket, so spikes survive).
 constexpr std::size_t max_points = 1200;
 
-// Where a time and a latency fall on the plot.
+// Where a time and a value fall on a panel (the latency plot, or a link panel under it).
 struct PlotScale {
   double duration_us = 1;
-  double y_max = 1;   // ms at the top of the plot
+  double y_max = 1;   // the value at the top of the panel
   double plot_width = width - left - right;
+  double panel_top = top, panel_height = plot_height;
   double x_of(SimTime t) const { return left + plot_width * static_cast<double>(t.count()) / duration_us; }
-  double y_of(double ms) const { return top + plot_height * (1.0 - ms / y_max); }
+  double y_of(double value) const { return panel_top + panel_height * (1.0 - value / y_max); }
 };
 
 // The y axis reaches 10 % above the highest latency_limit or sample, so that every line shows.
@@ -95,6 +96,55 @@ void latency_lines(std::string& out, const PlotScale& scale, const Observations&
   }
 }
 
+// The link panels: each direction's delivered throughput (Mbit/s) and queueing delay (ms),
+// per vehicle (to_player solid, to_streamer dashed), on the latency plot's time axis.
+constexpr double link_panel_height = 110, link_panel_gap = 22;
+
+bool has_link_series(const Observations& obs) {
+  for (const auto& [name, data] : obs.vehicles) {
+    if (!data.to_player_link.throughput_mbps.empty() || !data.to_streamer_link.throughput_mbps.empty()) return true;
+  }
+  return false;
+}
+
+using LinkSeriesField = std::vector<Sample> LinkSeries::*;
+
+// One panel: frame, y ticks, its name, and a line per (vehicle, direction). Returns its bottom.
+double link_panel(std::string& out, PlotScale scale, const Observations& obs, LinkSeriesField field, const char* what) {
+  for (const auto& [name, data] : obs.vehicles) {
+    for (const Sample& s : data.to_player_link.*field) scale.y_max = std::max(scale.y_max, s.value * 1.1);
+    for (const Sample& s : data.to_streamer_link.*field) scale.y_max = std::max(scale.y_max, s.value * 1.1);
+  }
+  out += "<rect x=\"" + num(left) + "\" y=\"" + num(scale.panel_top) + "\" width=\"" + num(scale.plot_width) + "\" height=\"" +
+         num(scale.panel_height) + "\" fill=\"#fafafa\" stroke=\"#999\"/>\n";
+  for (int i = 0; i <= 2; ++i) {
+    const double value = scale.y_max * i / 2;
+    out += "<text x=\"" + num(left - 4) + "\" y=\"" + num(scale.y_of(value) + 3) + "\" text-anchor=\"end\">" +
+           format_number(value < 10 ? std::round(value * 10) / 10 : std::round(value)) + "</text>\n";
+  }
+  out += "<text x=\"4\" y=\"" + num(scale.panel_top + 10) + "\">" + escape(what) + "</text>\n";
+  std::size_t color = 0;
+  for (const auto& [name, data] : obs.vehicles) {
+    const std::string stroke = palette[color++ % 6];
+    const std::string metric = field == &LinkSeries::throughput_mbps ? "throughput_mbps " : "queueing_delay_ms ";
+    polyline(out, scale, data.to_player_link.*field, stroke, "", metric + name + " to_player");
+    polyline(out, scale, data.to_streamer_link.*field, stroke, "stroke-dasharray=\"4,2\"", metric + name + " to_streamer");
+  }
+  return scale.panel_top + scale.panel_height;
+}
+
+// Both link panels from `panels_top`; returns where the next thing may start.
+double link_panels(std::string& out, const PlotScale& latency, const Observations& obs, double panels_top) {
+  if (!has_link_series(obs)) return panels_top;
+  PlotScale scale = latency;
+  scale.y_max = 0.1;
+  scale.panel_height = link_panel_height;
+  scale.panel_top = panels_top;
+  const double throughput_bottom = link_panel(out, scale, obs, &LinkSeries::throughput_mbps, "link Mbit/s");
+  scale.panel_top = throughput_bottom + link_panel_gap / 2;
+  return link_panel(out, scale, obs, &LinkSeries::queueing_delay_ms, "queueing ms") + link_panel_gap / 2;
+}
+
 // A dashed vertical per fired timeline event, down through the bands, named at the top.
 void event_markers(std::string& out, const PlotScale& scale, const std::vector<FiredEvent>& fired, double height) {
   for (const FiredEvent& event : fired) {
@@ -129,12 +179,14 @@ void fault_bands(std::string& out, const PlotScale& scale, const RunResult& run,
 
 std::string svg(const RunReport& report) {
   const PlotScale scale = plot_scale(report);
-  const double bands_top = top + plot_height + 24;
+  std::string body;
+  const double bands_top = link_panels(body, scale, report.run->observations, top + plot_height + 24);
   const double height = bands_top + band_height * static_cast<double>(report.run->observations.faults.size()) + 20;
   std::string out = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + num(width) + "\" height=\"" + num(height) +
                     "\" font-family=\"sans-serif\" font-size=\"10\">\n";
   plot_axes(out, scale, *report.scenario);
   latency_lines(out, scale, report.run->observations);
+  out += body;
   event_markers(out, scale, report.run->fired, height);
   fault_bands(out, scale, *report.run, bands_top);
   out += "</svg>\n";
@@ -163,7 +215,10 @@ std::string report_html(const RunReport& report, const std::string& summary) {
          " simulated. Reproduce: <code>" + escape(report.reproduce) + "</code></p>\n";
   out += "<h2>Latency (ms) and faults</h2>\n<p>Lines: measured latency per vehicle (red dashes: latency_limit); "
          "dotted: ping per vehicle (the Player's ping_latency_ms, sampled every 100 ms); "
-         "bands: fault intervals (pink: vehicle side, teal: operator side); dashed verticals: timeline events.</p>\n";
+         "bands: fault intervals (pink: vehicle side, teal: operator side); dashed verticals: timeline events. "
+         "Under it, when the run observed its links: each direction's delivered throughput (Mbit/s per 100 ms) and "
+         "queueing delay (the highest one-way delay less the set propagation delay per 100 ms; solid: to_player, "
+         "the vehicle's uplink; dashed: to_streamer).</p>\n";
   out += svg(report);
   out += "<h2>Verdicts</h2>\n<table><tr><th></th><th>expectation</th><th>expected</th><th>actual</th><th>line</th></tr>\n";
   for (const Verdict& verdict : report.verdicts) {

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "ocp/delivery_trace.hpp"
+#include "ocp/link_recording.hpp"
 #include "vehicle_client/misbehaviour.hpp"
 
 namespace ocp::scenario {
@@ -44,8 +45,18 @@ std::string trace_file_text(const DeliveryTrace& trace) {
   return std::filesystem::absolute(trace.name()).lexically_normal().string();
 }
 
+std::string recording_file_text(const LinkRecording& recording) {
+  return std::filesystem::absolute(recording.name()).lexically_normal().string();
+}
+
 YAML::Node impairments_node(const Impairments& in) {
   YAML::Node out;
+  if (in.replay) {
+    // A replayed direction uses nothing else (and the parser refuses the rest beside it).
+    out["replay"] = recording_file_text(*in.replay);
+    out["down"] = in.down;
+    return out;
+  }
   out["delay"] = duration_text(in.delay);
   out["jitter"] = duration_text(in.jitter);
   out["jitter_kind"] = std::string(jitter_kind_name(in.jitter_kind));
@@ -94,6 +105,7 @@ void patch_fields(YAML::Node& out, const ImpairmentPatch& p) {
   if (p.queue_limit_bytes) out["queue_limit_bytes"] = *p.queue_limit_bytes;
   if (p.queue_limit_packets) out["queue_limit_packets"] = *p.queue_limit_packets;
   if (p.trace && *p.trace) out["trace"] = trace_file_text(**p.trace);
+  if (p.replay && *p.replay) out["replay"] = recording_file_text(**p.replay);
   if (p.duplicate) out["duplicate"] = shortest_number(*p.duplicate);
   if (p.reorder) out["reorder"] = shortest_number(*p.reorder);
   if (p.reorder_extra_delay) out["reorder_extra_delay"] = duration_text(*p.reorder_extra_delay);

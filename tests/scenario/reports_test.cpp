@@ -50,6 +50,41 @@ TEST(ScenarioReports, JunitOneCasePerExpectation) {
   EXPECT_NE(xml.find("<failure message=\"expected p(99) &lt; 5, actual p(99) = "), std::string::npos) << xml;
 }
 
+// The link panels: a trace-driven uplink's delivered throughput and queueing delay over time,
+// computed from the link events (the library's cellular collapse: 24 Mbit/s, 0.6 Mbit/s from
+// 4 s to 10 s, under 12 Mbit/s of video).
+TEST(ScenarioReports, TraceLinkThroughputAndQueueingDelayInTheReport) {
+  const Scenario scenario = load_scenario(std::string(OCP_SCENARIO_LIBRARY_DIR) + "/cellular_uplink_collapse.yaml");
+  const RunResult run = run_scenario(scenario, RunOptions{});
+  const LinkSeries& up = run.observations.vehicles.at("truck-1").to_player_link;
+  // Samples in [from, to) s: their mean, or (rate = true) the mean rate over the window, one
+  // sample per 100 ms bucket with deliveries.
+  const auto between = [](const std::vector<Sample>& series, double from_s, double to_s, bool rate) {
+    double sum = 0;
+    int count = 0;
+    for (const Sample& s : series) {
+      if (s.time >= SimTime{static_cast<std::int64_t>(from_s * 1e6)} && s.time < SimTime{static_cast<std::int64_t>(to_s * 1e6)}) {
+        sum += s.value;
+        ++count;
+      }
+    }
+    if (rate) return sum * 0.1 / (to_s - from_s);
+    return count == 0 ? -1.0 : sum / count;
+  };
+  EXPECT_NEAR(between(up.throughput_mbps, 1, 4, true), 12.1, 0.5);    // the video (and feedback) offered
+  // At most the collapsed capacity, 0.6 Mbit/s of 1500-byte opportunities: each small feedback
+  // message uses a whole one (Mahimahi's rule), so fewer bytes get through.
+  EXPECT_LE(between(up.throughput_mbps, 5, 10, true), 0.6);
+  EXPECT_GE(between(up.throughput_mbps, 5, 10, true), 0.2);
+  EXPECT_GT(between(up.queueing_delay_ms, 6, 10, false), 1000.0);     // a full 100-packet queue: ~2 s
+  EXPECT_LT(between(up.queueing_delay_ms, 12, 16, false), 30.0);      // drained: a frame's own packets only
+  RunReport report{&scenario, &run, evaluate(scenario, run), "repro"};
+  const std::string html = report_html(report, summary_json(report));
+  EXPECT_NE(html.find("<title>throughput_mbps truck-1 to_player</title>"), std::string::npos);
+  EXPECT_NE(html.find("<title>queueing_delay_ms truck-1 to_player</title>"), std::string::npos);
+  EXPECT_NE(html.find("<title>throughput_mbps truck-1 to_streamer</title>"), std::string::npos);
+}
+
 int run_tool(const std::string& arguments) {
   const int status = std::system((std::string(OCP_SCENARIO_PATH) + " " + arguments + " >/dev/null 2>&1").c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;

@@ -7,6 +7,7 @@
 #include <type_traits>
 
 #include "ocp/delivery_trace.hpp"
+#include "ocp/link_recording.hpp"
 #include "world/trace.hpp"
 
 namespace ocp {
@@ -146,6 +147,7 @@ void write_body(JsonWriter& json, const ImpairmentChange& change, const TraceOpt
     text(json, "trace", set.trace->name());
     number(json, "queue_limit_packets", set.queue_limit_packets);
   }
+  if (set.replay) text(json, "replay", set.replay->name());   // likewise
   real(json, "duplicate", set.duplicate_probability);
   real(json, "reorder", set.reorder_probability);
   signed_number(json, "reorder_extra_delay_us", set.reorder_extra_delay.count());

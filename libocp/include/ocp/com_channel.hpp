@@ -16,6 +16,7 @@
 #include "ocp/executor.hpp"
 #include "ocp/impairments.hpp"
 #include "ocp/link_messages.hpp"
+#include "ocp/link_recording.hpp"
 #include "ocp/trace_queue.hpp"
 
 namespace ocp {
@@ -68,6 +69,9 @@ class LinkDirection {
   void schedule_delivery(SimTime deliver_at, LinkMessage message, std::size_t size_bytes,
                          std::uint64_t message_id);
   void deliver(std::uint32_t slot);
+  // Replay (impairments_.replay): the next recorded outcome of this route, instead of the
+  // other impairments.
+  void send_replayed(LinkMessage message, std::size_t size_bytes, std::uint64_t message_id);
   void publish(LinkOutcome outcome, const LinkMessage& message, std::size_t size_bytes,
                std::uint64_t message_id, DropReason reason = DropReason::none);
   void drop(const LinkMessage& message, std::size_t size_bytes, std::uint64_t message_id,
@@ -83,6 +87,7 @@ class LinkDirection {
   mutable TraceQueue trace_queue_;  // trace-driven capacity (impairments_.trace)
   SimTime last_delivery_at_{};  // keeps FIFO order unless reordering is requested
   SimTime outage_until_{};      // outage_for(): down while now < outage_until_
+  std::uint64_t replay_next_ = 0;  // messages sent since the replay started
   // Messages in flight wait in a reused pool, so a delivery task captures only (this, slot):
   // std::function keeps that inline, with no allocation per message.
   struct InFlight {

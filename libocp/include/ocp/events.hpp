@@ -90,7 +90,7 @@ struct LatencySample {
 enum class LinkRoute : std::uint8_t { to_streamer, to_player };
 enum class LinkMessageKind : std::uint8_t { operator_control, feedback, video_frame, ping, pong };
 enum class LinkOutcome : std::uint8_t { sent, delivered, dropped };
-enum class DropReason : std::uint8_t { none, random_loss, burst_loss, outage, queue_full };
+enum class DropReason : std::uint8_t { none, random_loss, burst_loss, outage, queue_full, recorded_loss };
 struct LinkEvent {
   LinkRoute route = LinkRoute::to_streamer;
   LinkOutcome outcome = LinkOutcome::sent;

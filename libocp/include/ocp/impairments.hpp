@@ -9,6 +9,7 @@
 namespace ocp {
 
 class DeliveryTrace;  // delivery_trace.hpp
+class LinkRecording;  // link_recording.hpp
 
 struct Impairments {
   Micros delay{0};                   // fixed one-way delay
@@ -32,6 +33,10 @@ struct Impairments {
   double reorder_probability = 0.0;        // a reordered message gets `reorder_extra_delay`
   Micros reorder_extra_delay{0};
   bool down = false;                       // outage: everything sent while down is lost
+  // Replay of a recorded link (docs/link-recording.md): the direction's n-th message gets the
+  // recording's n-th outcome for its route (delay or loss), looping; it replaces every other
+  // field above except `down` and outages, which still drop (and use up their entry).
+  std::shared_ptr<const LinkRecording> replay = nullptr;
 };
 
 }  // namespace ocp

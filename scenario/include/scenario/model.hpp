@@ -34,6 +34,7 @@ struct ImpairmentPatch {
   std::optional<bool> burst_loss, down;
   std::optional<std::size_t> queue_limit_bytes, queue_limit_packets;
   std::optional<std::shared_ptr<const DeliveryTrace>> trace;
+  std::optional<std::shared_ptr<const LinkRecording>> replay;
 };
 Impairments apply_patch(Impairments base, const ImpairmentPatch& patch);
 // Linear interpolation of the numeric fields (delay, jitter, probabilities, bandwidth) at

@@ -34,12 +34,21 @@ struct RouteCounters {
   std::uint64_t sent = 0, delivered = 0, dropped = 0;
 };
 
+// One link direction over time, for the report's plot (link_series.cpp): per 100 ms bucket
+// with deliveries, the delivered throughput and the highest queueing delay (one-way delay
+// less the set propagation delay); empty buckets between deliveries read 0 Mbit/s.
+struct LinkSeries {
+  std::vector<Sample> throughput_mbps;
+  std::vector<Sample> queueing_delay_ms;
+};
+
 struct VehicleObservations {
   std::vector<Sample> latency_ms;      // per Streamer control tick with a valid pair
   std::vector<Sample> echo_delay_ms;   // control frame out → the response echoing its pair in
   std::vector<Sample> control_gap_ms;  // between consecutive control frames to the vehicle
   std::vector<Sample> feedback_gap_ms; // between consecutive feedback deliveries at the Player
   RouteCounters to_streamer, to_player;
+  LinkSeries to_streamer_link, to_player_link;   // only when the run observes link events
   // The Player's ping_latency_ms, sampled every 100 ms by the runner (not an event: for the
   // report's plot only, never for a verdict).
   std::vector<Sample> ping_ms;
