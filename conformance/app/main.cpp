@@ -12,6 +12,7 @@
 #include "conformance/baseline.hpp"
 #include "conformance/coverage.hpp"
 #include "conformance/reports.hpp"
+#include "conformance/requirements.hpp"
 #include "conformance/runner.hpp"
 #include "conformance/vehicle_cases.hpp"
 #include "sim_app/client_process.hpp"
@@ -52,7 +53,7 @@ void add_suite_options(CLI::App& suite, bool is_vehicle, SuiteCommandLine& line)
   suite.add_flag("--markdown", line.markdown, "With --list: the Markdown table of docs/conformance.md")->needs(list);
   // One list at a time: without --list, or with another format, it is a usage error (exit 2).
   CLI::Option* coverage =
-      suite.add_flag("--coverage", line.coverage, "With --list: the Markdown coverage table (requirement, source, tier, case, broken client)")
+      suite.add_flag("--coverage", line.coverage, "With --list: the Markdown coverage table, one row per client-side requirement (source, tier, cases, broken clients)")
           ->needs(list);
   suite.add_flag("--broken-clients", line.broken_clients,
                  "With --list: every broken client that must fail a case, one a line: id, tier, verdict, cases, client (tab-separated)")
@@ -73,11 +74,11 @@ void add_suite_options(CLI::App& suite, bool is_vehicle, SuiteCommandLine& line)
   suite.add_option("command", line.command, "-- CMD ARGS…: launch the client; OCP_PORT and {port} carry the port");
 }
 
-void print_case_list(const std::vector<VehicleCase>& cases, const SuiteCommandLine& line) {
+void print_case_list(const std::vector<VehicleCase>& cases, const SuiteCommandLine& line, bool operator_suite) {
   std::vector<CaseInfo> infos;
   for (const auto& c : cases) infos.push_back(c.body.info);
   if (line.coverage) {
-    std::cout << coverage_table(infos);
+    std::cout << requirement_table(operator_suite ? operator_requirements() : vehicle_requirements(), infos);
   } else if (line.broken_clients) {
     std::cout << broken_client_lines(infos);
   } else {
@@ -142,7 +143,7 @@ int main(int argc, char** argv) {
   const std::string suite_name = operator_suite ? "operator" : "vehicle";
   std::vector<VehicleCase> cases = select_cases(operator_suite ? operator_cases() : vehicle_cases(), line.include, line.exclude);
   if (line.list) {
-    print_case_list(cases, line);
+    print_case_list(cases, line, operator_suite);
     return 0;
   }
   if (cases.empty()) {

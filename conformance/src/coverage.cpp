@@ -60,20 +60,6 @@ std::vector<BrokenClientRun> broken_client_runs(const CaseInfo& info) {
   return runs;
 }
 
-std::string coverage_table(const std::vector<CaseInfo>& cases) {
-  std::string out = "| requirement | source | tier | case | broken client that fails it |\n|---|---|---|---|---|\n";
-  for (const CaseInfo& info : cases) {
-    std::string clients;
-    for (const BrokenClientRun& run : broken_client_runs(info)) {
-      clients += fmt::format("{}`{}` ({}{})", clients.empty() ? "" : "<br>", run.client, run.verdict,
-                             run.cases == run.case_id ? "" : ", with " + run.cases.substr(run.case_id.size() + 1));
-    }
-    if (clients.empty()) clients = info.tier == Tier::info ? "— (INFO: never fails)" : "**none**";
-    out += fmt::format("| {} | {} | {} | `{}` | {} |\n", info.title, info.source, tier_name(info.tier), info.id, clients);
-  }
-  return out;
-}
-
 std::string broken_client_lines(const std::vector<CaseInfo>& cases) {
   std::string out;
   for (const CaseInfo& info : cases) {

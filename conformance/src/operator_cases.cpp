@@ -114,7 +114,7 @@ void add_operator_echo_cases(std::vector<VehicleCase>& cases) {
                      Tier::must, milliseconds(10'000),
                      {"OK: the client sends frames in 1.5 s, none oversized, the Player never closes the connection for bad input; "
                       "and every frame of every other case of the run is valid too (a standing rule: the first offending frame is named)"},
-                     "broken_client.py op-oversized; broken_client.py op-once-oversized (with operator/4.2/1)"},
+                     "broken_client.py op-oversized; broken_client.py op-malformed; broken_client.py op-once-oversized (with operator/4.2/1)"},
                     valid_frames, client_frame_rule},
                    op});
   cases.push_back({{{"operator/4.2/1", "returns the latest pair per vehicle, unchanged", "SPEC §4.1, §4.2",

@@ -39,7 +39,7 @@ OPERATOR = {"op-echo", "op-corrupt", "op-stale", "op-double", "op-oversized", "o
             "op-no-active", "op-monitor-active", "op-naive-recv", "op-reject-oversized",
             # The product's other VehicleOcpShared shapes (operator/4.1/1): each chokes on one.
             "op-need-vehicle-data", "op-no-lost-camera", "op-need-latency", "op-need-last-input", "op-strict-schema",
-            "op-fixed-active", "op-once-oversized", "op-reconnect-at-once", "op-reconnect-slowly"}
+            "op-fixed-active", "op-once-oversized", "op-reconnect-at-once", "op-reconnect-slowly", "op-malformed"}
 HOSTILE = {"garbage", "flood", "huge-prefix", "half-open", "never-read"}
 FAULT_NAMES = {"", "Vehicle No Response", "No Control Message", "Camera Lost", "Streamer Slow", "High Latency",
                "Operator Station Has Error", "Latency Loop Not Closed", "Control Thread Channel Slow"}
@@ -242,6 +242,15 @@ def operator_shape_bugs(msg, feedback):
             raise ValueError("unknown field")
 
 
+def operator_frame(reply):
+    """A ClientOcpShared frame; op-malformed: Bug: its JSON is cut short (a hand-rolled encoder)."""
+    data = frame(reply)
+    if MODE == "op-malformed":
+        payload = data[4:-1]
+        return struct.pack("<I", len(payload)) + payload
+    return data
+
+
 def operator_session(sock):
     """One :4001 connection: a reply to every VehicleOcpShared, a keep-alive {} after 0.5 s
     without sending anything."""
@@ -280,7 +289,7 @@ def operator_session(sock):
                 data = b""
             for payload in deframer.feed(data):
                 msg = json.loads(payload)
-                sock.sendall(frame(operator_reply(msg, state)))
+                sock.sendall(operator_frame(operator_reply(msg, state)))
                 last_sent = time.monotonic()
             if MODE != "op-no-keepalive" and time.monotonic() - last_sent >= KEEP_ALIVE_S:
                 sock.sendall(frame({}))

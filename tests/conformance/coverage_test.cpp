@@ -1,8 +1,11 @@
-// The coverage table's parser (conformance/coverage.hpp) and the standing rules' helpers
-// (conformance/standing_rules.hpp): pure functions, no client.
+// The coverage table's parser (conformance/coverage.hpp), the requirement table and its checker
+// (conformance/requirements.hpp) and the standing rules' helpers (conformance/standing_rules.hpp):
+// pure functions, no client.
 #include <gtest/gtest.h>
 
 #include "conformance/coverage.hpp"
+#include "conformance/requirements.hpp"
+#include "conformance/vehicle_cases.hpp"
 #include "conformance/standing_rules.hpp"
 
 namespace ocp::conformance {
@@ -43,11 +46,75 @@ TEST(Coverage, ShouldCasesExpectNonStrictAndInfoCasesNameNoClient) {
   EXPECT_TRUE(broken_client_runs(coverage_sample("v/1/2", Tier::info, "never fails (INFO)")).empty());
 }
 
-TEST(Coverage, TableMarksAMustCaseWithoutABrokenClient) {
-  const std::string table = coverage_table({coverage_sample("v/1/1", Tier::must, "nobody yet"),
-                                            coverage_sample("v/1/2", Tier::must, "broken_client.py a")});
-  EXPECT_NE(table.find("| a rule | SPEC §2 | MUST | `v/1/1` | **none** |"), std::string::npos) << table;
-  EXPECT_NE(table.find("`broken_client.py a` (FAILED)"), std::string::npos) << table;
+// The checker behind ConformanceCoverage.EveryRequirementHasACaseAndABrokenClient, on a
+// made-up table: each way a table can fall short is reported.
+Requirement requirement_sample(const std::string& id, Tier tier, std::vector<std::string> cases, std::vector<std::string> broken_by,
+                               std::string not_covered = "") {
+  return {id, "a rule", "SPEC §2", tier, std::move(cases), std::move(broken_by), std::move(not_covered)};
+}
+
+bool mentions(const std::vector<std::string>& problems, const std::string& text) {
+  for (const auto& p : problems) {
+    if (p.find(text) != std::string::npos) return true;
+  }
+  return false;
+}
+
+TEST(Requirements, CheckerPassesACompleteTable) {
+  const std::vector<CaseInfo> cases{coverage_sample("v/1/1", Tier::must, "broken_client.py a (or b)"),
+                                    coverage_sample("v/1/2", Tier::info, "never fails (INFO)")};
+  const auto problems = requirement_problems({requirement_sample("V-1", Tier::must, {"v/1/1"}, {"broken_client.py b"}),
+                                              requirement_sample("V-2", Tier::should, {}, {}, "not on the wire")},
+                                             cases);
+  EXPECT_TRUE(problems.empty()) << problems.front();
+}
+
+TEST(Requirements, CheckerFailsEveryGap) {
+  const std::vector<CaseInfo> cases{coverage_sample("v/1/1", Tier::must, "broken_client.py a"),
+                                    coverage_sample("v/1/2", Tier::should, "broken_client.py c"),
+                                    coverage_sample("v/1/3", Tier::must, "nobody yet")};
+  const auto problems = requirement_problems({requirement_sample("V-must-no-case", Tier::must, {}, {}, "too hard"),
+                                              requirement_sample("V-no-reason", Tier::should, {}, {}),
+                                              requirement_sample("V-no-client", Tier::must, {"v/1/1"}, {}),
+                                              requirement_sample("V-wrong-client", Tier::must, {"v/1/1"}, {"broken_client.py c"}),
+                                              requirement_sample("V-ghost", Tier::must, {"v/9/9"}, {"broken_client.py a"}),
+                                              requirement_sample("V-no-client", Tier::should, {"v/1/1"}, {"broken_client.py a"})},
+                                             cases);
+  EXPECT_TRUE(mentions(problems, "V-must-no-case (MUST) has no case"));
+  EXPECT_TRUE(mentions(problems, "V-no-reason has no case and does not say why"));
+  EXPECT_TRUE(mentions(problems, "V-no-client names no broken client"));
+  EXPECT_TRUE(mentions(problems, "V-wrong-client: `broken_client.py c` is not a broken client of its cases"));
+  EXPECT_TRUE(mentions(problems, "V-ghost names case v/9/9, which does not exist"));
+  EXPECT_TRUE(mentions(problems, "V-no-client is listed twice"));
+  EXPECT_TRUE(mentions(problems, "case v/1/2 covers no requirement"));
+  EXPECT_FALSE(mentions(problems, "case v/1/1 covers no requirement"));
+  // Also: V-ghost's client is no run of its (missing) case, and v/1/3 covers no requirement.
+  EXPECT_EQ(problems.size(), 9u);
+}
+
+TEST(Requirements, TableShowsCasesVerdictsAndWhyARowIsNotCovered) {
+  const std::vector<CaseInfo> cases{coverage_sample("v/1/1", Tier::must, "broken_client.py a (with v/1/2)")};
+  const std::string table = requirement_table({requirement_sample("V-1", Tier::must, {"v/1/1"}, {"broken_client.py a"}),
+                                               requirement_sample("V-2", Tier::should, {}, {}, "not on the wire")},
+                                              cases);
+  EXPECT_NE(table.find("| `V-1` | a rule | SPEC §2 | MUST | `v/1/1` | `broken_client.py a` (FAILED on `v/1/1`, with v/1/2) |"),
+            std::string::npos)
+      << table;
+  EXPECT_NE(table.find("| `V-2` | a rule | SPEC §2 | SHOULD | — | not covered: not on the wire |"), std::string::npos) << table;
+}
+
+// The real tables: every MUST requirement has a case, every covered one a broken client its
+// cases name (so CoverageBrokenClient.GetsItsVerdict runs it), every case covers one.
+std::vector<CaseInfo> requirement_case_infos(const std::vector<VehicleCase>& cases) {
+  std::vector<CaseInfo> infos;
+  for (const auto& c : cases) infos.push_back(c.body.info);
+  return infos;
+}
+
+TEST(Requirements, EveryRequirementHasACaseAndABrokenClient) {
+  for (const auto& problem : requirement_problems(vehicle_requirements(), requirement_case_infos(vehicle_cases()))) ADD_FAILURE() << problem;
+  for (const auto& problem : requirement_problems(operator_requirements(), requirement_case_infos(operator_cases()))) ADD_FAILURE() << problem;
+  EXPECT_GE(vehicle_requirements().size() + operator_requirements().size(), 50u);
 }
 
 WireLogEntry standing_sample(std::int64_t time_us, std::string text, bool drained = false) {

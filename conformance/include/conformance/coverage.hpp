@@ -1,8 +1,7 @@
 #pragma once
-// The coverage table of docs/conformance.md (issue #26): one row per client-side requirement
-// (each case is one), with its source, tier, case id and the broken clients that fail it —
-// all read off the case definitions, so the table cannot drift from the code. The broken
-// clients are parsed from CaseInfo::broken_by, whose grammar is fixed here:
+// The broken clients each case names (issue #26), parsed from CaseInfo::broken_by: the
+// coverage table of docs/conformance.md (requirements.hpp, one row per requirement) and the
+// tests' one run per broken client read them from here. The grammar:
 //
 //   broken_by   := "never fails (INFO)" | part ( "; " part )*
 //   part        := client [ " (" note ")" ]
@@ -33,8 +32,6 @@ struct BrokenClientRun {
 
 // Every broken client the case names, each alternative separately.
 std::vector<BrokenClientRun> broken_client_runs(const CaseInfo& info);
-// --list --coverage: the Markdown coverage table.
-std::string coverage_table(const std::vector<CaseInfo>& cases);
 // --list --broken-clients: one line per run, tab-separated: case id, tier, verdict, cases, client.
 std::string broken_client_lines(const std::vector<CaseInfo>& cases);
 
