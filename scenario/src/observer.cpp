@@ -126,6 +126,7 @@ void Observer::record_delivery(std::string_view name, const WireFrame& frame, Si
       if (message->controller) {
         delivery.controller = message->controller->is_safe_default() ? Delivery::Controller::default_
                                                                      : Delivery::Controller::driving;
+        delivery.controller_value = *message->controller;
       }
       if (message->client_user_data) delivery.user_data_json = message->client_user_data->text;
       observations_.deliveries.push_back(std::move(delivery));

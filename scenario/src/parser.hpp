@@ -53,21 +53,35 @@ class Parser {
   GamepadAction gamepad_action(const YAML::Node& n, TimelineEvent& event);
   SelectVehicle select_vehicle_action(const YAML::Node& n, TimelineEvent& event);
   ClientDataAction client_data(const YAML::Node& n, TimelineEvent& event);
+  void warn_unknown_client_vehicle(const YAML::Node& node, const std::string& name, std::string_view effect);
   void expectations(const YAML::Node& node);
   // `after`: an event name or a time.
   std::pair<SimTime, std::string> anchor(const YAML::Node& node);
   void fault_expectation(const YAML::Node& node);
   // The three kinds of fault expectation, once fault_expectation has told which one a node is.
   void fault_never_expectation(const YAML::Node& node, FaultId fault, const std::optional<std::string>& vehicle);
+  void fault_always_expectation(const YAML::Node& node, FaultId fault, std::optional<std::string> vehicle);
+  struct ExpectWindow {
+    SimTime from{0};
+    std::string from_label;
+    std::optional<SimTime> until;   // nullopt: the end of the run
+    std::string until_label;
+  };
+  ExpectWindow expect_window(const YAML::Node& node);
   void fault_edge_expectations(const YAML::Node& node, FaultId fault, std::optional<std::string> vehicle);
   std::string edge_window(const YAML::Node& within, FaultEdgeExpectation& expectation);
   void fault_state_expectation(const YAML::Node& node, FaultId fault);
   std::vector<std::string> vehicle_names(const YAML::Node& list, std::string_view key);
   void delivery_expectation(const YAML::Node& node);
+  std::string delivery_what(const YAML::Node& node, DeliveryExpectation& e);
+  std::vector<ControllerFieldValue> controller_field_values(const YAML::Node& node);
   void threshold_expectations(const YAML::Node& key, const YAML::Node& list);
 
   YamlReader read_;
   Scenario scenario_;
+  // The file expects its world to refuse to start: the world checks that the simulator makes
+  // too are left to it (parse_world.cpp).
+  bool expects_refusal_ = false;
   std::map<std::string, std::shared_ptr<const DeliveryTrace>> delivery_traces_;
 };
 

@@ -58,6 +58,7 @@ struct Delivery {
   SimTime time{0};
   std::string vehicle;
   enum class Controller { null, default_, driving } controller = Controller::null;
+  std::optional<ocp::Controller> controller_value;   // the decoded state, unless null
   std::optional<std::string> user_data_json;
 };
 
