@@ -11,7 +11,7 @@
 namespace ocp::scenario {
 
 void Parser::expectations(const YAML::Node& node) {
-  read_.check_keys(node, "expect", {"faults", "thresholds", "invariants", "delivered", "refuses_to_start"});
+  read_.check_keys(node, "expect", {"faults", "thresholds", "invariants", "delivered", "refuses_to_start", "events"});
   if (const YAML::Node refusal = node["refuses_to_start"]) {
     // A world that never starts has nothing else to judge.
     if (node.size() != 1) read_.fail(refusal, "refuses_to_start is the only expectation a world that never starts can have");
@@ -23,6 +23,10 @@ void Parser::expectations(const YAML::Node& node) {
   if (const YAML::Node delivered = node["delivered"]) {
     if (!delivered.IsSequence()) read_.fail(delivered, "expect.delivered: expected a list");
     for (const auto& item : delivered) delivery_expectation(item);
+  }
+  if (const YAML::Node events = node["events"]) {
+    if (!events.IsSequence()) read_.fail(events, "expect.events: expected a list");
+    for (const auto& item : events) event_expectation(item);
   }
   if (const YAML::Node faults = node["faults"]) {
     if (!faults.IsSequence()) read_.fail(faults, "expect.faults: expected a list");

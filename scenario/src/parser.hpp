@@ -75,6 +75,10 @@ class Parser {
   void delivery_expectation(const YAML::Node& node);
   std::string delivery_what(const YAML::Node& node, DeliveryExpectation& e);
   std::vector<ControllerFieldValue> controller_field_values(const YAML::Node& node);
+  // parse_expect_events.cpp: source locks and conflicts, connection closes and refusals.
+  void event_expectation(const YAML::Node& node);
+  ClientSource client_source(const YAML::Node& node);
+  std::string event_subject(const YAML::Node& node, EventExpectation& e);
   void threshold_expectations(const YAML::Node& key, const YAML::Node& list);
 
   YamlReader read_;

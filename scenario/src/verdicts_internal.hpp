@@ -37,5 +37,6 @@ void judge_fault_never(const JudgeContext& context, const FaultNeverExpectation&
 void judge_fault_always(const JudgeContext& context, const FaultAlwaysExpectation& e, Verdict& v);
 void judge_refusal(const JudgeContext& context, const RefusesToStartExpectation& e, Verdict& v);
 void judge_delivery(const JudgeContext& context, const DeliveryExpectation& e, Verdict& v);
+void judge_event(const JudgeContext& context, const EventExpectation& e, Verdict& v);
 
 }  // namespace ocp::scenario

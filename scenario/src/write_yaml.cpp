@@ -326,6 +326,24 @@ struct ExpectationWriter {
     expect["faults"].push_back(node);
   }
   void operator()(const RefusesToStartExpectation& e) { expect["refuses_to_start"] = e.reason; }
+  void operator()(const EventExpectation& e) {
+    YAML::Node node;
+    node["event"] = std::string(notable_kind_name(e.kind));
+    if (e.wire == Wire::operator_) node["wire"] = "operator";
+    if (e.vehicle) node["vehicle"] = *e.vehicle;
+    if (e.locked) node["locked"] = std::string(client_source_name(*e.locked));
+    if (e.source) node["source"] = std::string(client_source_name(*e.source));
+    if (!e.reason.empty()) node["reason"] = e.reason;
+    if (e.never) {
+      node["never"] = true;
+      if (e.from > Micros{0}) node["from"] = duration_text(e.from);
+      if (e.until) node["until"] = duration_text(*e.until);
+    } else {
+      node["after"] = duration_text(e.from);
+      node["within"] = duration_text(*e.until - e.from);
+    }
+    expect["events"].push_back(node);
+  }
   void operator()(const FaultStateExpectation& e) {
     YAML::Node node;
     node["fault"] = std::string(fault_identifier(e.fault));

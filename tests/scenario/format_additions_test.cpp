@@ -218,3 +218,72 @@ TEST(FormatAdditions, RefusesToStartIsTheOnlyExpectation) {
 
 }  // namespace
 }  // namespace ocp::scenario
+
+namespace ocp::scenario {
+namespace {
+
+// --- notable events: source lock and conflict, connection closes ---------------------------
+const std::string two_sources = test::one_vehicle(R"(timeline:
+  - {at: 2s, name: plugin_starts, client_data: {source: plugin, vehicles: {truck-1: {user_data: {a: 1}}}, every: 50ms}}
+  - {at: 3s, name: webview_too, client_data: {source: webview, vehicles: {truck-1: {user_data: {a: 2}}}}}
+expect:
+  events:
+)");
+
+TEST(FormatAdditions, SourceLockAndConflict) {
+  const std::string yaml = two_sources + R"(    - {event: source_locked, source: plugin, after: plugin_starts, within: 10ms}
+    - {event: source_conflict, locked: plugin, source: webview, after: webview_too, within: 10ms}
+    - {event: source_conflict, never: true, until: 2900ms}
+)";
+  const auto outcome = run_text(yaml);
+  ASSERT_EQ(outcome.verdicts.size(), 3u);
+  for (const Verdict& verdict : outcome.verdicts) EXPECT_TRUE(verdict.passed) << verdict.title << ": " << verdict.actual;
+  EXPECT_EQ(outcome.verdicts[1].actual, "source_conflict locked plugin offending webview at 3s");
+  expect_round_trip(yaml);
+}
+
+TEST(FormatAdditions, SourceEventsThatDidNotHappenSo) {
+  const auto outcome = run_text(two_sources + R"(    - {event: source_locked, source: webview, after: 0s, within: 5s}
+    - {event: source_conflict, never: true}
+)");
+  ASSERT_EQ(outcome.verdicts.size(), 2u);
+  EXPECT_FALSE(outcome.verdicts[0].passed);
+  EXPECT_EQ(outcome.verdicts[0].actual, "none in the window; nearest: source_locked plugin at 2s");
+  EXPECT_FALSE(outcome.verdicts[1].passed);
+  EXPECT_EQ(outcome.verdicts[1].actual, "1 time(s), first: source_conflict locked plugin offending webview at 3s");
+}
+
+const std::string disconnect_at_1s = test::one_vehicle(R"(timeline:
+  - {at: 1s, name: cut, disconnect: {}}
+expect:
+  events:
+)");
+
+TEST(FormatAdditions, ConnectionClosedWithItsReason) {
+  const auto probe = run_text(disconnect_at_1s + "    - {event: connection_closed, vehicle: truck-1, after: cut, within: 100ms}\n");
+  ASSERT_TRUE(only(probe).passed) << only(probe).actual;
+  const std::string yaml = disconnect_at_1s + "    - {event: connection_closed, vehicle: truck-1, reason: closed, after: cut, within: 100ms}\n";
+  const auto outcome = run_text(yaml);
+  EXPECT_TRUE(only(outcome).passed) << only(outcome).actual;
+  expect_round_trip(yaml);
+}
+
+TEST(FormatAdditions, ConnectionClosedForAnotherReason) {
+  const auto outcome = run_text(disconnect_at_1s +
+                                "    - {event: connection_closed, vehicle: truck-1, reason: frame too large, after: cut, within: 100ms}\n");
+  EXPECT_FALSE(only(outcome).passed);
+  EXPECT_EQ(only(outcome).actual.rfind("none in the window; nearest: connection_closed on truck-1 '", 0), 0u) << only(outcome).actual;
+}
+
+TEST(FormatAdditions, BadEventExpectationsAreRefused) {
+  for (const char* item : {"{event: source_locked, vehicle: truck-1, after: 1s, within: 1s}",
+                           "{event: connection_closed, source: tcp, after: 1s, within: 1s}",
+                           "{event: source_locked, never: true, after: 1s}", "{event: source_locked, from: 1s, within: 1s}",
+                           "{event: lock, after: 1s, within: 1s}", "{event: source_locked, source: usb, after: 1s, within: 1s}"}) {
+    EXPECT_THROW(parse_scenario(test::one_vehicle(std::string("expect:\n  events:\n    - ") + item + "\n"), "x.yaml"), ScenarioError)
+        << item;
+  }
+}
+
+}  // namespace
+}  // namespace ocp::scenario

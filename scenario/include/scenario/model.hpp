@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "ocp/client_source.hpp"
+#include "ocp/events.hpp"
 #include "ocp/faults.hpp"
 #include "ocp/impairments.hpp"
 #include "ocp/time.hpp"
@@ -188,6 +189,27 @@ struct DeliveryExpectation {
   std::vector<ControllerFieldValue> fields;    // a controller with these values (not null)
 };
 
+// Rare events on the stream that say what the operator side and the connections did: a
+// client-data source locked (SPEC §4.3), a second source in conflict with it, a connection
+// closed (with its reason) or refused (a second connection, SPEC §3.1).
+enum class NotableKind { source_locked, source_conflict, connection_closed, connection_refused };
+std::string_view notable_kind_name(NotableKind kind);
+
+// Such an event must happen in [from, until] (written `after` + `within`), or, with `never`,
+// must not (written `never: true` with an optional `from` / `until`).
+struct EventExpectation {
+  NotableKind kind = NotableKind::source_conflict;
+  bool never = false;
+  std::optional<std::string> vehicle;    // connection events: that vehicle's wire (nullopt: any)
+  Wire wire = Wire::vehicle;             // connection events: vehicle or operator wire
+  std::optional<ClientSource> source;    // source_locked: the source; source_conflict: the offending one
+  std::optional<ClientSource> locked;    // source_conflict: the locked one
+  std::string reason;                    // connection events: text the close reason must contain
+  SimTime from{0};
+  std::string from_label;
+  std::optional<SimTime> until;          // nullopt: the end of the run (never only)
+};
+
 // The world must refuse to start, with a reason containing this text (a configuration the
 // simulator rejects, written down as a regression test instead of an error).
 struct RefusesToStartExpectation {
@@ -196,7 +218,7 @@ struct RefusesToStartExpectation {
 
 using ExpectationKind = std::variant<FaultEdgeExpectation, FaultNeverExpectation, FaultAlwaysExpectation,
                                      FaultStateExpectation, ThresholdExpectation, InvariantExpectation,
-                                     DeliveryExpectation, RefusesToStartExpectation>;
+                                     DeliveryExpectation, RefusesToStartExpectation, EventExpectation>;
 struct Expectation {
   std::string title;   // one line, as printed in the verdict list
   Mark mark;
