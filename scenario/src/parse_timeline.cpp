@@ -211,6 +211,14 @@ SelectVehicle Parser::select_vehicle_action(const YAML::Node& n, TimelineEvent& 
   return select;
 }
 
+// `misbehave: {bad_response: missing_field}`: the names of misbehaviour.hpp, with _ or -.
+BadResponse Parser::bad_response(const YAML::Node& node) {
+  const std::string name = read_.text(node);
+  if (const auto kind = parse_bad_response(name)) return *kind;
+  read_.fail_unknown(node, "bad_response", name,
+                     {"none", "missing_field", "wrong_type", "not_an_object", "ack_time_out_of_range", "eof_mid_frame"});
+}
+
 // Client data may name a vehicle the Player does not have: SPEC §4.2 has it warn and go on,
 // so a file may send it (to test just that), with a warning in case it is a typo.
 void Parser::warn_unknown_client_vehicle(const YAML::Node& node, const std::string& name, std::string_view effect) {

@@ -29,6 +29,7 @@ class Parser {
   VehicleSpec vehicle(const YAML::Node& node);
   // `targeted`: the timeline's misbehave action, which also names the vehicle.
   void misbehave(const YAML::Node& node, Misbehaviour& m, bool targeted = false);
+  BadResponse bad_response(const YAML::Node& node);
   // `targeted`: the timeline's impair action, which also names vehicle and direction.
   ImpairmentPatch impairments(const YAML::Node& node, bool targeted = false);
   // A `trace:` value: the Mahimahi file, relative to the scenario file, loaded once per path.

@@ -108,6 +108,11 @@ void misbehave_fields(YAML::Node& out, const Misbehaviour& m) {
   out["ack_through_double"] = m.ack_through_double;
   out["malformed_json"] = m.malformed_json;
   out["silent"] = m.silent;
+  if (m.bad_response != BadResponse::none) {
+    std::string name(bad_response_name(m.bad_response));
+    for (char& c : name) c = c == '-' ? '_' : c;   // as scenario files write it
+    out["bad_response"] = name;
+  }
 }
 
 // The recording format's field syntax of one state ("a=1 left_x=0.5").

@@ -287,3 +287,46 @@ TEST(FormatAdditions, BadEventExpectationsAreRefused) {
 
 }  // namespace
 }  // namespace ocp::scenario
+
+namespace ocp::scenario {
+namespace {
+
+// --- broken responses from the in-process vehicle client (SPEC §2: the Streamer closes) -------
+struct BadResponseCase {
+  const char* kind;
+  const char* reason;   // what the Streamer's close reason says
+};
+
+class BadResponses : public ::testing::TestWithParam<BadResponseCase> {};
+
+std::string bad_response_world(const std::string& kind, const std::string& expectation) {
+  return test::one_vehicle("timeline:\n  - {at: 1s, name: broken, misbehave: {bad_response: " + kind +
+                           "}}\n  - {at: 2s, name: fixed, misbehave: {bad_response: none}}\nexpect:\n  events:\n    - " +
+                           expectation + "\n");
+}
+
+TEST_P(BadResponses, TheStreamerClosesTheConnectionSayingWhy) {
+  const std::string yaml = bad_response_world(
+      GetParam().kind, std::string("{event: connection_closed, vehicle: truck-1, reason: \"") + GetParam().reason +
+                           "\", after: broken, within: 50ms}");
+  const auto outcome = run_text(yaml);
+  EXPECT_TRUE(only(outcome).passed) << only(outcome).actual;
+  expect_round_trip(yaml);
+}
+
+TEST_P(BadResponses, NoCloseBeforeTheMisbehaviour) {
+  const auto outcome = run_text(bad_response_world(GetParam().kind, "{event: connection_closed, never: true}"));
+  EXPECT_FALSE(only(outcome).passed);
+  EXPECT_NE(only(outcome).actual.find("first: connection_closed on truck-1 '"), std::string::npos) << only(outcome).actual;
+}
+
+INSTANTIATE_TEST_SUITE_P(FormatAdditions, BadResponses,
+                         ::testing::Values(BadResponseCase{"missing_field", "missing field: ack_time_mac"},
+                                           BadResponseCase{"wrong_type", "wrong type: ack_time"},
+                                           BadResponseCase{"not_an_object", "not a JSON object"},
+                                           BadResponseCase{"ack_time_out_of_range", "out of range: ack_time"},
+                                           BadResponseCase{"eof_mid_frame", "truncated frame: stream ended inside"}),
+                         [](const auto& info) { return std::string(info.param.kind); });
+
+}  // namespace
+}  // namespace ocp::scenario
