@@ -49,7 +49,7 @@ void Parser::timeline(const YAML::Node& node) {
     read_.check_keys(item, "timeline event",
                      {"at", "name", "impair", "ramp", "outage", "camera_stall", "camera_unstall",
                       "frame_loop_stall", "control_thread_stall", "disconnect", "misbehave", "gamepad",
-                      "select_vehicle", "client_data"});
+                      "select_vehicle", "client_data", "second_connection"});
     TimelineEvent event;
     event.mark = read_.mark(item);
     event.at = read_.duration(read_.require(item, "at", "timeline event"));
@@ -88,6 +88,8 @@ void Parser::action(const YAML::Node& item, TimelineEvent& event) {
     event.action = stall;
   } else if (const YAML::Node n = item["disconnect"]) {
     event.action = disconnect_action(n, event);
+  } else if (const YAML::Node n = item["second_connection"]) {
+    event.action = second_connection_action(n, event);
   } else if (const YAML::Node n = item["misbehave"]) {
     event.action = misbehave_action(n, event);
   } else if (const YAML::Node n = item["gamepad"]) {
@@ -171,6 +173,15 @@ DisconnectVehicle Parser::disconnect_action(const YAML::Node& n, TimelineEvent& 
   if (!find_vehicle(disconnect.vehicle)->in_process_client) read_.fail(n, "disconnect needs an in-process client");
   event.label = "disconnect " + disconnect.vehicle;
   return disconnect;
+}
+
+// Second to the in-process client's connection: without one it would be the first.
+SecondConnection Parser::second_connection_action(const YAML::Node& n, TimelineEvent& event) {
+  read_.check_keys(n, "second_connection", {"vehicle"});
+  SecondConnection second{vehicle_of(n, "second_connection")};
+  if (!find_vehicle(second.vehicle)->in_process_client) read_.fail(n, "second_connection needs an in-process client");
+  event.label = "second connection " + second.vehicle;
+  return second;
 }
 
 // Only an in-process client can be told to misbehave.

@@ -6,6 +6,7 @@
 #include <functional>
 #include <memory>
 
+#include "ocp/pipe.hpp"
 #include "vehicle_client/misbehaviour.hpp"
 #include "world_setup.hpp"
 
@@ -76,6 +77,16 @@ class Actions {
     executor_.call_after(stall.duration, [&streamer] { streamer.set_control_thread_stalled(false); });
   }
   void operator()(const DisconnectVehicle& disconnect) { world_.drop_vehicle_connection(disconnect.vehicle); }
+  // The far end stays open (kept here) until the run ends: only the Streamer may close it.
+  void operator()(const SecondConnection& second) {
+    PipeOptions options;
+    options.one_way_delay = world_.config().vehicle_pipe_delay;
+    options.name_a = "pipe:second-client:" + second.vehicle;
+    options.name_b = "pipe:streamer:" + second.vehicle;
+    PipeEnds ends = make_pipe(executor_, options);
+    second_connections_.push_back(std::move(ends.a));
+    world_.accept_vehicle_connection(second.vehicle, std::move(ends.b));
+  }
   void operator()(const SetMisbehaviour& set) {
     if (VehicleClient* client = world_.vehicle_client(set.vehicle)) client->set_misbehaviour(set.misbehave);
   }
@@ -128,6 +139,7 @@ class Actions {
   }
 
   std::vector<std::shared_ptr<std::function<void()>>> repeats_;   // keep repeating sources alive
+  std::vector<std::shared_ptr<ByteStream>> second_connections_;   // SecondConnection's far ends
 
  private:
   World& world_;

@@ -330,3 +330,32 @@ INSTANTIATE_TEST_SUITE_P(FormatAdditions, BadResponses,
 
 }  // namespace
 }  // namespace ocp::scenario
+
+namespace ocp::scenario {
+namespace {
+
+// --- a second vehicle connection (SPEC §3.1: accepted and closed at once) --------------------
+const std::string second_connection_world = test::one_vehicle(R"(timeline:
+  - {at: 1s, name: intruder, second_connection: {}}
+expect:
+  events:
+)");
+
+TEST(FormatAdditions, SecondConnectionIsRefusedAndTheFirstStays) {
+  const std::string yaml = second_connection_world + R"(    - {event: connection_refused, vehicle: truck-1, after: intruder, within: 10ms}
+    - {event: connection_closed, never: true}
+)";
+  const auto outcome = run_text(yaml);
+  ASSERT_EQ(outcome.verdicts.size(), 2u);
+  for (const Verdict& verdict : outcome.verdicts) EXPECT_TRUE(verdict.passed) << verdict.title << ": " << verdict.actual;
+  expect_round_trip(yaml);
+}
+
+TEST(FormatAdditions, NoRefusalWithoutASecondConnection) {
+  const auto outcome = run_text(second_connection_world + "    - {event: connection_refused, never: true}\n");
+  EXPECT_FALSE(only(outcome).passed);
+  EXPECT_EQ(only(outcome).actual.rfind("1 time(s), first: connection_refused on truck-1 '", 0), 0u) << only(outcome).actual;
+}
+
+}  // namespace
+}  // namespace ocp::scenario

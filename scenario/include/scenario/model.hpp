@@ -78,6 +78,11 @@ struct ControlThreadStall {
 struct DisconnectVehicle {
   std::string vehicle;
 };
+// A second vehicle connection to the Streamer while the in-process client's is open (SPEC §3.1:
+// accepted and closed at once); it sends nothing and is kept open from this side.
+struct SecondConnection {
+  std::string vehicle;
+};
 // Replaces an in-process vehicle client's misbehaviours from now on (all off = well-behaved).
 struct SetMisbehaviour {
   std::string vehicle;
@@ -107,7 +112,7 @@ struct ClientDataAction {
 
 using Action = std::variant<SetImpairments, LinkOutage, CameraStall, FrameLoopStall,
                             ControlThreadStall, DisconnectVehicle, SetMisbehaviour, GamepadAction,
-                            SelectVehicle, ClientDataAction>;
+                            SelectVehicle, ClientDataAction, SecondConnection>;
 
 struct TimelineEvent {
   SimTime at{0};
