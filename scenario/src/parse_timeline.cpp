@@ -49,7 +49,7 @@ void Parser::timeline(const YAML::Node& node) {
     read_.check_keys(item, "timeline event",
                      {"at", "name", "impair", "ramp", "outage", "camera_stall", "camera_unstall",
                       "frame_loop_stall", "control_thread_stall", "disconnect", "misbehave", "gamepad",
-                      "select_vehicle", "client_data", "second_connection"});
+                      "select_vehicle", "client_data"});
     TimelineEvent event;
     event.mark = read_.mark(item);
     event.at = read_.duration(read_.require(item, "at", "timeline event"));
@@ -88,8 +88,6 @@ void Parser::action(const YAML::Node& item, TimelineEvent& event) {
     event.action = stall;
   } else if (const YAML::Node n = item["disconnect"]) {
     event.action = disconnect_action(n, event);
-  } else if (const YAML::Node n = item["second_connection"]) {
-    event.action = second_connection_action(n, event);
   } else if (const YAML::Node n = item["misbehave"]) {
     event.action = misbehave_action(n, event);
   } else if (const YAML::Node n = item["gamepad"]) {
@@ -175,21 +173,15 @@ DisconnectVehicle Parser::disconnect_action(const YAML::Node& n, TimelineEvent& 
   return disconnect;
 }
 
-// Second to the in-process client's connection: without one it would be the first.
-SecondConnection Parser::second_connection_action(const YAML::Node& n, TimelineEvent& event) {
-  read_.check_keys(n, "second_connection", {"vehicle"});
-  SecondConnection second{vehicle_of(n, "second_connection")};
-  if (!find_vehicle(second.vehicle)->in_process_client) read_.fail(n, "second_connection needs an in-process client");
-  event.label = "second connection " + second.vehicle;
-  return second;
-}
-
 // Only an in-process client can be told to misbehave.
 SetMisbehaviour Parser::misbehave_action(const YAML::Node& n, TimelineEvent& event) {
   SetMisbehaviour set{vehicle_of(n, "misbehave"), {}};
   if (!find_vehicle(set.vehicle)->in_process_client) read_.fail(n, "misbehave needs an in-process client");
   misbehave(n, set.misbehave, /*targeted=*/true);
-  event.label = "misbehave " + set.vehicle + (set.misbehave.any() ? "" : " (all off)");
+  // Second to the client's connection: a vehicle without an in-process client has none.
+  if (n["second_connection"]) set.second_connection = read_.boolean(n["second_connection"]);
+  event.label = "misbehave " + set.vehicle + (set.misbehave.any() ? "" : " (all off)") +
+                (set.second_connection ? ", second connection" : "");
   return set;
 }
 

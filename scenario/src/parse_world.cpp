@@ -88,7 +88,7 @@ VehicleSpec Parser::vehicle(const YAML::Node& node) {
 void Parser::misbehave(const YAML::Node& node, Misbehaviour& m, bool targeted) {
   if (targeted) {
     read_.check_keys(node, "misbehave", {"vehicle", "stop_echo", "corrupt_mac", "delay_responses", "oversized_frames",
-                                         "ack_through_double", "malformed_json", "silent", "bad_response"});
+                                         "ack_through_double", "malformed_json", "silent", "bad_response", "second_connection"});
   } else {
     read_.check_keys(node, "misbehave", {"stop_echo", "corrupt_mac", "delay_responses", "oversized_frames",
                                          "ack_through_double", "malformed_json", "silent", "bad_response"});

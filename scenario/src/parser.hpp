@@ -50,7 +50,6 @@ class Parser {
   CameraStall camera_stall_action(const YAML::Node& item, TimelineEvent& event);
   std::string camera_of(const YAML::Node& n, const VehicleSpec& spec);
   DisconnectVehicle disconnect_action(const YAML::Node& n, TimelineEvent& event);
-  SecondConnection second_connection_action(const YAML::Node& n, TimelineEvent& event);
   SetMisbehaviour misbehave_action(const YAML::Node& n, TimelineEvent& event);
   GamepadAction gamepad_action(const YAML::Node& n, TimelineEvent& event);
   SelectVehicle select_vehicle_action(const YAML::Node& n, TimelineEvent& event);

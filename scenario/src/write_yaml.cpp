@@ -250,15 +250,11 @@ struct ActionWriter {
     node["vehicle"] = disconnect.vehicle;
     item["disconnect"] = node;
   }
-  void operator()(const SecondConnection& second) {
-    YAML::Node node;
-    node["vehicle"] = second.vehicle;
-    item["second_connection"] = node;
-  }
   void operator()(const SetMisbehaviour& set) {
     YAML::Node node;
     node["vehicle"] = set.vehicle;
     misbehave_fields(node, set.misbehave);
+    if (set.second_connection) node["second_connection"] = true;
     item["misbehave"] = node;
   }
   void operator()(const GamepadAction& pad) {

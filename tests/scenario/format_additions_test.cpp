@@ -336,7 +336,7 @@ namespace {
 
 // --- a second vehicle connection (SPEC §3.1: accepted and closed at once) --------------------
 const std::string second_connection_world = test::one_vehicle(R"(timeline:
-  - {at: 1s, name: intruder, second_connection: {}}
+  - {at: 1s, name: intruder, misbehave: {second_connection: true}}
 expect:
   events:
 )");

@@ -78,15 +78,13 @@ struct ControlThreadStall {
 struct DisconnectVehicle {
   std::string vehicle;
 };
-// A second vehicle connection to the Streamer while the in-process client's is open (SPEC §3.1:
-// accepted and closed at once); it sends nothing and is kept open from this side.
-struct SecondConnection {
-  std::string vehicle;
-};
 // Replaces an in-process vehicle client's misbehaviours from now on (all off = well-behaved).
 struct SetMisbehaviour {
   std::string vehicle;
   Misbehaviour misbehave;
+  // Once, at this event: a second vehicle connection to the Streamer while the client's is
+  // open (SPEC §3.1: accepted and closed at once); it sends nothing and stays open this side.
+  bool second_connection = false;
 };
 struct GamepadAction {
   enum class Kind { unplug, replug, script } kind = Kind::unplug;
@@ -112,7 +110,7 @@ struct ClientDataAction {
 
 using Action = std::variant<SetImpairments, LinkOutage, CameraStall, FrameLoopStall,
                             ControlThreadStall, DisconnectVehicle, SetMisbehaviour, GamepadAction,
-                            SelectVehicle, ClientDataAction, SecondConnection>;
+                            SelectVehicle, ClientDataAction>;
 
 struct TimelineEvent {
   SimTime at{0};
