@@ -86,6 +86,17 @@ std::string_view gamepad_axis_name(GamepadAxis axis) {
   return "?";
 }
 
+std::optional<double> controller_field(const Controller& controller, std::string_view name) {
+  Axes axes = controller.axes;   // axis_value hands out a reference: read a copy
+  for (GamepadAxis axis : all_axes) {
+    if (gamepad_axis_name(axis) == name) return axis_value(axes, axis);
+  }
+  for (const ButtonField& button : button_fields) {
+    if (button.name == name) return controller.buttons.*button.member ? 1.0 : 0.0;
+  }
+  return std::nullopt;
+}
+
 double& axis_value(Axes& axes, GamepadAxis axis) {
   switch (axis) {
     case GamepadAxis::left_x: return axes.left_x;

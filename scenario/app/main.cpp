@@ -102,6 +102,7 @@ std::vector<Scenario> load_every_scenario(const std::vector<std::string>& files)
   for (const std::string& file : files) {
     try {
       scenarios.push_back(load_scenario(file));
+      for (const std::string& warning : scenarios.back().warnings) std::cerr << "warning: " << warning << "\n";
     } catch (const ScenarioError& error) {
       std::cerr << "error: " << error.what() << "\n";
       bad = true;

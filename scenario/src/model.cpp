@@ -59,6 +59,16 @@ Impairments interpolate(const Impairments& from, const Impairments& to, double f
   return out;
 }
 
+std::string_view notable_kind_name(NotableKind kind) {
+  switch (kind) {
+    case NotableKind::source_locked: return "source_locked";
+    case NotableKind::source_conflict: return "source_conflict";
+    case NotableKind::connection_closed: return "connection_closed";
+    case NotableKind::connection_refused: return "connection_refused";
+  }
+  return "?";
+}
+
 std::string_view invariant_name(Invariant invariant) {
   switch (invariant) {
     case Invariant::default_controller_during_control_fault:

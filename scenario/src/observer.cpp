@@ -82,10 +82,13 @@ void Observer::on_event(const Event& event) {
   } else if (const auto* fault = std::get_if<FaultEvent>(&event.body)) {
     on_fault(*fault, now);
   } else if (const auto* connection = std::get_if<ConnectionEvent>(&event.body)) {
+    if (connection->change != ConnectionChange::opened) record_notable(event, now);
     if (connection->wire != Wire::vehicle || event.component.kind != ComponentKind::streamer) return;
     on_vehicle_connection(event.component.name, *connection);
   } else if (const auto* set = std::get_if<ImpairmentChange>(&event.body)) {
     state(event.component.name).series(set->route).set_propagation_delay(set->impairments->delay);
+  } else if (std::holds_alternative<SourceLocked>(event.body) || std::holds_alternative<SourceConflict>(event.body)) {
+    record_notable(event, now);
   } else if (const auto* change = std::get_if<ActiveVehicleChange>(&event.body)) {
     std::optional<std::string> vehicle;
     if (change->vehicle) vehicle = std::string(*change->vehicle);
@@ -138,6 +141,7 @@ void Observer::record_delivery(std::string_view name, const WireFrame& frame, Si
       if (message->controller) {
         delivery.controller = message->controller->is_safe_default() ? Delivery::Controller::default_
                                                                      : Delivery::Controller::driving;
+        delivery.controller_value = *message->controller;
       }
       if (message->client_user_data) delivery.user_data_json = message->client_user_data->text;
       observations_.deliveries.push_back(std::move(delivery));
@@ -187,6 +191,26 @@ void Observer::on_fault(const FaultEvent& fault, SimTime now) {
   if (fault.side == FaultSide::vehicle && is_control_path_fault(fault.id)) {
     state(fault.vehicle).control_faults.set(fault.id, fault.active);
   }
+}
+
+// Source locks and conflicts, connection closes and refusals: a few a run, each kept whole.
+void Observer::record_notable(const Event& event, SimTime now) {
+  NotableEvent out;
+  out.time = now;
+  out.component = std::string(event.component.name);
+  if (const auto* locked = std::get_if<SourceLocked>(&event.body)) {
+    out.kind = NotableKind::source_locked;
+    out.source = locked->source;
+  } else if (const auto* conflict = std::get_if<SourceConflict>(&event.body)) {
+    out.kind = NotableKind::source_conflict;
+    out.source = conflict->offending;
+    out.locked = conflict->locked;
+  } else if (const auto* connection = std::get_if<ConnectionEvent>(&event.body)) {
+    out.kind = connection->change == ConnectionChange::refused ? NotableKind::connection_refused : NotableKind::connection_closed;
+    out.wire = connection->wire;
+    if (connection->reason != nullptr) out.reason = connection->reason->message();
+  }
+  if (observations_.notable_events.size() < 4096) observations_.notable_events.push_back(std::move(out));
 }
 
 // Counts connections; after a close, the next connection's first pair starts the stale-pair check.

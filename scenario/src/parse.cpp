@@ -38,6 +38,7 @@ Scenario Parser::parse(const std::string& text) {
   if (root["seed"]) scenario_.seed = read_.integer(root["seed"]);
   scenario_.duration = read_.duration(read_.require(root, "duration", "scenario"));
   if (scenario_.duration <= Micros{0}) read_.fail(root["duration"], "duration must be > 0");
+  if (const YAML::Node expect = root["expect"]; expect && expect.IsMap()) expects_refusal_ = static_cast<bool>(expect["refuses_to_start"]);
   world(read_.require(root, "world", "scenario"));
   if (root["timeline"]) timeline(root["timeline"]);
   expectations(read_.require(root, "expect", "scenario"));

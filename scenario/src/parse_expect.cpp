@@ -11,10 +11,22 @@
 namespace ocp::scenario {
 
 void Parser::expectations(const YAML::Node& node) {
-  read_.check_keys(node, "expect", {"faults", "thresholds", "invariants", "delivered"});
+  read_.check_keys(node, "expect", {"faults", "thresholds", "invariants", "delivered", "refuses_to_start", "events"});
+  if (const YAML::Node refusal = node["refuses_to_start"]) {
+    // A world that never starts has nothing else to judge.
+    if (node.size() != 1) read_.fail(refusal, "refuses_to_start is the only expectation a world that never starts can have");
+    const std::string reason = refusal.IsNull() ? "" : read_.text(refusal);
+    scenario_.expectations.push_back({"the world refuses to start: \"" + reason + "\"", read_.mark(refusal),
+                                      RefusesToStartExpectation{reason}});
+    return;
+  }
   if (const YAML::Node delivered = node["delivered"]) {
     if (!delivered.IsSequence()) read_.fail(delivered, "expect.delivered: expected a list");
     for (const auto& item : delivered) delivery_expectation(item);
+  }
+  if (const YAML::Node events = node["events"]) {
+    if (!events.IsSequence()) read_.fail(events, "expect.events: expected a list");
+    for (const auto& item : events) event_expectation(item);
   }
   if (const YAML::Node faults = node["faults"]) {
     if (!faults.IsSequence()) read_.fail(faults, "expect.faults: expected a list");
@@ -62,7 +74,8 @@ std::pair<SimTime, std::string> Parser::anchor(const YAML::Node& node) {
 }
 
 void Parser::fault_expectation(const YAML::Node& node) {
-  read_.check_keys(node, "fault expectation", {"fault", "vehicle", "raised", "cleared", "never", "from", "at", "active_on", "inactive_on"});
+  read_.check_keys(node, "fault expectation", {"fault", "vehicle", "raised", "cleared", "never", "always", "from", "until",
+                                               "at", "active_on", "inactive_on"});
   const YAML::Node fault_node = read_.require(node, "fault", "fault expectation");
   const auto fault = parse_fault_identifier(read_.text(fault_node));
   if (!fault) {
@@ -74,13 +87,18 @@ void Parser::fault_expectation(const YAML::Node& node) {
   if (node["vehicle"]) vehicle = vehicle_of(node, "fault expectation");
   const bool edges = node["raised"] || node["cleared"];
   const bool never = static_cast<bool>(node["never"]);
+  const bool always = static_cast<bool>(node["always"]);
   const bool state = static_cast<bool>(node["at"]);
-  if (node["from"] && !never) read_.fail(node["from"], "from only applies to never");
-  if (int(edges) + int(never) + int(state) != 1) {
-    read_.fail(node, "a fault expectation needs one of: raised/cleared, never, at (with active_on / inactive_on)");
+  for (const char* key : {"from", "until"}) {
+    if (node[key] && !never && !always) read_.fail(node[key], std::string(key) + " only applies to never and always");
+  }
+  if (int(edges) + int(never) + int(always) + int(state) != 1) {
+    read_.fail(node, "a fault expectation needs one of: raised/cleared, never, always, at (with active_on / inactive_on)");
   }
   if (never) {
     fault_never_expectation(node, *fault, vehicle);
+  } else if (always) {
+    fault_always_expectation(node, *fault, vehicle);
   } else if (edges) {
     fault_edge_expectations(node, *fault, vehicle);
   } else {
@@ -88,17 +106,48 @@ void Parser::fault_expectation(const YAML::Node& node) {
   }
 }
 
-// `never: true`, from the start or `from` an anchor on.
+// `never: true`, from the start or `from` an anchor on, to the end or `until` an anchor.
 void Parser::fault_never_expectation(const YAML::Node& node, FaultId fault, const std::optional<std::string>& vehicle) {
   if (!read_.boolean(node["never"])) read_.fail(node["never"], "never: only true makes sense");
-  FaultNeverExpectation expectation{fault, vehicle, SimTime{0}};
+  FaultNeverExpectation expectation{fault, vehicle, SimTime{0}, std::nullopt};
   std::string title = std::string(fault_identifier(fault)) + " never raised" + (vehicle ? " on " + *vehicle : "");
-  if (node["from"]) {
-    std::string label;
-    std::tie(expectation.from, label) = anchor(node["from"]);
-    title += " from " + label;
-  }
+  const ExpectWindow window = expect_window(node);
+  expectation.from = window.from;
+  expectation.until = window.until;
+  if (node["from"]) title += " from " + window.from_label;
+  if (window.until) title += " until " + window.until_label;
   scenario_.expectations.push_back({title, read_.mark(node), expectation});
+}
+
+// `always: true`: active through the whole window, on one vehicle.
+void Parser::fault_always_expectation(const YAML::Node& node, FaultId fault, std::optional<std::string> vehicle) {
+  if (!read_.boolean(node["always"])) read_.fail(node["always"], "always: only true makes sense");
+  if (!node["from"]) read_.fail(node, "always needs from (when the fault must be active already)");
+  if (!vehicle) {
+    if (scenario_.world.vehicles.size() != 1) read_.fail(node, "name the vehicle (the world has several)");
+    vehicle = scenario_.world.vehicles.front().name;
+  }
+  const ExpectWindow window = expect_window(node);
+  FaultAlwaysExpectation e{fault, *vehicle, window.from, window.from_label, window.until, window.until_label};
+  scenario_.expectations.push_back({std::string(fault_identifier(fault)) + " active on " + *vehicle + " from " +
+                                        window.from_label + " until " + (window.until ? window.until_label : "the end"),
+                                    read_.mark(node), e});
+}
+
+// `from` (default: the start) and `until` (default or `end`: the end of the run), each an
+// event name or a time, in order.
+Parser::ExpectWindow Parser::expect_window(const YAML::Node& node) {
+  ExpectWindow window;
+  window.from_label = "0s";
+  if (node["from"]) std::tie(window.from, window.from_label) = anchor(node["from"]);
+  if (const YAML::Node until = node["until"]; until && !(until.IsScalar() && until.Scalar() == "end")) {
+    SimTime time{0};
+    std::tie(time, window.until_label) = anchor(until);
+    if (time <= window.from) read_.fail(until, "until must be after from");
+    if (time > scenario_.duration) read_.fail(until, "until is after the end of the run");
+    window.until = time;
+  }
+  return window;
 }
 
 // `raised` and/or `cleared`: one expectation each, on one vehicle (an edge happens somewhere).
@@ -185,30 +234,69 @@ std::vector<std::string> Parser::vehicle_names(const YAML::Node& list, std::stri
 }
 
 void Parser::delivery_expectation(const YAML::Node& node) {
-  read_.check_keys(node, "delivered", {"vehicle", "after", "within", "controller", "user_data"});
+  read_.check_keys(node, "delivered", {"vehicle", "after", "within", "every", "controller", "fields", "user_data", "no_user_data"});
   DeliveryExpectation e;
   e.vehicle = vehicle_of(node, "delivered");
   std::tie(e.after, e.after_label) = anchor(read_.require(node, "after", "delivered"));
   e.within = read_.duration(read_.require(node, "within", "delivered"));
+  if (node["every"]) e.every = read_.boolean(node["every"]);
+  std::string what = delivery_what(node, e);
+  if (what.empty()) read_.fail(node, "delivered: say what must arrive (controller, fields, user_data and / or no_user_data)");
+  if (find_vehicle(e.vehicle)->monitor) read_.fail(node, "a monitor vehicle is sent no control");
+  const std::string title = e.every ? "every control frame to " + e.vehicle + " within " + format_time(e.within) +
+                                          " after " + e.after_label + ": " + what
+                                    : e.vehicle + " received " + what + " within " + format_time(e.within) + " after " +
+                                          e.after_label;
+  scenario_.expectations.push_back({title, read_.mark(node), e});
+}
+
+// What a delivered frame must carry; returns it as the title shows it ("" for nothing).
+std::string Parser::delivery_what(const YAML::Node& node, DeliveryExpectation& e) {
+  using State = DeliveryExpectation::ControllerState;
   std::string what;
+  auto add = [&](const std::string& part) { what += (what.empty() ? "" : ", ") + part; };
   if (const YAML::Node controller = node["controller"]) {
     const std::string state = controller.IsNull() ? "null" : read_.text(controller);
-    if (state == "null") e.controller = DeliveryExpectation::ControllerState::null;
-    else if (state == "default") e.controller = DeliveryExpectation::ControllerState::default_;
-    else if (state == "driving") e.controller = DeliveryExpectation::ControllerState::driving;
-    else if (state == "any") e.controller = DeliveryExpectation::ControllerState::any;
-    else read_.fail_unknown(controller, "controller", state, {"null", "default", "driving", "any"});
-    what += "controller " + state;
+    static const std::vector<std::pair<std::string, State>> states = {
+        {"null", State::null}, {"default", State::default_}, {"driving", State::driving}, {"safe", State::safe}, {"any", State::any}};
+    const auto found = std::find_if(states.begin(), states.end(), [&](const auto& s) { return s.first == state; });
+    if (found == states.end()) read_.fail_unknown(controller, "controller", state, {"null", "default", "driving", "safe", "any"});
+    e.controller = found->second;
+    add("controller " + state);
   }
+  if (const YAML::Node fields = node["fields"]) {
+    e.fields = controller_field_values(fields);
+    if (e.controller == State::null) read_.fail(fields, "fields: a null controller has no fields");
+    add(read_.text(fields));
+  }
+  if (node["user_data"] && node["no_user_data"]) read_.fail(node["no_user_data"], "user_data and no_user_data exclude each other");
   if (node["user_data"]) {
     e.user_data_json = read_.json(node["user_data"]);
-    what += std::string(what.empty() ? "" : ", ") + "user_data " + *e.user_data_json;
+    add("user_data " + *e.user_data_json);
   }
-  if (what.empty()) read_.fail(node, "delivered: say what must arrive (controller and / or user_data)");
-  if (find_vehicle(e.vehicle)->monitor) read_.fail(node, "a monitor vehicle is sent no control");
-  scenario_.expectations.push_back(
-      {e.vehicle + " received " + what + " within " + format_time(e.within) + " after " + e.after_label,
-       read_.mark(node), e});
+  if (node["no_user_data"]) {
+    if (!read_.boolean(node["no_user_data"])) read_.fail(node["no_user_data"], "no_user_data: only true makes sense");
+    e.user_data_absent = true;
+    add("no user_data");
+  }
+  return what;
+}
+
+// "right_trigger=0.4 a=1": the recording format's fields (player/gamepad.hpp), each checked.
+std::vector<ControllerFieldValue> Parser::controller_field_values(const YAML::Node& node) {
+  std::vector<ControllerFieldValue> values;
+  std::istringstream in(read_.text(node));
+  for (std::string field; in >> field;) {
+    // The recording parser knows each name's range: a one-field state it accepts is valid.
+    auto parsed = parse_recording("0 " + field);
+    if (!parsed) read_.fail(node, "bad field '" + field + "': " + parsed.error().detail);
+    const auto equals = field.find('=');
+    ControllerFieldValue value{field.substr(0, equals), 0.0};
+    value.value = controller_field(parsed->states.front().controller, value.name).value_or(0.0);
+    values.push_back(value);
+  }
+  if (values.empty()) read_.fail(node, "fields: expected name=value pairs like \"right_trigger=0.4 a=1\"");
+  return values;
 }
 
 void Parser::threshold_expectations(const YAML::Node& key, const YAML::Node& list) {

@@ -178,7 +178,10 @@ SetMisbehaviour Parser::misbehave_action(const YAML::Node& n, TimelineEvent& eve
   SetMisbehaviour set{vehicle_of(n, "misbehave"), {}};
   if (!find_vehicle(set.vehicle)->in_process_client) read_.fail(n, "misbehave needs an in-process client");
   misbehave(n, set.misbehave, /*targeted=*/true);
-  event.label = "misbehave " + set.vehicle + (set.misbehave.any() ? "" : " (all off)");
+  // Second to the client's connection: a vehicle without an in-process client has none.
+  if (n["second_connection"]) set.second_connection = read_.boolean(n["second_connection"]);
+  event.label = "misbehave " + set.vehicle + (set.misbehave.any() ? "" : " (all off)") +
+                (set.second_connection ? ", second connection" : "");
   return set;
 }
 
@@ -211,6 +214,25 @@ SelectVehicle Parser::select_vehicle_action(const YAML::Node& n, TimelineEvent& 
   return select;
 }
 
+// `misbehave: {bad_response: missing_field}`: the names of misbehaviour.hpp, with _ or -.
+BadResponse Parser::bad_response(const YAML::Node& node) {
+  const std::string name = read_.text(node);
+  if (const auto kind = parse_bad_response(name)) return *kind;
+  read_.fail_unknown(node, "bad_response", name,
+                     {"none", "missing_field", "wrong_type", "not_an_object", "ack_time_out_of_range", "eof_mid_frame"});
+}
+
+// Client data may name a vehicle the Player does not have: SPEC §4.2 has it warn and go on,
+// so a file may send it (to test just that), with a warning in case it is a typo.
+void Parser::warn_unknown_client_vehicle(const YAML::Node& node, const std::string& name, std::string_view effect) {
+  const Mark at = read_.mark(node);
+  std::string text = read_.file() + ":" + std::to_string(at.line) + ":" + std::to_string(at.column) +
+                     ": client data names vehicle '" + name + "', which the world does not have (the Player warns; " +
+                     std::string(effect) + ")";
+  if (const auto close = closest_name(name, vehicle_list())) text += ": did you mean '" + *close + "'?";
+  scenario_.warnings.push_back(std::move(text));
+}
+
 ClientDataAction Parser::client_data(const YAML::Node& n, TimelineEvent& event) {
   read_.check_keys(n, "client_data", {"source", "active_vehicle", "vehicles", "every", "until"});
   ClientDataAction data;
@@ -221,13 +243,15 @@ ClientDataAction Parser::client_data(const YAML::Node& n, TimelineEvent& event) 
   else read_.fail_unknown(n["source"], "source", source, {"plugin", "webview", "tcp"});
   if (n["active_vehicle"]) {
     data.active_vehicle = read_.text(n["active_vehicle"]);
-    if (find_vehicle(*data.active_vehicle) == nullptr) read_.fail_unknown(n["active_vehicle"], "vehicle", *data.active_vehicle, vehicle_list());
+    if (find_vehicle(*data.active_vehicle) == nullptr) {
+      warn_unknown_client_vehicle(n["active_vehicle"], *data.active_vehicle, "active_vehicle: no vehicle is active then");
+    }
   }
   if (const YAML::Node vehicles = n["vehicles"]) {
     if (!vehicles.IsMap()) read_.fail(vehicles, "vehicles: expected a mapping vehicle → entry");
     for (const auto& item : vehicles) {
       const std::string name = item.first.as<std::string>();
-      if (find_vehicle(name) == nullptr) read_.fail_unknown(item.first, "vehicle", name, vehicle_list());
+      if (find_vehicle(name) == nullptr) warn_unknown_client_vehicle(item.first, name, "its entry is ignored");
       const YAML::Node entry = item.second;
       read_.check_keys(entry, "client_data entry", {"user_data", "disable_gamepad", "echo"});
       ClientDataAction::Entry out;

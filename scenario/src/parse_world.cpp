@@ -16,7 +16,7 @@ void Parser::world(const YAML::Node& node) {
   if (!vehicles.IsSequence() || vehicles.size() == 0) read_.fail(vehicles, "world.vehicles: expected a non-empty list");
   for (const auto& item : vehicles) config.vehicles.push_back(vehicle(item));
   config.player.fleet = node["fleet"] ? read_.boolean(node["fleet"]) : config.vehicles.size() > 1;
-  if (!config.player.fleet && config.vehicles.size() > 1) {
+  if (!config.player.fleet && config.vehicles.size() > 1 && !expects_refusal_) {
     read_.fail(node["fleet"], "several vehicles need fleet: true (SPEC §7)");
   }
   if (node["player"]) player(node["player"]);
@@ -89,10 +89,10 @@ VehicleSpec Parser::vehicle(const YAML::Node& node) {
 void Parser::misbehave(const YAML::Node& node, Misbehaviour& m, bool targeted) {
   if (targeted) {
     read_.check_keys(node, "misbehave", {"vehicle", "stop_echo", "corrupt_mac", "delay_responses", "oversized_frames",
-                                         "ack_through_double", "malformed_json", "silent"});
+                                         "ack_through_double", "malformed_json", "silent", "bad_response", "second_connection"});
   } else {
     read_.check_keys(node, "misbehave", {"stop_echo", "corrupt_mac", "delay_responses", "oversized_frames",
-                                         "ack_through_double", "malformed_json", "silent"});
+                                         "ack_through_double", "malformed_json", "silent", "bad_response"});
   }
   if (node["stop_echo"]) m.stop_echo = read_.boolean(node["stop_echo"]);
   if (node["corrupt_mac"]) m.corrupt_mac = read_.boolean(node["corrupt_mac"]);
@@ -101,6 +101,7 @@ void Parser::misbehave(const YAML::Node& node, Misbehaviour& m, bool targeted) {
   if (node["ack_through_double"]) m.ack_through_double = read_.boolean(node["ack_through_double"]);
   if (node["malformed_json"]) m.malformed_json = read_.boolean(node["malformed_json"]);
   if (node["silent"]) m.silent = read_.boolean(node["silent"]);
+  if (node["bad_response"]) m.bad_response = bad_response(node["bad_response"]);   // parse_timeline.cpp
 }
 
 // `targeted`: the timeline's impair action, which also names vehicle and direction.

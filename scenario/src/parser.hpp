@@ -29,6 +29,7 @@ class Parser {
   VehicleSpec vehicle(const YAML::Node& node);
   // `targeted`: the timeline's misbehave action, which also names the vehicle.
   void misbehave(const YAML::Node& node, Misbehaviour& m, bool targeted = false);
+  BadResponse bad_response(const YAML::Node& node);
   // `targeted`: the timeline's impair action, which also names vehicle and direction.
   ImpairmentPatch impairments(const YAML::Node& node, bool targeted = false);
   // A `trace:` value: the Mahimahi file, relative to the scenario file, loaded once per path.
@@ -58,21 +59,39 @@ class Parser {
   GamepadAction gamepad_action(const YAML::Node& n, TimelineEvent& event);
   SelectVehicle select_vehicle_action(const YAML::Node& n, TimelineEvent& event);
   ClientDataAction client_data(const YAML::Node& n, TimelineEvent& event);
+  void warn_unknown_client_vehicle(const YAML::Node& node, const std::string& name, std::string_view effect);
   void expectations(const YAML::Node& node);
   // `after`: an event name or a time.
   std::pair<SimTime, std::string> anchor(const YAML::Node& node);
   void fault_expectation(const YAML::Node& node);
   // The three kinds of fault expectation, once fault_expectation has told which one a node is.
   void fault_never_expectation(const YAML::Node& node, FaultId fault, const std::optional<std::string>& vehicle);
+  void fault_always_expectation(const YAML::Node& node, FaultId fault, std::optional<std::string> vehicle);
+  struct ExpectWindow {
+    SimTime from{0};
+    std::string from_label;
+    std::optional<SimTime> until;   // nullopt: the end of the run
+    std::string until_label;
+  };
+  ExpectWindow expect_window(const YAML::Node& node);
   void fault_edge_expectations(const YAML::Node& node, FaultId fault, std::optional<std::string> vehicle);
   std::string edge_window(const YAML::Node& within, FaultEdgeExpectation& expectation);
   void fault_state_expectation(const YAML::Node& node, FaultId fault);
   std::vector<std::string> vehicle_names(const YAML::Node& list, std::string_view key);
   void delivery_expectation(const YAML::Node& node);
+  std::string delivery_what(const YAML::Node& node, DeliveryExpectation& e);
+  std::vector<ControllerFieldValue> controller_field_values(const YAML::Node& node);
+  // parse_expect_events.cpp: source locks and conflicts, connection closes and refusals.
+  void event_expectation(const YAML::Node& node);
+  ClientSource client_source(const YAML::Node& node);
+  std::string event_subject(const YAML::Node& node, EventExpectation& e);
   void threshold_expectations(const YAML::Node& key, const YAML::Node& list);
 
   YamlReader read_;
   Scenario scenario_;
+  // The file expects its world to refuse to start: the world checks that the simulator makes
+  // too are left to it (parse_world.cpp).
+  bool expects_refusal_ = false;
   std::map<std::string, std::shared_ptr<const DeliveryTrace>> delivery_traces_;
   std::map<std::string, std::shared_ptr<const LinkRecording>> link_recordings_;
 };

@@ -24,6 +24,12 @@ bool needs_controller_check(const Scenario& scenario) {
   return false;
 }
 
+bool expects_refusal(const Scenario& scenario) {
+  return std::any_of(scenario.expectations.begin(), scenario.expectations.end(), [](const Expectation& expectation) {
+    return std::holds_alternative<RefusesToStartExpectation>(expectation.kind);
+  });
+}
+
 bool needs_link_events(const Scenario& scenario) {
   for (const Expectation& expectation : scenario.expectations) {
     if (const auto* threshold = std::get_if<ThresholdExpectation>(&expectation.kind)) {
@@ -79,7 +85,10 @@ RunResult run_world(Executor& executor, const Scenario& scenario, const RunOptio
   observer.set_origin(origin);
   if (options.on_built) options.on_built(world);
   if (auto status = world.start(); !status) {
-    throw HarnessError("the world did not start: " + status.error().message());
+    if (!expects_refusal(scenario)) throw HarnessError("the world did not start: " + status.error().message());
+    result.refused_to_start = status.error().message();
+    result.observations = observer.observations();
+    return result;
   }
   observer.attach_parts();
   apply_gamepad(world.player().gamepad(), scenario.gamepad, executor.now());

@@ -6,6 +6,7 @@
 #include <functional>
 #include <memory>
 
+#include "ocp/pipe.hpp"
 #include "vehicle_client/misbehaviour.hpp"
 #include "world_setup.hpp"
 
@@ -78,6 +79,17 @@ class Actions {
   void operator()(const DisconnectVehicle& disconnect) { world_.drop_vehicle_connection(disconnect.vehicle); }
   void operator()(const SetMisbehaviour& set) {
     if (VehicleClient* client = world_.vehicle_client(set.vehicle)) client->set_misbehaviour(set.misbehave);
+    if (set.second_connection) open_second_connection(set.vehicle);
+  }
+  // The far end stays open (kept here) until the run ends: only the Streamer may close it.
+  void open_second_connection(const std::string& vehicle) {
+    PipeOptions options;
+    options.one_way_delay = world_.config().vehicle_pipe_delay;
+    options.name_a = "pipe:second-client:" + vehicle;
+    options.name_b = "pipe:streamer:" + vehicle;
+    PipeEnds ends = make_pipe(executor_, options);
+    second_connections_.push_back(std::move(ends.a));
+    world_.accept_vehicle_connection(vehicle, std::move(ends.b));
   }
   void operator()(const GamepadAction& pad) {
     Gamepad& gamepad = world_.player().gamepad();
@@ -128,6 +140,7 @@ class Actions {
   }
 
   std::vector<std::shared_ptr<std::function<void()>>> repeats_;   // keep repeating sources alive
+  std::vector<std::shared_ptr<ByteStream>> second_connections_;   // second connections' far ends
 
  private:
   World& world_;

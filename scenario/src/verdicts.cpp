@@ -7,71 +7,44 @@
 
 #include "ocp/flap_summariser.hpp"
 #include "scenario/metrics.hpp"
+#include "verdicts_internal.hpp"
 
 namespace ocp::scenario {
-namespace {
 
-const std::vector<Interval>* intervals(const Observations& observations, const std::string& vehicle, FaultId fault) {
-  const auto found = observations.faults.find({vehicle, fault});
-  return found == observations.faults.end() ? nullptr : &found->second;
+std::string verdict_ms_text(Micros duration) {
+  if (duration >= Micros{1'000'000}) return format_seconds(duration);
+  return format_number(static_cast<double>(duration.count()) / 1000.0) + "ms";
 }
 
-bool active_at(const Observations& observations, const std::string& vehicle, FaultId fault, SimTime at) {
-  const auto* list = intervals(observations, vehicle, fault);
+namespace {
+
+bool active_at(const JudgeContext& context, const std::string& vehicle, FaultId fault, SimTime at) {
+  const auto* list = context.intervals(vehicle, fault);
   if (list == nullptr) return false;
   return std::any_of(list->begin(), list->end(), [&](const Interval& interval) {
     return interval.start <= at && (!interval.end || at < *interval.end);
   });
 }
 
-// Durations as people write them: "388.5ms", "3.74s".
-bool same_json(const std::string& a, const std::string& b) {
-  rapidjson::Document x, y;
-  x.Parse(a.c_str());
-  y.Parse(b.c_str());
-  return !x.HasParseError() && !y.HasParseError() && x == y;
-}
-
-std::string_view controller_name(Delivery::Controller controller) {
-  switch (controller) {
-    case Delivery::Controller::null: return "null";
-    case Delivery::Controller::default_: return "default";
-    case Delivery::Controller::driving: return "driving";
-  }
-  return "?";
-}
-
-std::string ms_text(Micros duration) {
-  if (duration >= Micros{1'000'000}) return format_seconds(duration);
-  return format_number(static_cast<double>(duration.count()) / 1000.0) + "ms";
-}
-
 class Judge {
  public:
-  Judge(const Scenario& scenario, const RunResult& run) : scenario_(scenario), run_(run), observations_(run.observations) {}
+  Judge(const Scenario& scenario, const RunResult& run) : context_{scenario, run, run.observations} {}
 
-  // Not judged: the run stopped at `run_.ran`, before what this verdict needs had happened.
-  void cut_short(Verdict& v) const {
-    v.passed = false;
-    v.interrupted = true;
-    v.actual = "not judged: the run was interrupted at " + format_seconds(run_.ran) + " of " +
-               format_seconds(scenario_.duration) + " (so far: " + v.actual + ")";
-  }
-  // Whether the run got past `time` (a window's end, an instant).
-  bool ran_past(SimTime time) const { return !run_.interrupted || time < run_.ran; }
+  void cut_short(Verdict& v) const { context_.cut_short(v); }
+  bool ran_past(SimTime time) const { return context_.ran_past(time); }
 
   void operator()(const FaultEdgeExpectation& e, Verdict& v) const {
     const char* edge = e.raised ? "raised" : "cleared";
     v.kind = "fault_edge";
     std::string window;
     if (e.min > Micros{0}) {
-      window.append("[").append(ms_text(e.min)).append(", ").append(ms_text(e.max)).append("]");
+      window.append("[").append(verdict_ms_text(e.min)).append(", ").append(verdict_ms_text(e.max)).append("]");
     } else {
-      window.append("≤ ").append(ms_text(e.max));
+      window.append("≤ ").append(verdict_ms_text(e.max));
     }
     v.expected.append(edge).append(" within ").append(window).append(" after ").append(e.after_label);
     std::optional<SimTime> found;
-    const std::vector<Interval>* list = intervals(observations_, e.vehicle, e.fault);
+    const std::vector<Interval>* list = context_.intervals(e.vehicle, e.fault);
     if (list != nullptr) {
       for (const Interval& interval : *list) {
         const std::optional<SimTime> at = e.raised ? std::optional(interval.start) : interval.end;
@@ -86,8 +59,8 @@ class Judge {
     const std::string before = list == nullptr ? "" : state_before(*list, e);
     if (!found) {
       v.actual = std::string("never ") + edge + " after " + e.after_label;
-      if (!e.raised && active_at(observations_, e.vehicle, e.fault, scenario_.duration)) {
-        v.actual += run_.interrupted ? " (still active when the run was interrupted)" : " (still active at the end)";
+      if (!e.raised && active_at(context_, e.vehicle, e.fault, scenario().duration)) {
+        v.actual += run().interrupted ? " (still active when the run was interrupted)" : " (still active at the end)";
       }
       if (!before.empty()) v.actual = before + "; " + v.actual;
       if (!ran_past(e.after + e.max)) cut_short(v);
@@ -95,7 +68,7 @@ class Judge {
     }
     const Micros delay = *found - e.after;
     v.passed = before.empty() && delay >= e.min && delay <= e.max;
-    v.actual = std::string(edge) + " " + ms_text(delay) + " after " + e.after_label + " (at " + format_seconds(*found) + ")";
+    v.actual = std::string(edge) + " " + verdict_ms_text(delay) + " after " + e.after_label + " (at " + format_seconds(*found) + ")";
     if (!before.empty()) v.actual = before + "; next " + v.actual;
   }
 
@@ -119,25 +92,11 @@ class Judge {
     return "";
   }
 
-  void operator()(const FaultNeverExpectation& e, Verdict& v) const {
-    v.kind = "fault_never";
-    v.expected = e.from > SimTime{0} ? "never active from " + format_seconds(e.from) : "never raised";
-    std::size_t raises = 0;
-    std::optional<std::pair<SimTime, std::string>> first;
-    for (const auto& [key, list] : observations_.faults) {
-      if (key.second != e.fault || (e.vehicle && key.first != *e.vehicle)) continue;
-      for (const Interval& interval : list) {
-        // Raised before `from` but still active after it counts too: it was active then.
-        if (interval.end && *interval.end <= e.from) continue;
-        ++raises;
-        if (!first || interval.start < first->first) first = {interval.start, key.first};
-      }
-    }
-    v.passed = raises == 0;
-    v.actual = raises == 0 ? "never raised"
-                           : "raised " + std::to_string(raises) + " time(s), first on " + first->second + " at " + format_seconds(first->first);
-    if (v.passed && run_.interrupted) cut_short(v);
-  }
+  void operator()(const FaultNeverExpectation& e, Verdict& v) const { judge_fault_never(context_, e, v); }
+  void operator()(const FaultAlwaysExpectation& e, Verdict& v) const { judge_fault_always(context_, e, v); }
+  void operator()(const RefusesToStartExpectation& e, Verdict& v) const { judge_refusal(context_, e, v); }
+  void operator()(const DeliveryExpectation& e, Verdict& v) const { judge_delivery(context_, e, v); }
+  void operator()(const EventExpectation& e, Verdict& v) const { judge_event(context_, e, v); }
 
   void operator()(const FaultStateExpectation& e, Verdict& v) const {
     v.kind = "fault_state";
@@ -147,7 +106,7 @@ class Judge {
       for (const auto& [time, vehicle] : observations_.active_vehicle) {
         if (time <= e.at) active = vehicle;
       }
-      for (const VehicleSpec& spec : scenario_.world.vehicles) {
+      for (const VehicleSpec& spec : scenario().world.vehicles) {
         if (spec.monitor) continue;
         (active && spec.name == *active ? off : on).push_back(spec.name);
       }
@@ -156,7 +115,7 @@ class Judge {
     v.passed = true;
     auto check = [&](const std::vector<std::string>& names, bool want) {
       for (const std::string& name : names) {
-        const bool is = active_at(observations_, name, e.fault, e.at);
+        const bool is = active_at(context_, name, e.fault, e.at);
         expected += name + (want ? "=active " : "=inactive ");
         actual += name + (is ? "=active " : "=inactive ");
         v.passed = v.passed && is == want;
@@ -183,7 +142,7 @@ class Judge {
     }
     if (!value) {
       v.actual = e.aggregate + " = no samples";
-      if (run_.interrupted) cut_short(v);
+      if (run().interrupted) cut_short(v);
       return;
     }
     const double x = *value;
@@ -194,43 +153,7 @@ class Judge {
     else if (e.op == "==") v.passed = x == e.value;
     else v.passed = x != e.value;
     v.actual = e.aggregate + " = " + format_number(x);
-    if (run_.interrupted) cut_short(v);
-  }
-
-  void operator()(const DeliveryExpectation& e, Verdict& v) const {
-    v.kind = "delivery";
-    using State = DeliveryExpectation::ControllerState;
-    auto wanted = [&](const Delivery& d) {
-      const bool controller_ok = e.controller == State::any ||
-                                 (e.controller == State::null && d.controller == Delivery::Controller::null) ||
-                                 (e.controller == State::default_ && d.controller == Delivery::Controller::default_) ||
-                                 (e.controller == State::driving && d.controller == Delivery::Controller::driving);
-      return controller_ok && (!e.user_data_json || (d.user_data_json && same_json(*d.user_data_json, *e.user_data_json)));
-    };
-    v.expected = "a control frame with";
-    if (e.controller != State::any) {
-      v.expected += std::string(" controller ") +
-                    (e.controller == State::null ? "null" : e.controller == State::default_ ? "default" : "driving");
-    }
-    if (e.user_data_json) v.expected += " user_data " + *e.user_data_json;
-    v.expected += " within " + ms_text(e.within) + " after " + e.after_label;
-    const Delivery* last = nullptr;
-    for (const Delivery& d : observations_.deliveries) {
-      if (d.vehicle != e.vehicle || d.time < e.after || d.time > e.after + e.within) continue;
-      if (wanted(d)) {
-        v.passed = true;
-        v.actual = "received " + ms_text(d.time - e.after) + " after " + e.after_label + " (at " + format_seconds(d.time) + ")";
-        return;
-      }
-      last = &d;
-    }
-    if (last == nullptr) {
-      v.actual = "no control frame reached " + e.vehicle + " in the window";
-    } else {
-      v.actual = "last frame in the window: controller " + std::string(controller_name(last->controller)) +
-                 ", user_data " + last->user_data_json.value_or("none");
-    }
-    if (!ran_past(e.after + e.within)) cut_short(v);
+    if (run().interrupted) cut_short(v);
   }
 
   void operator()(const InvariantExpectation& e, Verdict& v) const {
@@ -242,11 +165,11 @@ class Judge {
       v.expected = "only default or null controllers under control-path faults";
       if (checked == 0) {
         v.actual = "no control frame was sent under a control-path fault: nothing checked";
-        if (run_.interrupted) cut_short(v);
+        if (run().interrupted) cut_short(v);
       } else if (violations.empty()) {
         v.passed = true;
         v.actual = std::to_string(checked) + " control frames checked, all default or null";
-        if (run_.interrupted) cut_short(v);
+        if (run().interrupted) cut_short(v);
       } else {
         v.actual = std::to_string(violations.size()) + " of " + std::to_string(checked) + " frames violated; first at " +
                    format_seconds(violations.front().time) + " on " + violations.front().vehicle + ": " + violations.front().detail;
@@ -257,11 +180,11 @@ class Judge {
     v.expected = "no pair from before a reconnect echoed on the new connection";
     if (observations_.reconnects == 0) {
       v.actual = "no reconnect happened: nothing checked";
-      if (run_.interrupted) cut_short(v);
+      if (run().interrupted) cut_short(v);
     } else if (violations.empty()) {
       v.passed = true;
       v.actual = std::to_string(observations_.reconnects) + " reconnect(s), no stale pair";
-      if (run_.interrupted) cut_short(v);
+      if (run().interrupted) cut_short(v);
     } else {
       v.actual = std::to_string(violations.size()) + " stale pair(s); first at " + format_seconds(violations.front().time) +
                  " on " + violations.front().vehicle + ": " + violations.front().detail;
@@ -269,9 +192,11 @@ class Judge {
   }
 
  private:
-  const Scenario& scenario_;
-  const RunResult& run_;
-  const Observations& observations_;
+  const Scenario& scenario() const { return context_.scenario; }
+  const RunResult& run() const { return context_.run; }
+
+  JudgeContext context_;
+  const Observations& observations_ = context_.observations;
 };
 
 }  // namespace

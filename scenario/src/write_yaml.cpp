@@ -120,6 +120,11 @@ void misbehave_fields(YAML::Node& out, const Misbehaviour& m) {
   out["ack_through_double"] = m.ack_through_double;
   out["malformed_json"] = m.malformed_json;
   out["silent"] = m.silent;
+  if (m.bad_response != BadResponse::none) {
+    std::string name(bad_response_name(m.bad_response));
+    for (char& c : name) c = c == '-' ? '_' : c;   // as scenario files write it
+    out["bad_response"] = name;
+  }
 }
 
 // The recording format's field syntax of one state ("a=1 left_x=0.5").
@@ -261,6 +266,7 @@ struct ActionWriter {
     YAML::Node node;
     node["vehicle"] = set.vehicle;
     misbehave_fields(node, set.misbehave);
+    if (set.second_connection) node["second_connection"] = true;
     item["misbehave"] = node;
   }
   void operator()(const GamepadAction& pad) {
@@ -295,6 +301,7 @@ std::string controller_state_name(DeliveryExpectation::ControllerState state) {
     case DeliveryExpectation::ControllerState::null: return "null";
     case DeliveryExpectation::ControllerState::default_: return "default";
     case DeliveryExpectation::ControllerState::driving: return "driving";
+    case DeliveryExpectation::ControllerState::safe: return "safe";
   }
   return "any";
 }
@@ -323,7 +330,37 @@ struct ExpectationWriter {
     if (e.vehicle) node["vehicle"] = *e.vehicle;
     node["never"] = true;
     if (e.from > Micros{0}) node["from"] = duration_text(e.from);
+    if (e.until) node["until"] = duration_text(*e.until);
     expect["faults"].push_back(node);
+  }
+  // Times, not event names: a shrunk scenario may have lost the event a label named.
+  void operator()(const FaultAlwaysExpectation& e) {
+    YAML::Node node;
+    node["fault"] = std::string(fault_identifier(e.fault));
+    node["vehicle"] = e.vehicle;
+    node["always"] = true;
+    node["from"] = duration_text(e.from);
+    node["until"] = e.until ? duration_text(*e.until) : "end";
+    expect["faults"].push_back(node);
+  }
+  void operator()(const RefusesToStartExpectation& e) { expect["refuses_to_start"] = e.reason; }
+  void operator()(const EventExpectation& e) {
+    YAML::Node node;
+    node["event"] = std::string(notable_kind_name(e.kind));
+    if (e.wire == Wire::operator_) node["wire"] = "operator";
+    if (e.vehicle) node["vehicle"] = *e.vehicle;
+    if (e.locked) node["locked"] = std::string(client_source_name(*e.locked));
+    if (e.source) node["source"] = std::string(client_source_name(*e.source));
+    if (!e.reason.empty()) node["reason"] = e.reason;
+    if (e.never) {
+      node["never"] = true;
+      if (e.from > Micros{0}) node["from"] = duration_text(e.from);
+      if (e.until) node["until"] = duration_text(*e.until);
+    } else {
+      node["after"] = duration_text(e.from);
+      node["within"] = duration_text(*e.until - e.from);
+    }
+    expect["events"].push_back(node);
   }
   void operator()(const FaultStateExpectation& e) {
     YAML::Node node;
@@ -349,10 +386,20 @@ struct ExpectationWriter {
     node["vehicle"] = e.vehicle;
     node["after"] = e.after_label.empty() ? duration_text(e.after) : e.after_label;
     node["within"] = duration_text(e.within);
-    if (e.controller != DeliveryExpectation::ControllerState::any || !e.user_data_json) {
+    if (e.every) node["every"] = true;
+    const bool something_else = e.user_data_json || e.user_data_absent || !e.fields.empty();
+    if (e.controller != DeliveryExpectation::ControllerState::any || !something_else) {
       node["controller"] = controller_state_name(e.controller);
     }
+    if (!e.fields.empty()) {
+      std::string fields;
+      for (const ControllerFieldValue& field : e.fields) {
+        fields += (fields.empty() ? "" : " ") + field.name + "=" + shortest_number(field.value);
+      }
+      node["fields"] = fields;
+    }
     if (e.user_data_json) node["user_data"] = json_node(*e.user_data_json);
+    if (e.user_data_absent) node["no_user_data"] = true;
     expect["delivered"].push_back(node);
   }
 };

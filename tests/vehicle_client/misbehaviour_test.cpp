@@ -106,3 +106,47 @@ TEST(VehicleClientMisbehaviour, UserDataSaysTheClientIsMisbehaving) {
 
 }  // namespace
 }  // namespace ocp
+
+namespace ocp {
+namespace {
+
+TEST(VehicleClientMisbehaviour, BadResponseNamesRoundTrip) {
+  for (BadResponse kind : {BadResponse::none, BadResponse::missing_field, BadResponse::wrong_type, BadResponse::not_an_object,
+                           BadResponse::ack_time_out_of_range, BadResponse::eof_mid_frame}) {
+    EXPECT_EQ(parse_bad_response(bad_response_name(kind)), kind) << bad_response_name(kind);
+  }
+  EXPECT_EQ(parse_bad_response("ack_time_out_of_range"), BadResponse::ack_time_out_of_range);
+  EXPECT_EQ(parse_bad_response("missing"), std::nullopt);
+  Misbehaviour misbehave;
+  misbehave.bad_response = BadResponse::wrong_type;
+  EXPECT_TRUE(misbehave.any());
+  EXPECT_EQ(misbehave.describe(), "bad-response wrong-type");
+}
+
+// Every broken response is one the codec refuses: the Streamer can only close (SPEC §2).
+TEST(VehicleClientMisbehaviour, BadResponsesAreRefusedByTheCodec) {
+  for (BadResponse kind : {BadResponse::missing_field, BadResponse::wrong_type, BadResponse::not_an_object,
+                           BadResponse::ack_time_out_of_range}) {
+    VehicleClientConfig config;
+    config.misbehave.bad_response = kind;
+    ClientWorld world(config);
+    world.streamer->start_control_loop();
+    world.executor.run_for(ms(50));
+    EXPECT_TRUE(world.streamer->responses.empty()) << bad_response_name(kind);
+    EXPECT_FALSE(world.streamer->decode_errors.empty()) << bad_response_name(kind);
+  }
+}
+
+TEST(VehicleClientMisbehaviour, EofMidFrameHangsUpAfterHalfAFrame) {
+  VehicleClientConfig config;
+  config.misbehave.bad_response = BadResponse::eof_mid_frame;
+  ClientWorld world(config);
+  world.streamer->start_control_loop();
+  world.executor.run_for(ms(50));
+  EXPECT_TRUE(world.streamer->responses.empty());
+  EXPECT_GT(world.streamer->bytes_received(), 0u);
+  EXPECT_EQ(world.client->stats().last_disconnect_kind, DisconnectKind::misbehaved);
+}
+
+}  // namespace
+}  // namespace ocp

@@ -4,9 +4,36 @@
 
 namespace ocp {
 
+namespace {
+constexpr BadResponse all_bad_responses[] = {BadResponse::none, BadResponse::missing_field, BadResponse::wrong_type,
+                                             BadResponse::not_an_object, BadResponse::ack_time_out_of_range,
+                                             BadResponse::eof_mid_frame};
+}  // namespace
+
+std::string_view bad_response_name(BadResponse kind) {
+  switch (kind) {
+    case BadResponse::none: return "none";
+    case BadResponse::missing_field: return "missing-field";
+    case BadResponse::wrong_type: return "wrong-type";
+    case BadResponse::not_an_object: return "not-an-object";
+    case BadResponse::ack_time_out_of_range: return "ack-time-out-of-range";
+    case BadResponse::eof_mid_frame: return "eof-mid-frame";
+  }
+  return "none";
+}
+
+std::optional<BadResponse> parse_bad_response(std::string_view name) {
+  std::string dashed(name);
+  for (char& c : dashed) c = c == '_' ? '-' : c;   // scenario files write keys with _
+  for (BadResponse kind : all_bad_responses) {
+    if (bad_response_name(kind) == dashed) return kind;
+  }
+  return std::nullopt;
+}
+
 bool Misbehaviour::any() const {
   return stop_echo || corrupt_mac || delay_responses.count() > 0 || oversized_frames ||
-         ack_through_double || malformed_json || silent;
+         ack_through_double || malformed_json || silent || bad_response != BadResponse::none;
 }
 
 std::string Misbehaviour::describe() const {
@@ -22,6 +49,7 @@ std::string Misbehaviour::describe() const {
   if (ack_through_double) add("ack-through-double");
   if (malformed_json) add("malformed-json");
   if (silent) add("silent");
+  if (bad_response != BadResponse::none) add(fmt::format("bad-response {}", bad_response_name(bad_response)));
   return text.empty() ? "none" : text;
 }
 

@@ -36,6 +36,10 @@ void VehicleClient::send_response(ResponseCause cause) {
   encode_vehicle_response(response_, payload_buffer_);
 
   frame_buffer_.clear();
+  if (misbehave.bad_response != BadResponse::none) {
+    write_bad_response(misbehave.bad_response);
+    return;
+  }
   if (misbehave.malformed_json) {
     payload_buffer_.resize(payload_buffer_.size() / 2);  // cut mid-object: not JSON any more
   }
@@ -67,6 +71,30 @@ void VehicleClient::send_response(ResponseCause cause) {
     stream_->write(frame_buffer_);
   }
   if (keepalive_timer_ == 0) arm_keepalive(now + config_.response_period);
+}
+
+// One response broken as `kind` says (misbehaviour.hpp), in place of the real one. Not counted
+// as a response sent: the Streamer cannot take it for one.
+void VehicleClient::write_bad_response(BadResponse kind) {
+  const std::uint64_t ack_time = response_.ack.ack_time;
+  const std::uint32_t mac = response_.ack.ack_time_mac;
+  switch (kind) {
+    case BadResponse::missing_field: payload_buffer_ = fmt::format(R"({{"ack_time":{}}})", ack_time); break;
+    case BadResponse::wrong_type: payload_buffer_ = fmt::format(R"({{"ack_time":"{}","ack_time_mac":{}}})", ack_time, mac); break;
+    case BadResponse::not_an_object: payload_buffer_ = fmt::format("[{},{}]", ack_time, mac); break;
+    case BadResponse::ack_time_out_of_range:
+      payload_buffer_ = fmt::format(R"({{"ack_time":18446744073709551616,"ack_time_mac":{}}})", mac);
+      break;
+    case BadResponse::eof_mid_frame:
+    case BadResponse::none: break;   // the real payload, cut below
+  }
+  (void)append_frame(payload_buffer_, frame_buffer_);   // all of these are far below 16 KiB
+  if (kind != BadResponse::eof_mid_frame) {
+    stream_->write(frame_buffer_);
+    return;
+  }
+  stream_->write(std::string_view(frame_buffer_).substr(0, frame_buffer_.size() / 2));
+  close_with(DisconnectKind::misbehaved, "misbehave: hung up in the middle of a frame");
 }
 
 // The keep-alive tasks capture only `this` (std::function keeps that inline: no allocation

@@ -14,6 +14,7 @@ std::string_view disconnect_kind_name(DisconnectKind kind) {
     case DisconnectKind::protocol_error: return "protocol_error";
     case DisconnectKind::not_an_ocp_server: return "not_an_ocp_server";
     case DisconnectKind::server_silent: return "server_silent";
+    case DisconnectKind::misbehaved: return "misbehaved";
   }
   return "unknown";
 }

@@ -48,7 +48,7 @@ void add_vehicle_options(CLI::App& app, VehicleClientConfig& client) {
       ->capture_default_str()->check(cli::real(0.1, 100.0))->group("Vehicle");
 }
 
-void add_misbehaviour_options(CLI::App& app, Misbehaviour& misbehave, double& delay_ms) {
+void add_misbehaviour_options(CLI::App& app, Misbehaviour& misbehave, double& delay_ms, std::string& bad_response) {
   const std::string misbehave_group = "Misbehaviour (tests and demos only; all off by default)";
   app.add_flag("--misbehave-stop-echo", misbehave.stop_echo,
                "Keep echoing the first ack pair (Streamer: HighLatency)")->group(misbehave_group);
@@ -65,6 +65,14 @@ void add_misbehaviour_options(CLI::App& app, Misbehaviour& misbehave, double& de
                "Send truncated JSON (Streamer closes the connection)")->group(misbehave_group);
   app.add_flag("--misbehave-silent", misbehave.silent,
                "Never send a response (Streamer's 2 s read timeout)")->group(misbehave_group);
+  std::vector<std::string> kinds;
+  for (BadResponse kind : {BadResponse::missing_field, BadResponse::wrong_type, BadResponse::not_an_object,
+                           BadResponse::ack_time_out_of_range, BadResponse::eof_mid_frame}) {
+    kinds.emplace_back(bad_response_name(kind));
+  }
+  app.add_option("--misbehave-bad-response", bad_response,
+                 "Break every response one way (Streamer closes the connection; SPEC §2)")
+      ->check(CLI::IsMember(kinds))->group(misbehave_group);
 }
 
 }  // namespace
@@ -111,7 +119,8 @@ ParseOutcome parse_program_options(int argc, const char* const* argv) {
   app.add_flag("--no-status", no_status, "Do not print the once-per-second status line");
 
   double delay_ms = 0.0;
-  add_misbehaviour_options(app, misbehave, delay_ms);
+  std::string bad_response = "none";
+  add_misbehaviour_options(app, misbehave, delay_ms, bad_response);
 
   if (auto exit_code = cli::parse_or_exit_code(app, argc, argv)) return {std::nullopt, *exit_code};
 
@@ -127,6 +136,7 @@ ParseOutcome parse_program_options(int argc, const char* const* argv) {
   safety.watchdog = from_ms(watchdog_ms);
   client.response_period = from_ms(response_period_ms);
   misbehave.delay_responses = from_ms(delay_ms);
+  misbehave.bad_response = parse_bad_response(bad_response).value_or(BadResponse::none);
   options.status_line = !no_status;
   if (!parse_log_level(log_level, options.log_level)) return fail("unknown log level " + log_level);
   if (auto problem = validate(client)) return fail(*problem);

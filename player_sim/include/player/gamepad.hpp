@@ -42,6 +42,9 @@ enum class GamepadAxis { left_x, left_y, right_x, right_y, left_trigger, right_t
 std::string_view gamepad_axis_name(GamepadAxis axis);
 // Reference to one axis of a controller (for scripting and parsing).
 double& axis_value(Axes& axes, GamepadAxis axis);
+// One field of a controller by its recording-format name (below): an axis's value, a button as
+// 1 or 0; nullopt for a name that is neither (scenario expectations on axis and button values).
+std::optional<double> controller_field(const Controller& controller, std::string_view name);
 
 struct SineWave {
   GamepadAxis axis = GamepadAxis::left_x;

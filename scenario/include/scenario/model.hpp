@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "ocp/client_source.hpp"
+#include "ocp/events.hpp"
 #include "ocp/faults.hpp"
 #include "ocp/impairments.hpp"
 #include "ocp/time.hpp"
@@ -82,6 +83,9 @@ struct DisconnectVehicle {
 struct SetMisbehaviour {
   std::string vehicle;
   Misbehaviour misbehave;
+  // Once, at this event: a second vehicle connection to the Streamer while the client's is
+  // open (SPEC §3.1: accepted and closed at once); it sends nothing and stays open this side.
+  bool second_connection = false;
 };
 struct GamepadAction {
   enum class Kind { unplug, replug, script } kind = Kind::unplug;
@@ -131,6 +135,17 @@ struct FaultNeverExpectation {
   FaultId fault = FaultId::InvalidMac;
   std::optional<std::string> vehicle;   // nullopt: on no vehicle
   SimTime from{0};   // raises before this are not counted (start-up: no pair to echo yet)
+  std::optional<SimTime> until;   // nullopt: to the end of the run; activity from here on is not counted
+};
+// The fault stays active on one vehicle through [from, until] (nullopt: to the end of the run):
+// one interval covers the whole window.
+struct FaultAlwaysExpectation {
+  FaultId fault = FaultId::NoControlMessage;
+  std::string vehicle;
+  SimTime from{0};
+  std::string from_label;   // the event name or the time as written
+  std::optional<SimTime> until;
+  std::string until_label;
 };
 // The fault's state at one instant on named vehicles (or every control vehicle but the
 // active one, which must then not have it).
@@ -154,21 +169,60 @@ struct InvariantExpectation {
   Invariant invariant = Invariant::default_controller_during_control_fault;
 };
 
+// One controller field (an axis or a button, by its recording-format name) and the value it
+// must carry: "right_trigger=0.4", "a=1".
+struct ControllerFieldValue {
+  std::string name;
+  double value = 0.0;
+};
+
 // What reached a vehicle: within `within` after `after`, a control frame to it must carry this
 // controller state and / or this client user data (operator commands through user data).
+// `every`: every control frame in the window must (and at least one must be sent), so that
+// "no frame in the window with X" can be said.
 struct DeliveryExpectation {
-  enum class ControllerState { any, null, default_, driving };
+  enum class ControllerState { any, null, default_, driving, safe /* null or default */ };
   std::string vehicle;
   SimTime after{0};
   std::string after_label;
   Micros within{0};
+  bool every = false;
   ControllerState controller = ControllerState::any;
   std::optional<std::string> user_data_json;   // compared as JSON values
+  bool user_data_absent = false;               // the frame carries no client_user_data
+  std::vector<ControllerFieldValue> fields;    // a controller with these values (not null)
 };
 
-using ExpectationKind = std::variant<FaultEdgeExpectation, FaultNeverExpectation,
-                                     FaultStateExpectation, ThresholdExpectation,
-                                     InvariantExpectation, DeliveryExpectation>;
+// Rare events on the stream that say what the operator side and the connections did: a
+// client-data source locked (SPEC §4.3), a second source in conflict with it, a connection
+// closed (with its reason) or refused (a second connection, SPEC §3.1).
+enum class NotableKind { source_locked, source_conflict, connection_closed, connection_refused };
+std::string_view notable_kind_name(NotableKind kind);
+
+// Such an event must happen in [from, until] (written `after` + `within`), or, with `never`,
+// must not (written `never: true` with an optional `from` / `until`).
+struct EventExpectation {
+  NotableKind kind = NotableKind::source_conflict;
+  bool never = false;
+  std::optional<std::string> vehicle;    // connection events: that vehicle's wire (nullopt: any)
+  Wire wire = Wire::vehicle;             // connection events: vehicle or operator wire
+  std::optional<ClientSource> source;    // source_locked: the source; source_conflict: the offending one
+  std::optional<ClientSource> locked;    // source_conflict: the locked one
+  std::string reason;                    // connection events: text the close reason must contain
+  SimTime from{0};
+  std::string from_label;
+  std::optional<SimTime> until;          // nullopt: the end of the run (never only)
+};
+
+// The world must refuse to start, with a reason containing this text (a configuration the
+// simulator rejects, written down as a regression test instead of an error).
+struct RefusesToStartExpectation {
+  std::string reason;
+};
+
+using ExpectationKind = std::variant<FaultEdgeExpectation, FaultNeverExpectation, FaultAlwaysExpectation,
+                                     FaultStateExpectation, ThresholdExpectation, InvariantExpectation,
+                                     DeliveryExpectation, RefusesToStartExpectation, EventExpectation>;
 struct Expectation {
   std::string title;   // one line, as printed in the verdict list
   Mark mark;
@@ -185,6 +239,9 @@ struct Scenario {
   GamepadScriptSetting gamepad;
   std::vector<TimelineEvent> timeline;   // ordered by `at`
   std::vector<Expectation> expectations;
+  // "file:line:column: text" for what the file may say but probably did not mean (client data
+  // for a vehicle the world does not have: the Player warns and ignores it, SPEC §4.2).
+  std::vector<std::string> warnings;
 };
 
 std::string_view invariant_name(Invariant invariant);

@@ -15,6 +15,7 @@
 #include "ocp/event_bus.hpp"
 #include "ocp/faults.hpp"
 #include "ocp/time.hpp"
+#include "scenario/model.hpp"
 #include "world/world.hpp"
 
 namespace ocp::scenario {
@@ -67,7 +68,19 @@ struct Delivery {
   SimTime time{0};
   std::string vehicle;
   enum class Controller { null, default_, driving } controller = Controller::null;
+  std::optional<ocp::Controller> controller_value;   // the decoded state, unless null
   std::optional<std::string> user_data_json;
+};
+
+// A notable event (EventExpectation): rare, so every one is kept.
+struct NotableEvent {
+  SimTime time{0};
+  NotableKind kind = NotableKind::source_locked;
+  std::string component;   // the vehicle (Streamer events) or the Player's name
+  Wire wire = Wire::vehicle;
+  ClientSource source = ClientSource::tcp;   // locked: the source; conflict: the offending one
+  ClientSource locked = ClientSource::tcp;   // conflict: the locked one
+  std::string reason;                        // connection events: the close reason
 };
 
 struct DeliveryWindow {
@@ -83,6 +96,7 @@ struct Observations {
   std::vector<Violation> controller_violations;   // non-default controller under a control-path fault
   std::vector<Violation> stale_pair_violations;   // old pair echoed on a new connection
   std::vector<Delivery> deliveries;               // decoded inside delivery windows only
+  std::vector<NotableEvent> notable_events;       // source locks and conflicts, closes, refusals
   std::uint64_t reconnects = 0;                   // vehicle connections opened after a close
   std::uint64_t events = 0;
 };
@@ -128,6 +142,7 @@ class Observer {
   void on_response_in(std::string_view name, VehicleState& vehicle, const WireFrame& frame, SimTime now);
   void on_fault(const FaultEvent& fault, SimTime now);
   void on_vehicle_connection(std::string_view name, const ConnectionEvent& connection);
+  void record_notable(const Event& event, SimTime now);
   VehicleState& state(std::string_view vehicle);
 
   ObserverOptions options_;

@@ -47,6 +47,9 @@ struct RunResult {
   // Cut short (Ctrl-C) at `ran` < duration: what needs the rest of the timeline is not judged.
   bool interrupted = false;
   SimTime ran{0};
+  // The world refused to start, for this reason: only a scenario that expects it
+  // (RefusesToStartExpectation) gets a result then; any other is a HarnessError.
+  std::optional<std::string> refused_to_start;
   Observations observations;
   std::vector<FiredEvent> fired;
   std::string trace_jsonl;   // empty unless RunOptions::trace
@@ -75,6 +78,8 @@ RunResult run_scenario_realtime(const Scenario& scenario, const RunOptions& opti
 
 // Whether any expectation of the scenario needs control payloads decoded.
 bool needs_controller_check(const Scenario& scenario);
+// Whether the scenario expects its world to refuse to start.
+bool expects_refusal(const Scenario& scenario);
 // Whether any expectation needs link events (feedback_gap_ms, lost_*).
 bool needs_link_events(const Scenario& scenario);
 

@@ -4,11 +4,27 @@
 // on the Streamer side, listed next to it.
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
+#include <string_view>
 
 #include "ocp/time.hpp"
 
 namespace ocp {
+
+// A response that breaks SPEC §2 / §3.3 in one way. The Streamer closes the connection on each
+// (SPEC §2: "a required field missing or of the wrong type, a JSON value that is not an
+// object, a short read → close that connection, log the reason"); the client reconnects.
+enum class BadResponse {
+  none,
+  missing_field,          // no ack_time_mac
+  wrong_type,             // ack_time as a string
+  not_an_object,          // a JSON array: [ack_time, ack_time_mac]
+  ack_time_out_of_range,  // ack_time 2^64, one past the u64 range
+  eof_mid_frame,          // half a frame, then the client hangs up
+};
+std::string_view bad_response_name(BadResponse kind);   // "missing-field", … ("none")
+std::optional<BadResponse> parse_bad_response(std::string_view name);   // accepts _ for -
 
 struct Misbehaviour {
   bool stop_echo = false;           // keep echoing the first pair ever received → HighLatency
@@ -18,6 +34,7 @@ struct Misbehaviour {
   bool ack_through_double = false;  // ack_time parsed via double: > 2^53 breaks → InvalidMac
   bool malformed_json = false;      // responses are not JSON → Streamer closes the connection
   bool silent = false;              // never send anything → Streamer's 2 s read timeout
+  BadResponse bad_response = BadResponse::none;   // every response broken so → Streamer closes
 
   bool any() const;
   // "none" or a comma-separated list of the active switches, e.g. "stop-echo, corrupt-mac".

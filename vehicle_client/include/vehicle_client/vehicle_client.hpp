@@ -66,6 +66,7 @@ enum class DisconnectKind : std::uint8_t {
   not_an_ocp_server,  // bad frame length or non-OCP data before any valid control message
   server_silent,      // control messages stopped for server_silence_limit, or none came
                       // within it of attaching (no byte at all, or only part of a frame)
+  misbehaved,         // a misbehaviour hung up on purpose (bad-response eof-mid-frame)
 };
 std::string_view disconnect_kind_name(DisconnectKind kind);
 
@@ -124,6 +125,7 @@ class VehicleClient {
   void echo(const AckPair& pair);   // the response that carries a control message's pair back
   void handle_control_message(const OcpControlMessage& message);
   void close_with(DisconnectKind kind, const std::string& reason);
+  void write_bad_response(BadResponse kind);
   void release_connection();
   void finish_disconnect(DisconnectKind kind, const std::string& reason);
   void send_response(ResponseCause cause);
