@@ -8,12 +8,8 @@ namespace ocp::scenario {
 namespace {
 
 using test::one_vehicle;
+using test::only;
 using test::run_text;
-
-const Verdict& only(const test::Outcome& outcome) {
-  EXPECT_EQ(outcome.verdicts.size(), 1u);
-  return outcome.verdicts.front();
-}
 
 TEST(BrokenExpectations, FaultEdgeTooEarlyWindow) {
   const auto outcome = run_text(one_vehicle(R"(timeline:

@@ -8,12 +8,8 @@ namespace ocp::scenario {
 namespace {
 
 using test::one_vehicle;
+using test::only;
 using test::run_text;
-
-const Verdict& only(const test::Outcome& outcome) {
-  EXPECT_EQ(outcome.verdicts.size(), 1u);
-  return outcome.verdicts.front();
-}
 
 void expect_round_trip(const std::string& yaml) {
   const std::string written = write_scenario_yaml(parse_scenario(yaml, "inline.yaml"));

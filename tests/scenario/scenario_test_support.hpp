@@ -24,6 +24,12 @@ inline Outcome run_text(const std::string& yaml, RunOptions options = {}) {
   return outcome;
 }
 
+// The one verdict of a scenario with a single expectation.
+inline const Verdict& only(const Outcome& outcome) {
+  EXPECT_EQ(outcome.verdicts.size(), 1u);
+  return outcome.verdicts.front();
+}
+
 // One vehicle, a 20 ms link, the drive script; `rest` adds timeline and expect.
 inline std::string one_vehicle(const std::string& rest, const std::string& duration = "6s") {
   return "seed: 4\nduration: " + duration +
