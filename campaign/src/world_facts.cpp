@@ -55,6 +55,9 @@ SimTime quiet_point(const scenario::Scenario& scenario) {
   for (const scenario::TimelineEvent& event : scenario.timeline) {
     quiet = std::max(quiet, event.at + effect_length(scenario, event.action));
   }
+  for (const VehicleSpec& spec : scenario.world.vehicles) {   // queued frame-loop stalls end later
+    for (const Window& stall : frame_loop_stalls(scenario, spec.name)) quiet = std::max(quiet, stall.end);
+  }
   return quiet;
 }
 
@@ -68,11 +71,16 @@ std::vector<Window> control_thread_stalls(const scenario::Scenario& scenario, co
   return out;
 }
 
+// A stall blocks the loop's next iteration (streamer_sim/core/frame_loop.hpp): one injected while
+// another blocks the loop runs after it, so the windows queue up. (Of two injected before the same
+// iteration the core runs only the later; the queued window then covers more than the stall did,
+// which only widens where StreamerSlow may be active.)
 std::vector<Window> frame_loop_stalls(const scenario::Scenario& scenario, const std::string& vehicle) {
   std::vector<Window> out;
   for (const auto& event : scenario.timeline) {
     if (const auto* stall = std::get_if<scenario::FrameLoopStall>(&event.action); stall && stall->vehicle == vehicle) {
-      out.push_back({event.at, event.at + stall->duration});
+      const SimTime start = out.empty() ? event.at : std::max(event.at, out.back().end);
+      out.push_back({start, start + stall->duration});
     }
   }
   return out;
