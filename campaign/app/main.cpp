@@ -22,6 +22,7 @@
 #include "campaign/failure_files.hpp"
 #include "campaign/generator.hpp"
 #include "campaign/results.hpp"
+#include "campaign/shell_words.hpp"
 #include "campaign/slurm.hpp"
 #include "campaign/world_check.hpp"
 #include "ocp/cli_checks.hpp"
@@ -95,30 +96,6 @@ struct RunCommand {
   std::optional<std::string> client;   // --client: worlds in real time against this vehicle client
   std::optional<double> max_world_seconds;
 };
-
-// The first word of a shell command line, its quotes taken off ('a b' and "a b" are one word).
-std::string first_shell_word(const std::string& command) {
-  std::string word;
-  char quote = 0;
-  std::size_t at = command.find_first_not_of(" \t");
-  for (; at < command.size(); ++at) {
-    const char c = command[at];
-    if (quote != 0) {
-      if (c == quote) {
-        quote = 0;
-      } else {
-        word += c;
-      }
-    } else if (c == '\'' || c == '"') {
-      quote = c;
-    } else if (c == ' ' || c == '\t') {
-      break;
-    } else {
-      word += c;
-    }
-  }
-  return word;
-}
 
 // --client's program, checked before any world starts: a command that cannot be found is a
 // usage error (exit 2), not a campaign of failed worlds. Only the first word is checked (a

@@ -8,6 +8,7 @@
 
 #include "campaign/client_world.hpp"
 #include "campaign/generator.hpp"
+#include "campaign/shell_words.hpp"
 #include "campaign/shrink.hpp"
 #include "campaign/world_check.hpp"
 #include "scenario/reports.hpp"
@@ -31,13 +32,6 @@ scenario::Scenario with_placeholder_expectation(scenario::Scenario world) {
         {"", {}, scenario::InvariantExpectation{scenario::Invariant::default_controller_during_control_fault}});
   }
   return world;
-}
-
-// One shell word: 'text', with every ' written as '\''.
-std::string shell_quoted(const std::string& text) {
-  std::string quoted = "'";
-  for (const char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
 }
 
 std::string replay_command(std::uint64_t index, const FailureFilesOptions& options) {

@@ -1,5 +1,6 @@
 // `ocp_campaign slurm` (slurm.hpp).
 #include "campaign/slurm.hpp"
+#include "campaign/shell_words.hpp"
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -36,12 +37,6 @@ std::pair<std::string, bool> capture(const std::string& command) {
 }
 
 bool on_path(const std::string& tool) { return capture("command -v " + tool + " >/dev/null 2>&1").second; }
-
-std::string quoted(const std::string& text) {
-  std::string out = "'";
-  for (const char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
 
 std::string self_executable() {
   std::error_code error;
@@ -87,9 +82,9 @@ std::string sbatch_script(const SlurmOptions& o, const std::string& executable) 
   script += "# Task i runs shard i/" + tasks + " into " + out + "/shard-i (a folder every node sees);\n";
   script += "# `ocp_campaign merge` joins them. Exit 1 of a task means a world failed, not the task.\n";
   script += ": \"${SLURM_ARRAY_TASK_ID:?run this as a Slurm array task (sbatch)}\"\n";
-  script += "exec " + quoted(executable) + " run --seed " + std::to_string(o.seed) + " --worlds " +
-            std::to_string(o.worlds) + " --profile " + quoted(slurm_profile_argument(o.profile)) + " -j " +
-            std::to_string(o.jobs) + " --shard \"$SLURM_ARRAY_TASK_ID/" + tasks + "\" --quiet --out " + quoted(out) +
+  script += "exec " + shell_quoted(executable) + " run --seed " + std::to_string(o.seed) + " --worlds " +
+            std::to_string(o.worlds) + " --profile " + shell_quoted(slurm_profile_argument(o.profile)) + " -j " +
+            std::to_string(o.jobs) + " --shard \"$SLURM_ARRAY_TASK_ID/" + tasks + "\" --quiet --out " + shell_quoted(out) +
             "/shard-\"$SLURM_ARRAY_TASK_ID\"\n";
   return script;
 }
@@ -192,7 +187,7 @@ std::optional<int> wait_for_job(const SlurmOptions& o, const std::string& job, c
 
 // `ocp_campaign merge` of every task's shard; a task that left no summary is an error.
 int merge_shards(const SlurmOptions& o, const std::string& executable, const std::filesystem::path& out) {
-  std::string merge = quoted(executable) + " merge --out " + quoted(out.string());
+  std::string merge = shell_quoted(executable) + " merge --out " + shell_quoted(out.string());
   for (int task = 0; task < o.tasks; ++task) {
     const std::filesystem::path shard = out / ("shard-" + std::to_string(task));
     if (!std::filesystem::exists(shard / "summary.json")) {
@@ -200,7 +195,7 @@ int merge_shards(const SlurmOptions& o, const std::string& executable, const std
                 << task << ".log)\n";
       return exit_usage;
     }
-    merge += " " + quoted(shard.string());
+    merge += " " + shell_quoted(shard.string());
   }
   const int status = std::system(merge.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : exit_usage;
@@ -220,7 +215,7 @@ int run_slurm(const SlurmOptions& o) {
   const auto script_path = write_script(o, out, script);
   if (!script_path) return exit_usage;
   const auto start = std::chrono::steady_clock::now();
-  const auto [submitted, ok] = capture("sbatch --parsable " + quoted(script_path->string()) + " 2>&1");
+  const auto [submitted, ok] = capture("sbatch --parsable " + shell_quoted(script_path->string()) + " 2>&1");
   const std::string job = submitted.substr(0, submitted.find_first_of(";\n"));
   if (!ok || job.empty() || job.find_first_not_of("0123456789") != std::string::npos) {
     std::cerr << "ocp_campaign slurm: sbatch failed (is slurmctld reachable?): " << submitted << "\n";

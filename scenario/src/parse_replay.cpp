@@ -18,22 +18,7 @@ std::shared_ptr<const LinkRecording> Parser::link_recording(const YAML::Node& no
                                     " exclude each other: the recording holds each message's delay or loss");
     }
   }
-  const std::string name = read_.text(node);
-  if (name.empty()) read_.fail(node, "replay: expected a link recording file name");
-  std::filesystem::path path(name);
-  if (path.is_relative()) path = std::filesystem::path(scenario_.path).parent_path() / path;
-  const std::string key = path.lexically_normal().string();
-  if (const auto known = link_recordings_.find(key); known != link_recordings_.end()) return known->second;
-  auto loaded = LinkRecording::load(key);
-  if (!loaded) {
-    // The recording's own file:line first, then where the scenario names it.
-    const Mark at = read_.mark(node);
-    throw ScenarioError(key, loaded.error().detail + " (the replay of " + read_.file() + ":" +
-                                 std::to_string(at.line) + ":" + std::to_string(at.column) + ")");
-  }
-  auto recording = std::make_shared<const LinkRecording>(std::move(loaded).value());
-  link_recordings_.emplace(key, recording);
-  return recording;
+  return named_file(node, "replay", "a link recording file name", link_recordings_);
 }
 
 void Parser::check_replayed_routes(const VehicleSpec& spec, const YAML::Node& node) {

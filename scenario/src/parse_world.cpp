@@ -159,22 +159,7 @@ ImpairmentPatch Parser::impairments(const YAML::Node& node, bool targeted) {
 }
 
 std::shared_ptr<const DeliveryTrace> Parser::delivery_trace(const YAML::Node& node) {
-  const std::string name = read_.text(node);
-  if (name.empty()) read_.fail(node, "trace: expected a file name");
-  std::filesystem::path path(name);
-  if (path.is_relative()) path = std::filesystem::path(scenario_.path).parent_path() / path;
-  const std::string key = path.lexically_normal().string();
-  if (const auto known = delivery_traces_.find(key); known != delivery_traces_.end()) return known->second;
-  auto loaded = DeliveryTrace::load(key);
-  if (!loaded) {
-    // The trace's own file:line first, then where the scenario names it.
-    const Mark at = read_.mark(node);
-    throw ScenarioError(key, loaded.error().detail + " (the trace of " + read_.file() + ":" +
-                                 std::to_string(at.line) + ":" + std::to_string(at.column) + ")");
-  }
-  auto trace = std::make_shared<const DeliveryTrace>(std::move(loaded).value());
-  delivery_traces_.emplace(key, trace);
-  return trace;
+  return named_file(node, "trace", "a file name", delivery_traces_);
 }
 
 Controller Parser::controller(const YAML::Node& node) {

@@ -3,6 +3,7 @@
 // parse.cpp (top level), parse_world.cpp, parse_timeline.cpp and parse_expect.cpp.
 #include <yaml-cpp/yaml.h>
 
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <string>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "scenario/model.hpp"
+#include "scenario/parse.hpp"
 #include "yaml_read.hpp"
 
 namespace ocp::scenario {
@@ -37,6 +39,11 @@ class Parser {
   // A `replay:` value (parse_replay.cpp): the link recording, loaded once per path; `fields`
   // is the impairments node, whose other settings it must not be combined with.
   std::shared_ptr<const LinkRecording> link_recording(const YAML::Node& node, const YAML::Node& fields);
+  // A file a link names (`trace:`, `replay:`): relative to the scenario file, loaded once per
+  // path into `loaded`; a load error gives the file's own line, then where the scenario names it.
+  template <class File>
+  std::shared_ptr<const File> named_file(const YAML::Node& node, const std::string& key, const std::string& expected,
+                                         std::map<std::string, std::shared_ptr<const File>>& loaded);
   // Each replayed direction of the vehicle has messages of its route in the recording.
   void check_replayed_routes(const VehicleSpec& spec, const YAML::Node& node);
   Controller controller(const YAML::Node& node);
@@ -95,5 +102,25 @@ class Parser {
   std::map<std::string, std::shared_ptr<const DeliveryTrace>> delivery_traces_;
   std::map<std::string, std::shared_ptr<const LinkRecording>> link_recordings_;
 };
+
+template <class File>
+std::shared_ptr<const File> Parser::named_file(const YAML::Node& node, const std::string& key, const std::string& expected,
+                                               std::map<std::string, std::shared_ptr<const File>>& loaded) {
+  const std::string name = read_.text(node);
+  if (name.empty()) read_.fail(node, key + ": expected " + expected);
+  std::filesystem::path path(name);
+  if (path.is_relative()) path = std::filesystem::path(scenario_.path).parent_path() / path;
+  const std::string file = path.lexically_normal().string();
+  if (const auto known = loaded.find(file); known != loaded.end()) return known->second;
+  auto opened = File::load(file);
+  if (!opened) {
+    const Mark at = read_.mark(node);
+    throw ScenarioError(file, opened.error().detail + " (the " + key + " of " + read_.file() + ":" +
+                                  std::to_string(at.line) + ":" + std::to_string(at.column) + ")");
+  }
+  auto shared = std::make_shared<const File>(std::move(opened).value());
+  loaded.emplace(file, shared);
+  return shared;
+}
 
 }  // namespace ocp::scenario
