@@ -207,7 +207,10 @@ TEST(ConformanceCoverage, EveryMustAndShouldCaseHasABrokenClient) {
 
 // The small broken clients break one rule each: over the whole suite they fail exactly their
 // own case(s) and pass the rest (NON-STRICT elsewhere is tolerated: python on a loaded box
-// may answer a little late).
+// may answer a little late). A whole-suite run costs ~20 s, so this runs the modes whose
+// breakage could spill into other cases (framing, closing on a frame, the controller's shape,
+// reconnects, the pair, the early-echo window); every mode's verdict on its own case is
+// proven by CoverageBrokenClient above, one short run each.
 struct ExactCase {
   std::string mode;
   std::set<std::string> failed;   // every FAILED case of the full run
@@ -234,20 +237,13 @@ TEST_P(BrokenClientExactly, FailsExactlyItsOwnCases) {
 
 INSTANTIATE_TEST_SUITE_P(
     BrokenClients, BrokenClientExactly,
-    ::testing::Values(ExactCase{"echo-only", {"vehicle/2/7"}, "vehicle/2/7", "FAILED"},
-                      ExactCase{"timer-echo", {}, "vehicle/3.3/2", "NON-STRICT"},
-                      ExactCase{"naive-recv", {"vehicle/2/3", "vehicle/2/4"}, "vehicle/2/3", "FAILED"},
+    ::testing::Values(ExactCase{"naive-recv", {"vehicle/2/3", "vehicle/2/4"}, "vehicle/2/3", "FAILED"},
                       // SHOULD (SPEC §2 Decision): the product never sends a frame above 16 KiB.
                       ExactCase{"reject-oversized", {}, "vehicle/2/5", "NON-STRICT"},
                       // Reads a missing "controller" key as null too: the product-shape case fails with it.
                       ExactCase{"require-controller", {"vehicle/3.2/1", "vehicle/3.2/4"}, "vehicle/3.2/1", "FAILED"},
-                      ExactCase{"fault-enum", {"vehicle/3.2/2"}, "vehicle/3.2/2", "FAILED"},
-                      ExactCase{"flat-user-data", {"vehicle/3.2/3"}, "vehicle/3.2/3", "FAILED"},
-                      ExactCase{"strict-schema", {"vehicle/2/6"}, "vehicle/2/6", "FAILED"},
-                      ExactCase{"scalar-user-data", {}, "vehicle/3.3/3", "NON-STRICT"},
                       ExactCase{"no-reconnect", {"vehicle/3.1/1", "vehicle/3.1/2"}, "vehicle/3.1/1", "FAILED"},
                       ExactCase{"sticky-pair", {"vehicle/3.1/1", "vehicle/3.1/2"}, "vehicle/3.1/2", "FAILED"},
-                      ExactCase{"early-echo", {}, "vehicle/3.3/4", "NON-STRICT"},
                       // The CI flake, made deterministic: a made-up pair that arrives in the same
                       // read as the first real echo is 3.3/4's alone (the harness's window rule).
                       ExactCase{"slow-early-echo", {}, "vehicle/3.3/4", "NON-STRICT"}));
