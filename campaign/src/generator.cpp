@@ -215,18 +215,27 @@ class TimelineBuilder {
     push(end, SetImpairments{spec.name, way, off, Micros{0}});
   }
 
+  static constexpr BadResponse generated_bad_responses[] = {BadResponse::missing_field, BadResponse::wrong_type,
+                                                            BadResponse::not_an_object, BadResponse::ack_time_out_of_range,
+                                                            BadResponse::eof_mid_frame};
+
+  // Every misbehaviour the scenario format has: the switches, each kind of broken response
+  // (SPEC §2: the Streamer closes the connection) and a second connection (SPEC §3.1: refused).
   void misbehave(const VehicleSpec& spec, SimTime at, SimTime end) {
     Misbehaviour on;
-    switch (draw_.integer(0, 6)) {
+    bool second_connection = false;
+    switch (draw_.integer(0, 8)) {
       case 0: on.stop_echo = true; break;
       case 1: on.corrupt_mac = true; break;
       case 2: on.delay_responses = draw_.duration(Micros{50'000}, Micros{800'000}); break;
       case 3: on.oversized_frames = true; break;
       case 4: on.ack_through_double = true; break;
       case 5: on.malformed_json = true; break;
+      case 6: on.bad_response = generated_bad_responses[static_cast<std::size_t>(draw_.integer(0, 4))]; break;
+      case 7: second_connection = true; break;
       default: on.silent = true; break;
     }
-    push(at, SetMisbehaviour{spec.name, on});
+    push(at, SetMisbehaviour{spec.name, on, second_connection});
     push(end, SetMisbehaviour{spec.name, Misbehaviour{}});
   }
 

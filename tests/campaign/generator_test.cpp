@@ -21,6 +21,20 @@ scenario::Scenario with_expectation(scenario::Scenario world) {
   return world;
 }
 
+// The names of what a misbehaviour event switches on.
+void note_misbehaviour_kinds(const scenario::SetMisbehaviour& set, std::set<std::string>& kinds) {
+  const Misbehaviour& m = set.misbehave;
+  if (m.stop_echo) kinds.insert("stop_echo");
+  if (m.corrupt_mac) kinds.insert("corrupt_mac");
+  if (m.delay_responses > Micros{0}) kinds.insert("delay_responses");
+  if (m.oversized_frames) kinds.insert("oversized_frames");
+  if (m.ack_through_double) kinds.insert("ack_through_double");
+  if (m.malformed_json) kinds.insert("malformed_json");
+  if (m.silent) kinds.insert("silent");
+  if (m.bad_response != BadResponse::none) kinds.insert(std::string(bad_response_name(m.bad_response)));
+  if (set.second_connection) kinds.insert("second_connection");
+}
+
 TEST(CampaignGenerator, SameSeedSameWorlds) {
   const Profile profile = load_profile(shipped_profile_path("default"));
   for (std::uint64_t index = 0; index < 20; ++index) {
@@ -44,6 +58,7 @@ TEST(CampaignGenerator, WrittenWorldParsesBackToTheSameWorld) {
 TEST(CampaignGenerator, WorldsStayInTheirRangesAndUseEveryAction) {
   const Profile profile = load_profile(shipped_profile_path("default"));
   std::set<std::size_t> actions;
+  std::set<std::string> misbehaviours;
   bool monitor = false, fleet = false;
   for (std::uint64_t index = 0; index < 300; ++index) {
     const scenario::Scenario world = generate_world(profile, 5, index);
@@ -61,11 +76,14 @@ TEST(CampaignGenerator, WorldsStayInTheirRangesAndUseEveryAction) {
     for (const scenario::TimelineEvent& event : world.timeline) {
       actions.insert(event.action.index());
       EXPECT_LT(event.at, world.duration - liveness_bound(world) + Micros{1});
+      if (const auto* set = std::get_if<scenario::SetMisbehaviour>(&event.action)) note_misbehaviour_kinds(*set, misbehaviours);
     }
   }
   EXPECT_TRUE(monitor);
   EXPECT_TRUE(fleet);
   EXPECT_EQ(actions.size(), std::variant_size_v<scenario::Action>);
+  // Every misbehaviour of the format: 7 switches, 5 broken responses, a second connection.
+  EXPECT_EQ(misbehaviours.size(), 13u) << ::testing::PrintToString(misbehaviours);
 }
 
 // Besides a fleet's first selection at 0 s, which every fleet world needs.
