@@ -37,9 +37,7 @@ std::optional<Outcome> not_driving(const ScriptRun& run, std::int64_t at_us, con
 }
 
 Outcome command_timeout(CaseContext& context) {
-  Outcome outcome;
-  if (!connected(context, outcome)) return outcome;
-  context.run_for(milliseconds(200));
+  if (auto early = safety_prologue(context)) return *early;
   const ScriptRun run = play_safety_script(context, 101, enable_and_drive(30), safety_silence);
   if (auto not_judged = safety_not_judged(run)) return *not_judged;
   if (auto idle = not_driving(run, run.last_frame_us, "when the control messages stopped")) return *idle;
@@ -67,9 +65,7 @@ CraftedControl user_data_command(std::string json) {
 }
 
 Outcome actuator_limits(CaseContext& context) {
-  Outcome outcome;
-  if (!connected(context, outcome)) return outcome;
-  context.run_for(milliseconds(200));
+  if (auto early = safety_prologue(context)) return *early;
   std::vector<SafetyPhase> phases = enable_and_drive(10);
   phases.push_back({30, pad_frame(CraftedPad{.left_x = -1.0, .right_trigger = 1.0})});   // full throttle, full left
   phases.push_back({20, pad_frame(CraftedPad{.left_x = 1.0, .left_trigger = 1.0})});     // full brake, full right
@@ -115,9 +111,7 @@ std::vector<SafetyPhase> interlock_script() {
 constexpr std::size_t interlock_stop_phase = 4, interlock_after_stop_phase = 5, interlock_fault_phase = 9;
 
 Outcome interlocks(CaseContext& context) {
-  Outcome outcome;
-  if (!connected(context, outcome)) return outcome;
-  context.run_for(milliseconds(200));
+  if (auto early = safety_prologue(context)) return *early;
   const ScriptRun run = play_safety_script(context, 103, interlock_script(), milliseconds(50));
   if (auto not_judged = safety_not_judged(run)) return *not_judged;
   const auto& start = run.phase_start_us;
@@ -155,9 +149,7 @@ std::vector<SafetyPhase> fault_script() {
 constexpr std::size_t fault_default_phase = 3, fault_passed_through_phase = 7;
 
 Outcome fault_safe_state(CaseContext& context) {
-  Outcome outcome;
-  if (!connected(context, outcome)) return outcome;
-  context.run_for(milliseconds(200));
+  if (auto early = safety_prologue(context)) return *early;
   const ScriptRun run = play_safety_script(context, 104, fault_script(), milliseconds(50));
   if (auto not_judged = safety_not_judged(run)) return *not_judged;
   const auto& start = run.phase_start_us;

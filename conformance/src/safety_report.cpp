@@ -90,9 +90,13 @@ ScriptRun play_safety_script(CaseContext& context, std::uint64_t salt, const std
     first += phase.frames;
   }
   for (const AckPair& pair : crafted.pairs) run.last_frame_us = std::max(run.last_frame_us, safety_sent_time(observed, pair));
-  const std::int64_t from = run.phase_start_us.empty() ? crafted.start_us : run.phase_start_us.front();
+  collect_safety_reports(observed, run.phase_start_us.empty() ? crafted.start_us : run.phase_start_us.front(), run);
+  return run;
+}
+
+void collect_safety_reports(const Observations& observed, std::int64_t from_us, ScriptRun& run) {
   for (const Response& response : observed.responses) {
-    if (response.time_us < from || response.drained) continue;
+    if (response.time_us < from_us || response.drained) continue;
     ++run.responses;
     std::string problem;
     if (auto report = read_safety_report(response.payload, response.time_us, problem)) {
@@ -101,7 +105,17 @@ ScriptRun play_safety_script(CaseContext& context, std::uint64_t salt, const std
       run.missing = problem;
     }
   }
-  return run;
+}
+
+std::optional<Outcome> safety_prologue(CaseContext& context) {
+  Outcome outcome;
+  if (!connected(context, outcome)) return outcome;
+  const std::int64_t start = context.now_us();
+  context.run_for(milliseconds(200));
+  ScriptRun probe;
+  collect_safety_reports(Observations::from(context.entries()), start, probe);
+  if (probe.responses == 0) return std::nullopt;   // nothing to tell yet: the script decides
+  return safety_not_judged(probe);
 }
 
 std::optional<Outcome> safety_not_judged(const ScriptRun& run) {

@@ -59,8 +59,14 @@ struct ScriptRun {
 ScriptRun play_safety_script(CaseContext& context, std::uint64_t salt, const std::vector<SafetyPhase>& phases,
                              milliseconds silence);
 
-// No response of the script carried a report: the case is not judged (the one-line reason).
+// Adds the reports of the responses (in the case's window) from `from_us` on to `run`.
+void collect_safety_reports(const Observations& observed, std::int64_t from_us, ScriptRun& run);
+// No response of `run` carried a report: the case is not judged (the one-line reason).
 std::optional<Outcome> safety_not_judged(const ScriptRun& run);
+// Every case starts so: the client connected, 200 ms of the Streamer's own control. The outcome
+// to return at once when the client did not connect, or answered without a report (so a client
+// that does not report costs each case 200 ms, not a whole script); nullopt: play the script.
+std::optional<Outcome> safety_prologue(CaseContext& context);
 
 // Does the rule hold from `from_us` + `bound_us` to `to_us`? The client has `bound_us` to get
 // there; from then on every report must keep it.

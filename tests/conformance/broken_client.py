@@ -10,6 +10,9 @@ response every 10 ms without control, and reconnects 100 ms after the connection
 The op-* modes are operator clients on the Player's :4001 API (op-echo behaves: it reads frames
 properly, skips frames over 16 KiB, answers every VehicleOcpShared, sends a keep-alive {} after
 0.5 s with nothing to answer, and reconnects).
+The safety modes (`safety`, which behaves, and no-watchdog, no-limits, no-interlock,
+ignore-fault) also put a safety report into their user_data (docs/conformance.md, Safety report)
+from a small copy of the reference client's safety layer; the other modes send none.
 Which mode fails which case is in the cases themselves ("fails against", docs/conformance.md
 Coverage); the tests run every pair (suite_test.cpp, CoverageBrokenClient).
 """
