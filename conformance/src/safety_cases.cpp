@@ -110,7 +110,7 @@ std::vector<SafetyPhase> interlock_script() {
 }
 constexpr std::size_t interlock_stop_phase = 4, interlock_after_stop_phase = 5, interlock_fault_phase = 9;
 
-Outcome interlocks(CaseContext& context) {
+Outcome drive_interlocks(CaseContext& context) {
   if (auto early = safety_prologue(context)) return *early;
   const ScriptRun run = play_safety_script(context, 103, interlock_script(), milliseconds(50));
   if (auto not_judged = safety_not_judged(run)) return *not_judged;
@@ -197,7 +197,7 @@ void add_safety_cases(std::vector<VehicleCase>& cases) {
                       "enable stays at 0",
                       "FAILED: it drives without an enable, or stays enabled after the back button or a fault", safety_not_judged_line},
                      "broken_client.py no-interlock (FAILED)"},
-                    interlocks},
+                    drive_interlocks},
                    {}});
   cases.push_back({{{"vehicle/10/4", "telemetry.fault → safe state, whatever the controller says", safety_source,
                      "\"Use telemetry.fault and your own watchdogs to decide when to hold, coast, brake, or otherwise enter a "
