@@ -177,7 +177,7 @@ void add_safety_cases(std::vector<VehicleCase>& cases) {
                      {"OK: enabled and driving, then control messages stop (connection open, 1.3 s): the report shows safe_state true "
                       "with throttle 0 within 1 s (NoControlMessage's bound, SPEC §8) and keeps it",
                       "FAILED: still driving 1 s after the last control message", safety_not_judged_line},
-                     "broken_client.py no-watchdog (FAILED)"},
+                     "broken_client.py no-watchdog (FAILED); vehicle_client --watchdog-ms 1500 (FAILED)"},
                     command_timeout},
                    {}});
   cases.push_back({{{"vehicle/10/2", "actuator limits: commands beyond them never reach the actuators", safety_source,
