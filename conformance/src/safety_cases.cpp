@@ -4,6 +4,9 @@
 // not the safety controller, so these are SHOULD; a client that does not report is not judged.
 // A client that reports and breaks the rule outright (keeps driving) is FAILED, not NON-STRICT:
 // there is no "works, but not the preferred way" in a vehicle that ignores a fault.
+#include <algorithm>
+#include <cmath>
+
 #include "conformance/vehicle_cases.hpp"
 #include "safety_report.hpp"
 
@@ -117,7 +120,7 @@ Outcome drive_interlocks(CaseContext& context) {
   const auto& start = run.phase_start_us;
   const Settling never_enabled = settle_within(run, start[0], start[1], 0, disabled_and_still);
   const std::string first = "full throttle before any enable: " + describe_settling(never_enabled, start[0], "disabled with throttle 0");
-  if (!never_enabled.holds()) return failed(first + " (no interlock: it drives without being enabled)");
+  if (!never_enabled.holds()) return failed(first + (never_enabled.broken ? " (no interlock: it drives without being enabled)" : ""));
   if (auto idle = not_driving(run, start[interlock_stop_phase], "before the emergency stop")) return *idle;
   const Settling stop = settle_within(run, start[interlock_stop_phase], start[interlock_after_stop_phase + 1], safety_react_bound_us,
                                       disabled_and_still);
