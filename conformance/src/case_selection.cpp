@@ -1,3 +1,4 @@
+#include <cstdint>
 #include <string>
 #include <string_view>
 
@@ -19,7 +20,33 @@ bool glob(std::string_view pattern, std::string_view text) {
   return glob(pattern.substr(1), text.substr(1));
 }
 
+// The number at the front of `text` (its digits removed), for case_id_before.
+std::uint64_t leading_number(std::string_view& text) {
+  std::uint64_t value = 0;
+  while (!text.empty() && text.front() >= '0' && text.front() <= '9') {
+    value = value * 10 + static_cast<std::uint64_t>(text.front() - '0');
+    text.remove_prefix(1);
+  }
+  return value;
+}
+
 }  // namespace
+
+bool case_id_before(const std::string& a, const std::string& b) {
+  std::string_view x(a), y(b);
+  while (!x.empty() && !y.empty()) {
+    const bool x_digit = x.front() >= '0' && x.front() <= '9', y_digit = y.front() >= '0' && y.front() <= '9';
+    if (x_digit && y_digit) {
+      const std::uint64_t m = leading_number(x), n = leading_number(y);
+      if (m != n) return m < n;
+      continue;
+    }
+    if (x.front() != y.front()) return x.front() < y.front();
+    x.remove_prefix(1);
+    y.remove_prefix(1);
+  }
+  return x.size() < y.size();
+}
 
 bool matches_any(const std::string& id, const std::string& patterns) {
   std::string_view rest(patterns);

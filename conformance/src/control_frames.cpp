@@ -6,6 +6,22 @@
 
 namespace ocp::conformance {
 
+namespace {
+
+// The controller object: every button and axis of seed 001, the pad's ones set.
+std::string crafted_controller_json(const CraftedPad& pad, bool unknown_fields) {
+  const auto flag = [](bool on) { return on ? "true" : "false"; };
+  return fmt::format(
+      R"({{"buttons":{{"a":{0},"b":false,"x":false,"y":false,"left_bumper":false,"right_bumper":false,)"
+      R"("back":{1},"start":{2},"guide":false,"left_thumb":false,"right_thumb":false,"dpad_up":false,)"
+      R"("dpad_right":false,"dpad_down":false,"dpad_left":false{3}}},"axes":{{"left_x":{4:.3f},"left_y":0.0,)"
+      R"("right_x":0.0,"right_y":0.0,"left_trigger":{5:.3f},"right_trigger":{6:.3f}}}{7}}})",
+      flag(pad.a), flag(pad.back), flag(pad.start), unknown_fields ? R"(,"paddle_1":true)" : "", pad.left_x,
+      pad.left_trigger, pad.right_trigger, unknown_fields ? R"(,"haptics":{"rumble":[0.1,0.2]})" : "");
+}
+
+}  // namespace
+
 std::string control_payload(const CraftedControl& c) {
   std::string controller;
   switch (c.controller) {
@@ -15,18 +31,14 @@ std::string control_payload(const CraftedControl& c) {
     case CraftedController::absent:
       break;
     case CraftedController::driving:
-    case CraftedController::safe_default: {
-      const bool drive = c.controller == CraftedController::driving;
-      controller = fmt::format(
-          R"({{"buttons":{{"a":{0},"b":false,"x":false,"y":false,"left_bumper":false,"right_bumper":false,)"
-          R"("back":false,"start":false,"guide":false,"left_thumb":false,"right_thumb":false,"dpad_up":false,)"
-          R"("dpad_right":false,"dpad_down":false,"dpad_left":false{1}}},"axes":{{"left_x":{2},"left_y":0.0,)"
-          R"("right_x":0.0,"right_y":0.0,"left_trigger":-1.0,"right_trigger":{3}}}{4}}})",
-          drive ? "true" : "false", c.unknown_fields ? R"(,"paddle_1":true)" : "",
-          drive ? "0.25" : "0.0", drive ? "0.5" : "-1.0",
-          c.unknown_fields ? R"(,"haptics":{"rumble":[0.1,0.2]})" : "");
+      controller = crafted_controller_json(CraftedPad{.a = true, .left_x = 0.25, .right_trigger = 0.5}, c.unknown_fields);
       break;
-    }
+    case CraftedController::safe_default:
+      controller = crafted_controller_json(CraftedPad{}, c.unknown_fields);
+      break;
+    case CraftedController::pad:
+      controller = crafted_controller_json(c.pad, c.unknown_fields);
+      break;
   }
   std::string out = fmt::format(
       R"({{{0}{1}"telemetry":{{"latency":12,"fault":{2},"fault_reason":"{3}"{4}{5}}},)"

@@ -164,7 +164,7 @@ std::vector<VehicleCase> operator_cases() {
   add_operator_product_shape_cases(cases);
   // Stable order by id (section, then number) whatever the files add.
   std::stable_sort(cases.begin(), cases.end(),
-                   [](const VehicleCase& a, const VehicleCase& b) { return a.body.info.id < b.body.info.id; });
+                   [](const VehicleCase& a, const VehicleCase& b) { return case_id_before(a.body.info.id, b.body.info.id); });
   return cases;
 }
 

@@ -2,13 +2,12 @@
 // 000/001 that a third-party vehicle client can break, one row per broken behaviour. Tiers per
 // SPEC §2's Decision: MUST only on what the product can send the client, or on what the product
 // documentation requires the client itself to send. The four §10 safety rows are the vehicle's
-// own business: nothing on the TCP wire shows them, so no case can grade them.
+// own business: the wire shows them only through the client's safety report (safety_report.hpp),
+// so they are SHOULD, and a client that does not report is not judged on them.
 #include "conformance/requirements.hpp"
 
 namespace ocp::conformance {
 namespace {
-
-const std::string vehicle_safety_reason = "the vehicle's own safety logic; nothing on the TCP wire shows it";
 
 const std::vector<Requirement> vehicle_requirement_table{
     {"V-2-valid-json", "every response is a length-prefixed JSON object (malformed JSON closes the connection)",
@@ -69,12 +68,15 @@ const std::vector<Requirement> vehicle_requirement_table{
      Tier::should, {"vehicle/3.3/3"}, {"broken_client.py scalar-user-data"}, ""},
     {"V-3.3-no-early-echo", "echoes no pair before the first control message", "seed 000 (Send responses)", Tier::should, {"vehicle/3.3/4"},
      {"broken_client.py early-echo"}, ""},
-    {"V-10-command-timeout", "enforces its own command timeout", "SPEC §10, seed 000 (safety)", Tier::should, {}, {}, vehicle_safety_reason},
-    {"V-10-actuator-limits", "enforces actuator limits", "SPEC §10, seed 000 (safety)", Tier::should, {}, {}, vehicle_safety_reason},
-    {"V-10-interlocks", "enforces drive-state interlocks and emergency stop", "SPEC §10, seed 000 (safety)", Tier::should, {}, {},
-     vehicle_safety_reason},
+    {"V-10-command-timeout", "enforces its own command timeout: safe state within 1 s of the last control message",
+     "SPEC §10, §8, seed 000 (safety)", Tier::should, {"vehicle/10/1"},
+     {"broken_client.py no-watchdog", "vehicle_client --watchdog-ms 1500"}, ""},
+    {"V-10-actuator-limits", "enforces actuator limits: throttle and brake 0..1, steer -1..1, whatever the command",
+     "SPEC §10, seed 000 (safety)", Tier::should, {"vehicle/10/2"}, {"broken_client.py no-limits"}, ""},
+    {"V-10-interlocks", "enforces drive-state interlocks and emergency stop", "SPEC §10, seed 000 (safety)", Tier::should,
+     {"vehicle/10/3"}, {"broken_client.py no-interlock"}, ""},
     {"V-10-fault-safe-state", "maps telemetry.fault to a vehicle-specific safe state", "SPEC §10, seed 000 (Handle faults safely)",
-     Tier::should, {}, {}, vehicle_safety_reason},
+     Tier::should, {"vehicle/10/4"}, {"broken_client.py ignore-fault"}, ""},
 };
 
 }  // namespace

@@ -10,6 +10,9 @@ response every 10 ms without control, and reconnects 100 ms after the connection
 The op-* modes are operator clients on the Player's :4001 API (op-echo behaves: it reads frames
 properly, skips frames over 16 KiB, answers every VehicleOcpShared, sends a keep-alive {} after
 0.5 s with nothing to answer, and reconnects).
+The safety modes (`safety`, which behaves, and no-watchdog, no-limits, no-interlock,
+ignore-fault) also put a safety report into their user_data (docs/conformance.md, Safety report)
+from a small copy of the reference client's safety layer; the other modes send none.
 Which mode fails which case is in the cases themselves ("fails against", docs/conformance.md
 Coverage); the tests run every pair (suite_test.cpp, CoverageBrokenClient).
 """
@@ -24,6 +27,9 @@ MODE = sys.argv[1]
 PORT = int(sys.argv[2]) if len(sys.argv) > 2 else int(os.environ["OCP_PORT"])
 LIMIT = 16384
 
+# Vehicle clients with a safety report (docs/conformance.md, Safety report): `safety` keeps SPEC
+# §10 as the reference client does (safety_layer.hpp); each of the others breaks one rule.
+SAFETY = {"safety", "no-watchdog", "no-limits", "no-interlock", "ignore-fault"}
 # Broken modes (each fails one case) and hostile modes (the harness must stay in control).
 BROKEN = {"echo-only", "timer-echo", "naive-recv", "reject-oversized", "require-controller",
           "fault-enum", "flat-user-data", "strict-schema", "bad-pos", "no-reconnect",
@@ -31,7 +37,7 @@ BROKEN = {"echo-only", "timer-echo", "naive-recv", "reject-oversized", "require-
           # The product's other control shapes (vehicle/3.2/4): each chokes on one of them.
           "need-controller-key", "need-user-data-object", "need-missing-cameras", "no-lost-camera",
           "second-connection", "reconnect-at-once", "reconnect-slowly", "split-write", "once-oversized",
-          "once-bad-pos"}
+          "once-bad-pos"} | SAFETY
 # Operator-side (:4001) clients: op-echo behaves (op-disable too, with the gamepad disabled);
 # the others break one rule.
 OPERATOR = {"op-echo", "op-corrupt", "op-stale", "op-double", "op-oversized", "op-no-keepalive", "op-no-reconnect",
@@ -111,11 +117,100 @@ def once_fault(state):
     return True
 
 
+def clamp(value, low, high):
+    return min(max(value, low), high)
+
+
+class Safety:
+    """The reference client's safety layer in small (vehicle_client/core/safety_layer.cpp, no
+    rate limits): a 300 ms command watchdog, telemetry.fault → safe state, limits, a drive
+    interlock (start pressed with the sticks at rest, or {"enable": true} in client_user_data,
+    enables; back, {"enable": false} or any fault disables). A new connection starts disabled.
+    The broken modes drop one rule each."""
+    WATCHDOG_S = 0.3
+    NEUTRAL = 0.05
+
+    def __init__(self):
+        self.last = None           # time.monotonic() of the last control message
+        self.fault = False
+        self.default = False       # the default (safe) controller
+        self.source = False        # a command source: a controller, or motion in client_user_data
+        self.enabled = MODE == "no-interlock"   # Bug (no-interlock): always enabled
+        self.start_was = False
+        self.enable_was = False
+        self.request = (0.0, 0.0, 0.0)   # throttle, brake, steer
+        self.steer = 0.0
+
+    def on_message(self, msg):
+        self.last = time.monotonic()
+        # Bug (ignore-fault): telemetry.fault read as display only; the controller decides.
+        self.fault = bool(msg.get("telemetry", {}).get("fault")) and MODE != "ignore-fault"
+        if msg.get("controller"):
+            edge, disable = self.from_controller(msg["controller"])
+        else:
+            edge, disable = self.from_user_data(msg.get("client_user_data"))
+        neutral = all(abs(v) < self.NEUTRAL for v in self.request)
+        if MODE == "no-interlock":
+            return
+        if disable:
+            self.enabled = False
+        elif edge and neutral and self.source and not self.fault:
+            self.enabled = True
+
+    def from_controller(self, pad):
+        buttons, axes = pad.get("buttons", {}), pad.get("axes", {})
+        travel = lambda raw: (clamp(raw, -1.0, 1.0) + 1.0) / 2.0
+        self.request = (travel(axes.get("right_trigger", -1.0)), travel(axes.get("left_trigger", -1.0)),
+                        -clamp(axes.get("left_x", 0.0), -1.0, 1.0))
+        sticks = all(abs(axes.get(k, 0.0)) < self.NEUTRAL for k in ("left_x", "left_y", "right_x", "right_y"))
+        self.default = not any(buttons.values()) and sticks and max(self.request[:2]) < self.NEUTRAL
+        self.source = True
+        edge = bool(buttons.get("start")) and not self.start_was
+        self.start_was = bool(buttons.get("start"))
+        self.enable_was = False
+        return edge, bool(buttons.get("back"))
+
+    def from_user_data(self, command):
+        command = command if isinstance(command, dict) else {}
+        number = lambda key: command.get(key) if isinstance(command.get(key), (int, float)) and not isinstance(command.get(key), bool) else None
+        motion = {key: number(key) for key in ("throttle", "brake", "steer") if number(key) is not None}
+        # Bug (no-limits): the commanded values go to the actuators as they came.
+        limit = (lambda value, low, high: value) if MODE == "no-limits" else clamp
+        self.request = (limit(motion.get("throttle", 0.0), 0.0, 1.0), limit(motion.get("brake", 0.0), 0.0, 1.0),
+                        limit(motion.get("steer", 0.0), -1.0, 1.0))
+        self.source = bool(motion)
+        self.default = False
+        self.start_was = False
+        enable = command.get("enable") is True
+        edge = enable and not self.enable_was
+        self.enable_was = enable
+        return edge, command.get("enable") is False
+
+    def report(self):
+        """The applied output now, as the reference client reports it (user_data.cpp)."""
+        # Bug (no-watchdog): the last command holds for ever.
+        timed_out = self.last is not None and MODE != "no-watchdog" and time.monotonic() - self.last >= self.WATCHDOG_S
+        if (self.last is None or timed_out or self.fault) and MODE != "no-interlock":
+            self.enabled = False
+        safe = self.last is None or timed_out or self.fault or self.default or not self.source or not self.enabled
+        throttle, brake, steer = (0.0, 1.0, self.steer) if safe else self.request
+        if brake >= self.NEUTRAL and MODE != "no-limits":
+            throttle = 0.0
+        self.steer = steer
+        return {"drive_state": "enabled" if self.enabled else "disabled", "safe_state": safe,
+                "throttle": throttle, "brake": brake, "steer": steer}
+
+
+safety = Safety()
+
+
 def response(pair, late=False):
     global last_echoed
     last_echoed = pair
     pos = {"lat": "57.7", "lon": 11.9} if MODE == "bad-pos" or (late and MODE == "once-bad-pos") else {"lat": 57.7, "lon": 11.9}
     user_data = 1.4 if MODE == "scalar-user-data" else {"mode": MODE}
+    if MODE in SAFETY:
+        user_data.update(safety.report())
     if late and MODE == "once-oversized":
         user_data = {"blob": "x" * 17000}
     return frame({"ack_time": pair[0], "ack_time_mac": pair[1],
@@ -319,6 +414,8 @@ def session(sock):
     if MODE == "second-connection":
         # Bug: a "health probe" connection next to the working one, kept open while the session lasts.
         probe = socket.create_connection(("127.0.0.1", PORT))  # noqa: F841 (held open on purpose)
+    global safety
+    safety = Safety()   # a new connection is a new session: disabled until enabled
     late = {"opened": time.monotonic()}
     sock.settimeout(0.01)
     deframer = Deframer(reject_oversized=MODE == "reject-oversized")
@@ -360,6 +457,7 @@ def session(sock):
             if MODE == "fault-enum" and msg["telemetry"]["fault"] and msg["telemetry"]["fault_reason"] not in FAULT_NAMES:
                 return   # Bug: fault_reason parsed as one known display string.
             pair = (msg["ack_time"], msg["ack_time_mac"])
+            safety.on_message(msg)
             if MODE == "float-ack":
                 # Bug: ack_time read through a double (as JavaScript's JSON.parse does).
                 pair = (min(int(float(msg["ack_time"])), 2**64 - 1), msg["ack_time_mac"])

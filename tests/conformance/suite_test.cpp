@@ -416,7 +416,10 @@ std::string example_client(const std::string& file) {
 TEST(ExampleClient, VehicleClientPassesTheVehicleSuite) {
   const SuiteRun r = run_suite("example_vehicle", "-j 2", example_client("vehicle_client.py"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_GE(expect_every_case_ok(r, wall_clock_allowance), 19u);
+  // It sends no safety report (docs/conformance.md, Safety report): SPEC §10's cases are not judged.
+  std::map<std::string, std::string> allowed = wall_clock_allowance;
+  for (const char* id : {"vehicle/10/1", "vehicle/10/2", "vehicle/10/3", "vehicle/10/4"}) allowed[id] = "INFORMATIONAL";
+  EXPECT_GE(expect_every_case_ok(r, allowed), 19u);
 }
 
 TEST(ExampleClient, OperatorClientPassesTheOperatorSuite) {

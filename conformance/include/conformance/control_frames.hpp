@@ -10,14 +10,27 @@
 
 namespace ocp::conformance {
 
-// absent: no "controller" key at all (seed 001's schema makes it optional).
-enum class CraftedController { driving, null, safe_default, absent };
+// absent: no "controller" key at all (seed 001's schema makes it optional). pad: the buttons
+// and axes of CraftedControl::pad (the safety cases drive, enable and stop with them).
+enum class CraftedController { driving, null, safe_default, absent, pad };
+
+// The gamepad fields the safety cases set (the rest stay at the default safe value: buttons
+// false, sticks 0). Raw values as the product sends them: triggers -1 (released) to 1.
+struct CraftedPad {
+  bool a = false;
+  bool start = false;   // the reference client's enable button
+  bool back = false;    // its emergency stop
+  double left_x = 0.0;
+  double left_trigger = -1.0;
+  double right_trigger = -1.0;
+};
 
 struct CraftedControl {
   CraftedControl() = default;
   explicit CraftedControl(AckPair pair) : ack(pair) {}
   AckPair ack;
   CraftedController controller = CraftedController::driving;
+  CraftedPad pad;                 // with CraftedController::pad
   bool fault = false;
   std::string fault_reason;
   std::string client_user_data;   // raw JSON value; empty → field omitted

@@ -1,5 +1,6 @@
 #pragma once
 // The vehicle-side suite (`ocp_conformance vehicle`): every case, in a stable order.
+#include <string>
 #include <vector>
 
 #include "conformance/case.hpp"
@@ -13,6 +14,8 @@ struct VehicleCase {
 };
 
 std::vector<VehicleCase> vehicle_cases();
+// The cases' order: by id, numbers by value ("vehicle/3.3/1" before "vehicle/10/1").
+bool case_id_before(const std::string& a, const std::string& b);
 // `ocp_conformance operator`: the Player's :4001 API (SPEC §4.2), same runner and reports.
 std::vector<VehicleCase> operator_cases();
 
@@ -22,6 +25,7 @@ void add_framing_cases(std::vector<VehicleCase>& cases);
 void add_message_cases(std::vector<VehicleCase>& cases);
 void add_connection_cases(std::vector<VehicleCase>& cases);
 void add_product_shape_cases(std::vector<VehicleCase>& cases);
+void add_safety_cases(std::vector<VehicleCase>& cases);
 // By concern, concatenated by operator_cases().
 void add_operator_framing_cases(std::vector<VehicleCase>& cases);
 void add_operator_connection_cases(std::vector<VehicleCase>& cases);
