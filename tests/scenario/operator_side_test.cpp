@@ -231,17 +231,20 @@ expect:
 }
 
 TEST(OperatorSide, WellBehavedAgainTheClientReconnects) {
-  // Closed for malformed JSON at ~3s, well-behaved from 3.5s: the reconnect 1 s later holds.
+  // docs/scenarios.md's example: closed for malformed JSON at 3 s (the keep-alive due then
+  // follows the event), well-behaved from 3.5 s: the reconnect 1 s later holds and reads on.
   const auto outcome = run_text(with_operator(R"(timeline:
-  - {at: 3s, operator_misbehave: {malformed_json: true}}
+  - {at: 3s, name: garbage, operator_misbehave: {malformed_json: true}}
   - {at: 3500ms, operator_misbehave: {}}
 expect:
   events:
+    - {event: connection_closed, wire: operator, reason: malformed JSON, after: garbage, within: 1.5s}
     - {event: connection_closed, wire: operator, never: true, from: 3500ms}
   feedback:
     - {vehicle: truck-1, field: is_monitor, equals: false, from: 6s}
 )"));
-  ASSERT_EQ(outcome.verdicts.size(), 2u);
+  ASSERT_EQ(outcome.verdicts.size(), 3u);
+  EXPECT_EQ(outcome.verdicts[0].actual.rfind("connection_closed on player 'malformed JSON", 0), 0u) << outcome.verdicts[0].actual;
   for (const Verdict& verdict : outcome.verdicts) EXPECT_TRUE(verdict.passed) << verdict.title << ": " << verdict.actual;
 }
 
