@@ -69,6 +69,16 @@ std::string_view notable_kind_name(NotableKind kind) {
   return "?";
 }
 
+std::string_view bad_client_message_name(BadClientMessage kind) {
+  switch (kind) {
+    case BadClientMessage::none: return "none";
+    case BadClientMessage::not_an_object: return "not_an_object";
+    case BadClientMessage::wrong_type: return "wrong_type";
+    case BadClientMessage::eof_mid_frame: return "eof_mid_frame";
+  }
+  return "?";
+}
+
 std::string_view invariant_name(Invariant invariant) {
   switch (invariant) {
     case Invariant::default_controller_during_control_fault:

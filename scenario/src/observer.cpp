@@ -70,6 +70,11 @@ void Observer::on_event(const Event& event) {
   } else if (const auto* link = std::get_if<LinkEvent>(&event.body)) {
     on_link(event.component.name, *link, now);
   } else if (const auto* frame = std::get_if<WireFrame>(&event.body)) {
+    if (frame->wire == Wire::operator_ && frame->kind == WireMessageKind::vehicle_ocp_shared &&
+        frame->direction == FrameDirection::out && !options_.feedback_watches.empty()) {
+      on_feedback_frame(*frame, now);
+      return;
+    }
     // Only the Streamer's vehicle wire carries what the series and invariants are about.
     if (frame->wire != Wire::vehicle || event.component.kind != ComponentKind::streamer) return;
     // Any such frame gives the vehicle its entry in the observations, whatever its kind.

@@ -11,7 +11,8 @@
 namespace ocp::scenario {
 
 void Parser::expectations(const YAML::Node& node) {
-  read_.check_keys(node, "expect", {"faults", "thresholds", "invariants", "delivered", "refuses_to_start", "events"});
+  read_.check_keys(node, "expect", {"faults", "thresholds", "invariants", "delivered", "refuses_to_start", "events",
+                                        "feedback"});
   if (const YAML::Node refusal = node["refuses_to_start"]) {
     // A world that never starts has nothing else to judge.
     if (node.size() != 1) read_.fail(refusal, "refuses_to_start is the only expectation a world that never starts can have");
@@ -27,6 +28,10 @@ void Parser::expectations(const YAML::Node& node) {
   if (const YAML::Node events = node["events"]) {
     if (!events.IsSequence()) read_.fail(events, "expect.events: expected a list");
     for (const auto& item : events) event_expectation(item);
+  }
+  if (const YAML::Node feedback = node["feedback"]) {
+    if (!feedback.IsSequence()) read_.fail(feedback, "expect.feedback: expected a list");
+    for (const auto& item : feedback) feedback_expectation(item);
   }
   if (const YAML::Node faults = node["faults"]) {
     if (!faults.IsSequence()) read_.fail(faults, "expect.faults: expected a list");

@@ -49,7 +49,7 @@ void Parser::timeline(const YAML::Node& node) {
     read_.check_keys(item, "timeline event",
                      {"at", "name", "impair", "ramp", "outage", "camera_stall", "camera_unstall",
                       "frame_loop_stall", "control_thread_stall", "disconnect", "misbehave", "gamepad",
-                      "select_vehicle", "client_data"});
+                      "select_vehicle", "client_data", "operator_misbehave"});
     TimelineEvent event;
     event.mark = read_.mark(item);
     event.at = read_.duration(read_.require(item, "at", "timeline event"));
@@ -96,6 +96,8 @@ void Parser::action(const YAML::Node& item, TimelineEvent& event) {
     event.action = select_vehicle_action(n, event);
   } else if (const YAML::Node n = item["client_data"]) {
     event.action = client_data(n, event);
+  } else if (const YAML::Node n = item["operator_misbehave"]) {
+    event.action = operator_misbehave_action(n, event);
   }
 }
 

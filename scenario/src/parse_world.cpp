@@ -10,7 +10,7 @@ namespace ocp::scenario {
 
 void Parser::world(const YAML::Node& node) {
   read_.check_keys(node, "world", {"fleet", "player", "gamepad", "vehicles", "vehicle_pipe_delay",
-                                   "reconnect_backoff"});
+                                   "reconnect_backoff", "operator_client"});
   WorldConfig& config = scenario_.world;
   const YAML::Node vehicles = read_.require(node, "vehicles", "world");
   if (!vehicles.IsSequence() || vehicles.size() == 0) read_.fail(vehicles, "world.vehicles: expected a non-empty list");
@@ -23,6 +23,7 @@ void Parser::world(const YAML::Node& node) {
   if (node["gamepad"]) scenario_.gamepad = gamepad_script(node["gamepad"]);
   if (node["vehicle_pipe_delay"]) config.vehicle_pipe_delay = read_.duration(node["vehicle_pipe_delay"]);
   if (node["reconnect_backoff"]) config.reconnect_backoff = read_.duration(node["reconnect_backoff"]);
+  if (node["operator_client"]) operator_client(node["operator_client"]);
 }
 
 void Parser::player(const YAML::Node& node) {

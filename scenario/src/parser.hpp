@@ -28,6 +28,7 @@ class Parser {
  private:
   void world(const YAML::Node& node);
   void player(const YAML::Node& node);
+  void operator_client(const YAML::Node& node);   // parse_operator.cpp
   VehicleSpec vehicle(const YAML::Node& node);
   // `targeted`: the timeline's misbehave action, which also names the vehicle.
   void misbehave(const YAML::Node& node, Misbehaviour& m, bool targeted = false);
@@ -66,6 +67,7 @@ class Parser {
   GamepadAction gamepad_action(const YAML::Node& n, TimelineEvent& event);
   SelectVehicle select_vehicle_action(const YAML::Node& n, TimelineEvent& event);
   ClientDataAction client_data(const YAML::Node& n, TimelineEvent& event);
+  SetOperatorMisbehaviour operator_misbehave_action(const YAML::Node& n, TimelineEvent& event);   // parse_operator.cpp
   void warn_unknown_client_vehicle(const YAML::Node& node, const std::string& name, std::string_view effect);
   void expectations(const YAML::Node& node);
   // `after`: an event name or a time.
@@ -92,6 +94,11 @@ class Parser {
   void event_expectation(const YAML::Node& node);
   ClientSource client_source(const YAML::Node& node);
   std::string event_subject(const YAML::Node& node, EventExpectation& e);
+  // parse_expect_feedback.cpp: what the operator client was sent.
+  void feedback_expectation(const YAML::Node& node);
+  void feedback_window(const YAML::Node& node, FeedbackExpectation& e);
+  std::string feedback_field(const YAML::Node& node);
+  std::string fault_list(const YAML::Node& node, std::string_view key);
   void threshold_expectations(const YAML::Node& key, const YAML::Node& list);
 
   YamlReader read_;

@@ -52,6 +52,25 @@ void add(RouteCounters& out, const DirectionCounters& counters) {
   out.dropped = counters.dropped;
 }
 
+// What the expectations need decoded: control frames in delivery windows, feedback fields.
+ObserverOptions observer_options(const Scenario& scenario, bool link_events) {
+  ObserverOptions options{needs_controller_check(scenario), link_events, {}, {}};
+  for (const Expectation& expectation : scenario.expectations) {
+    if (const auto* delivery = std::get_if<DeliveryExpectation>(&expectation.kind)) {
+      options.delivery_windows.push_back({delivery->vehicle, delivery->after, delivery->after + delivery->within});
+    }
+    if (const auto* feedback = std::get_if<FeedbackExpectation>(&expectation.kind)) {
+      for (const FeedbackCheck& check : feedback->checks) {
+        const bool watched = std::any_of(options.feedback_watches.begin(), options.feedback_watches.end(), [&](const FeedbackWatch& w) {
+          return w.vehicle == feedback->vehicle && w.field == check.field;
+        });
+        if (!watched) options.feedback_watches.push_back({feedback->vehicle, check.field});
+      }
+    }
+  }
+  return options;
+}
+
 }  // namespace
 
 RunResult run_world(Executor& executor, const Scenario& scenario, const RunOptions& options,
@@ -74,13 +93,7 @@ RunResult run_world(Executor& executor, const Scenario& scenario, const RunOptio
   }
   // With a trace every event is built anyway: the Observer may as well count link messages.
   const bool link_events = options.trace || needs_link_events(scenario);
-  ObserverOptions observer_options{needs_controller_check(scenario), link_events, {}};
-  for (const Expectation& expectation : scenario.expectations) {
-    if (const auto* delivery = std::get_if<DeliveryExpectation>(&expectation.kind)) {
-      observer_options.delivery_windows.push_back({delivery->vehicle, delivery->after, delivery->after + delivery->within});
-    }
-  }
-  Observer observer(world, observer_options);
+  Observer observer(world, observer_options(scenario, link_events));
   const SimTime origin = executor.now();
   observer.set_origin(origin);
   if (options.on_built) options.on_built(world);
@@ -92,7 +105,10 @@ RunResult run_world(Executor& executor, const Scenario& scenario, const RunOptio
   }
   observer.attach_parts();
   apply_gamepad(world.player().gamepad(), scenario.gamepad, executor.now());
-  const auto keep_alive = schedule_timeline(world, scenario.timeline, scenario.duration, result.fired, origin);
+  OperatorClient operator_client(world, scenario.operator_client);
+  if (scenario.operator_client.connect) operator_client.start();
+  const auto keep_alive = schedule_timeline(world, scenario.timeline, scenario.duration, result.fired, origin,
+                                            scenario.operator_client.connect ? &operator_client : nullptr);
   // Ping is not on the event stream; sample what the Player shows, for the report's plot.
   Observations& observations = observer.observations();
   PeriodicTimer ping_sampler(executor, ping_sample_period, [&](SimTime now) {
@@ -106,6 +122,7 @@ RunResult run_world(Executor& executor, const Scenario& scenario, const RunOptio
   result.interrupted = result.ran < scenario.duration;
   if (options.on_finished) options.on_finished(world);
   ping_sampler.stop();
+  operator_client.stop();
   if (!link_events) {
     // Message counts for the summary, from the links themselves (no expectation needs them).
     for (const std::string& vehicle : world.vehicles()) {

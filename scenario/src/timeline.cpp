@@ -30,8 +30,8 @@ std::vector<LinkDirection*> directions(World& world, const std::string& vehicle,
 class Actions {
  public:
   // `end` is relative to `origin` (the executor's time when the run started).
-  Actions(World& world, SimTime end, SimTime origin)
-      : world_(world), executor_(world.executor()), end_(origin + end), origin_(origin) {}
+  Actions(World& world, SimTime end, SimTime origin, OperatorClient* operator_client)
+      : world_(world), executor_(world.executor()), end_(origin + end), origin_(origin), operator_client_(operator_client) {}
 
   void operator()(const SetImpairments& set) {
     for (LinkDirection* direction : directions(world_, set.vehicle, set.direction)) {
@@ -91,6 +91,11 @@ class Actions {
     second_connections_.push_back(std::move(ends.a));
     world_.accept_vehicle_connection(vehicle, std::move(ends.b));
   }
+  void operator()(const SetOperatorMisbehaviour& set) {
+    if (operator_client_ == nullptr) return;
+    operator_client_->set_misbehaviour(set.misbehave);
+    if (set.second_connection) operator_client_->open_second_connection();
+  }
   void operator()(const GamepadAction& pad) {
     Gamepad& gamepad = world_.player().gamepad();
     switch (pad.kind) {
@@ -147,13 +152,14 @@ class Actions {
   Executor& executor_;
   SimTime end_;      // absolute
   SimTime origin_;
+  OperatorClient* operator_client_;
 };
 
 }  // namespace
 
 std::shared_ptr<void> schedule_timeline(World& world, const std::vector<TimelineEvent>& timeline, SimTime end,
-                       std::vector<FiredEvent>& fired, SimTime origin) {
-  auto actions = std::make_shared<Actions>(world, end, origin);
+                       std::vector<FiredEvent>& fired, SimTime origin, OperatorClient* operator_client) {
+  auto actions = std::make_shared<Actions>(world, end, origin, operator_client);
   for (const TimelineEvent& event : timeline) {
     world.executor().call_at(origin + event.at, [actions, &event, &fired, &world, origin] {
       fired.push_back({world.executor().now() - origin, event.name, event.label});

@@ -97,6 +97,7 @@ class Judge {
   void operator()(const RefusesToStartExpectation& e, Verdict& v) const { judge_refusal(context_, e, v); }
   void operator()(const DeliveryExpectation& e, Verdict& v) const { judge_delivery(context_, e, v); }
   void operator()(const EventExpectation& e, Verdict& v) const { judge_event(context_, e, v); }
+  void operator()(const FeedbackExpectation& e, Verdict& v) const { judge_feedback(context_, e, v); }
 
   void operator()(const FaultStateExpectation& e, Verdict& v) const {
     v.kind = "fault_state";

@@ -8,14 +8,14 @@
 #include "verdicts_internal.hpp"
 
 namespace ocp::scenario {
-namespace {
-
 bool same_json_value(const std::string& a, const std::string& b) {
   rapidjson::Document x, y;
   x.Parse(a.c_str());
   y.Parse(b.c_str());
   return !x.HasParseError() && !y.HasParseError() && x == y;
 }
+
+namespace {
 
 std::string_view delivered_controller_name(Delivery::Controller controller) {
   switch (controller) {

@@ -30,6 +30,9 @@ struct JudgeContext {
   }
 };
 
+// Equal as JSON values (1.0 == 1, key order aside); false when either is not JSON.
+bool same_json_value(const std::string& a, const std::string& b);
+
 // "388.5ms", "3.74s": durations as people write them.
 std::string verdict_ms_text(Micros duration);
 
@@ -38,5 +41,6 @@ void judge_fault_always(const JudgeContext& context, const FaultAlwaysExpectatio
 void judge_refusal(const JudgeContext& context, const RefusesToStartExpectation& e, Verdict& v);
 void judge_delivery(const JudgeContext& context, const DeliveryExpectation& e, Verdict& v);
 void judge_event(const JudgeContext& context, const EventExpectation& e, Verdict& v);
+void judge_feedback(const JudgeContext& context, const FeedbackExpectation& e, Verdict& v);
 
 }  // namespace ocp::scenario

@@ -214,6 +214,14 @@ YAML::Node world_node(const Scenario& scenario) {
   out["vehicle_pipe_delay"] = duration_text(world.vehicle_pipe_delay);
   out["reconnect_backoff"] = duration_text(world.reconnect_backoff);
   for (const VehicleSpec& spec : world.vehicles) out["vehicles"].push_back(vehicle_node(spec));
+  if (scenario.operator_client.connect) {
+    // Only when connected: a world without one reads the same without the section.
+    YAML::Node client;
+    client["connect"] = true;
+    client["keep_alive_period"] = duration_text(scenario.operator_client.keep_alive_period);
+    client["reconnect_backoff"] = duration_text(scenario.operator_client.reconnect_backoff);
+    out["operator_client"] = client;
+  }
   return out;
 }
 
@@ -268,6 +276,15 @@ struct ActionWriter {
     misbehave_fields(node, set.misbehave);
     if (set.second_connection) node["second_connection"] = true;
     item["misbehave"] = node;
+  }
+  void operator()(const SetOperatorMisbehaviour& set) {
+    YAML::Node node;
+    node["silent"] = set.misbehave.silent;
+    node["malformed_json"] = set.misbehave.malformed_json;
+    node["oversized_frames"] = set.misbehave.oversized_frames;
+    node["bad_message"] = std::string(bad_client_message_name(set.misbehave.bad_message));
+    if (set.second_connection) node["second_connection"] = true;
+    item["operator_misbehave"] = node;
   }
   void operator()(const GamepadAction& pad) {
     switch (pad.kind) {
@@ -361,6 +378,27 @@ struct ExpectationWriter {
       node["within"] = duration_text(*e.until - e.from);
     }
     expect["events"].push_back(node);
+  }
+  // Times, not event names (as for always).
+  void operator()(const FeedbackExpectation& e) {
+    YAML::Node node;
+    node["vehicle"] = e.vehicle;
+    for (const FeedbackCheck& check : e.checks) {
+      if (check.as_set) {
+        node[check.field] = YAML::Node(YAML::NodeType::Sequence);
+        for (const auto& fault : YAML::Load(check.expected_json)) node[check.field].push_back(fault.as<std::string>());
+      } else {
+        node["field"] = check.field;
+        node["equals"] = json_node(check.expected_json);
+      }
+    }
+    if (e.instant) {
+      node["at"] = duration_text(e.from);
+    } else {
+      node["from"] = duration_text(e.from);
+      if (e.until) node["until"] = duration_text(*e.until);
+    }
+    expect["feedback"].push_back(node);
   }
   void operator()(const FaultStateExpectation& e) {
     YAML::Node node;

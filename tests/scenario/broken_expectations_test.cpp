@@ -89,7 +89,7 @@ TEST(BrokenExpectations, InvariantWithNothingToCheck) {
 // hand-made event stream: the Observer sees exactly what the World would publish.
 struct HandMadeStream {
   EventBus bus;
-  Observer observer{bus, ObserverOptions{true, true, {}}};
+  Observer observer{bus, ObserverOptions{true, true, {}, {}}};
   void publish(SimTime time, EventBody body) { bus.publish(Event{time, Component{ComponentKind::streamer, "truck-1"}, std::move(body)}); }
   void control(SimTime time, std::uint64_t ack_time, const Controller& controller) {
     OcpControlMessage message;

@@ -87,6 +87,33 @@ struct SetMisbehaviour {
   // open (SPEC §3.1: accepted and closed at once); it sends nothing and stays open this side.
   bool second_connection = false;
 };
+// The in-process operator client's misbehaviours on the Player's :4001 port (SPEC §2, §4.2),
+// replaced as a whole by each operator_misbehave event (all off = well-behaved). Each broken
+// frame takes the place of a keep-alive, so it goes out at the keep-alive period.
+enum class BadClientMessage {
+  none,
+  not_an_object,   // a JSON array → the Player closes (not_an_object)
+  wrong_type,      // active_vehicle as a number → the Player closes (wrong_type)
+  eof_mid_frame,   // half a frame, then the client hangs up → the Player closes (truncated_frame)
+};
+std::string_view bad_client_message_name(BadClientMessage kind);
+struct OperatorMisbehaviour {
+  bool silent = false;            // no keep-alives → the Player's read timeout closes (SPEC §2)
+  bool malformed_json = false;    // keep-alives are not JSON → the Player closes (malformed_json)
+  bool oversized_frames = false;  // keep-alives are > 16 KiB frames → drained, connection kept
+  BadClientMessage bad_message = BadClientMessage::none;
+  bool any() const { return silent || malformed_json || oversized_frames || bad_message != BadClientMessage::none; }
+};
+struct SetOperatorMisbehaviour {
+  // Always empty: the :4001 port is the Player's, no vehicle's. It is here for code that asks
+  // every action which vehicle it names (campaign/src/shrink.cpp, removing a vehicle keeps the
+  // events that name none); it can go once that code knows this action.
+  std::string vehicle;
+  OperatorMisbehaviour misbehave;
+  // Once, at this event: a second :4001 connection while the client's is open (SPEC §4.2:
+  // one client at a time, the newcomer is refused); it sends nothing and stays open this side.
+  bool second_connection = false;
+};
 struct GamepadAction {
   enum class Kind { unplug, replug, script } kind = Kind::unplug;
   GamepadScriptSetting script;
@@ -111,7 +138,7 @@ struct ClientDataAction {
 
 using Action = std::variant<SetImpairments, LinkOutage, CameraStall, FrameLoopStall,
                             ControlThreadStall, DisconnectVehicle, SetMisbehaviour, GamepadAction,
-                            SelectVehicle, ClientDataAction>;
+                            SelectVehicle, ClientDataAction, SetOperatorMisbehaviour>;
 
 struct TimelineEvent {
   SimTime at{0};
@@ -214,6 +241,28 @@ struct EventExpectation {
   std::optional<SimTime> until;          // nullopt: the end of the run (never only)
 };
 
+// What the operator client read in the Player's VehicleOcpShared (SPEC §4.1) about one
+// vehicle: one field's value (a dotted path into the vehicle's entry, e.g.
+// vehicle_data.user_data.mode, missing_cameras.0) or a whole fault list (sender_fault,
+// receiver_fault: compared as sets, the order is not promised). The value counted at an
+// instant is the one in the last frame the client had read by then.
+struct FeedbackCheck {
+  std::string field;           // the path as written
+  std::string expected_json;   // equals: the JSON value; a fault list: a JSON array of identifiers
+  bool as_set = false;         // a fault list
+};
+// Every check holds at `from` and at every frame read until `until` (nullopt: the end of the
+// run); `instant` (written `at`): from == until.
+struct FeedbackExpectation {
+  std::string vehicle;
+  std::vector<FeedbackCheck> checks;
+  SimTime from{0};
+  std::string from_label;
+  std::optional<SimTime> until;
+  std::string until_label;
+  bool instant = false;
+};
+
 // The world must refuse to start, with a reason containing this text (a configuration the
 // simulator rejects, written down as a regression test instead of an error).
 struct RefusesToStartExpectation {
@@ -222,11 +271,22 @@ struct RefusesToStartExpectation {
 
 using ExpectationKind = std::variant<FaultEdgeExpectation, FaultNeverExpectation, FaultAlwaysExpectation,
                                      FaultStateExpectation, ThresholdExpectation, InvariantExpectation,
-                                     DeliveryExpectation, RefusesToStartExpectation, EventExpectation>;
+                                     DeliveryExpectation, RefusesToStartExpectation, EventExpectation,
+                                     FeedbackExpectation>;
 struct Expectation {
   std::string title;   // one line, as printed in the verdict list
   Mark mark;
   ExpectationKind kind;
+};
+
+// An in-process operator client on the Player's :4001 side (scenario/src/operator_client.cpp):
+// it reads every VehicleOcpShared and sends ClientOcpShared keep-alives (SPEC §4.2), so the
+// operator side is on the event stream. Off by default: no client, as before.
+struct OperatorClientSetting {
+  bool connect = false;
+  Micros keep_alive_period{1'000'000};   // SPEC §4.2: "about once a second"; < the 2 s read timeout
+  Micros reconnect_backoff{1'000'000};   // after the Player closed the connection
+  Micros pipe_delay{0};                  // one way, each direction
 };
 
 struct Scenario {
@@ -236,6 +296,7 @@ struct Scenario {
   std::uint64_t seed = 1;
   SimTime duration{0};
   WorldConfig world;         // vehicles, links, timers, misbehaviours (seed set by the runner)
+  OperatorClientSetting operator_client;
   GamepadScriptSetting gamepad;
   std::vector<TimelineEvent> timeline;   // ordered by `at`
   std::vector<Expectation> expectations;

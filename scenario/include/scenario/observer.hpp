@@ -83,6 +83,27 @@ struct NotableEvent {
   std::string reason;                        // connection events: the close reason
 };
 
+// One field of a vehicle's entry in the Player's VehicleOcpShared (FeedbackExpectation).
+struct FeedbackWatch {
+  std::string vehicle;
+  std::string field;   // dotted path: vehicle_data.user_data.mode, receiver_fault
+};
+// That field over the run, as the operator client was sent it: one value per change.
+struct FeedbackValue {
+  SimTime time{0};
+  std::string json;   // compact JSON; "" when the field (or the vehicle's entry) was absent
+};
+struct FeedbackSeries {
+  std::vector<FeedbackValue> changes;   // the first frame's value, then every change
+  std::uint64_t frames = 0;             // VehicleOcpShared frames looked at
+  bool truncated = false;               // more changes than kept (feedback_change_limit)
+};
+// Changes kept per watched field: a field that changes every frame (ping_latency_ms at 100 Hz)
+// fills it in ~10 minutes; the verdict then says it stopped looking.
+inline constexpr std::size_t feedback_change_limit = 65536;
+// The key of a watched field in Observations::feedback.
+std::string feedback_key(std::string_view vehicle, std::string_view field);
+
 struct DeliveryWindow {
   std::string vehicle;
   SimTime start{0}, end{0};
@@ -97,6 +118,7 @@ struct Observations {
   std::vector<Violation> stale_pair_violations;   // old pair echoed on a new connection
   std::vector<Delivery> deliveries;               // decoded inside delivery windows only
   std::vector<NotableEvent> notable_events;       // source locks and conflicts, closes, refusals
+  std::map<std::string, FeedbackSeries, std::less<>> feedback;   // feedback_key → the watched field
   std::uint64_t reconnects = 0;                   // vehicle connections opened after a close
   std::uint64_t events = 0;
 };
@@ -107,6 +129,7 @@ struct ObserverOptions {
   // while somebody listens to a link's bus, so the Observer listens only when asked to.
   bool link_events = true;
   std::vector<DeliveryWindow> delivery_windows;   // decode control frames to these vehicles then
+  std::vector<FeedbackWatch> feedback_watches;    // decode VehicleOcpShared frames for these
 };
 
 class Observer {
@@ -143,6 +166,7 @@ class Observer {
   void on_fault(const FaultEvent& fault, SimTime now);
   void on_vehicle_connection(std::string_view name, const ConnectionEvent& connection);
   void record_notable(const Event& event, SimTime now);
+  void on_feedback_frame(const WireFrame& frame, SimTime now);   // observer_feedback.cpp
   VehicleState& state(std::string_view vehicle);
 
   ObserverOptions options_;
