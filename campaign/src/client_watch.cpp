@@ -34,7 +34,7 @@ void ClientWatch::attach(World& world) {
 
 void ClientWatch::report(Check check, SimTime now, const std::string& vehicle, std::string detail) {
   ++count_;
-  if (violations_.size() < client_watch_kept) violations_.push_back({check, now, vehicle, std::move(detail), std::nullopt, false});
+  if (violations_.size() < client_watch_kept) violations_.push_back({check, now, vehicle, std::move(detail), std::nullopt, false, std::nullopt});
 }
 
 void ClientWatch::on_event(const Event& event) {

@@ -38,7 +38,7 @@ void judge_clients(std::vector<LaunchedClient>& clients, const ClientWatch& watc
     }
     if (!watch.ever_connected(client.vehicle)) {
       ++outcome.violation_count;
-      outcome.violations.push_back({Check::client_reconnect, end, client.vehicle, "the client never connected", std::nullopt, false});
+      outcome.violations.push_back({Check::client_reconnect, end, client.vehicle, "the client never connected", std::nullopt, false, std::nullopt});
     }
     if (running) continue;
     std::string detail = "the client " + sim_app::describe_exit_status(client.process->exit_status().value_or(-1)) +
@@ -46,7 +46,7 @@ void judge_clients(std::vector<LaunchedClient>& clients, const ClientWatch& watc
     const std::string tail = sim_app::last_lines_of(client.log_path, 3);
     if (!tail.empty()) detail += "; its last lines:\n" + tail;
     ++outcome.violation_count;
-    outcome.violations.push_back({Check::client_alive, end, client.vehicle, detail, std::nullopt, false});
+    outcome.violations.push_back({Check::client_alive, end, client.vehicle, detail, std::nullopt, false, std::nullopt});
   }
 }
 
@@ -62,9 +62,12 @@ scenario::Scenario for_external_client(scenario::Scenario world, std::optional<M
     vehicle.in_process_client = false;
     vehicle.client.misbehave = {};
   }
+  // The client under test is the vehicle; the operator side stays as it is without a client.
+  world.operator_client.connect = false;
   if (max_world && world.duration > *max_world) world.duration = *max_world;
   std::erase_if(world.timeline, [&](const scenario::TimelineEvent& event) {
-    return event.at >= world.duration || std::holds_alternative<scenario::SetMisbehaviour>(event.action);
+    return event.at >= world.duration || std::holds_alternative<scenario::SetMisbehaviour>(event.action) ||
+           std::holds_alternative<scenario::SetOperatorMisbehaviour>(event.action);
   });
   return world;
 }

@@ -132,6 +132,7 @@ class TimelineBuilder {
         return;
       case ActionKind::client_data: client_data(at, end); return;
       case ActionKind::select_vehicle: select(at); return;
+      case ActionKind::operator_misbehave: operator_misbehave(at, end); return;
     }
   }
 
@@ -239,6 +240,24 @@ class TimelineBuilder {
     push(end, SetMisbehaviour{spec.name, Misbehaviour{}});
   }
 
+  // Every misbehaviour of the operator port (SPEC §2, §4.2): the Player closes the connection
+  // for a broken frame or silence, drains an oversized one, and refuses a second connection.
+  void operator_misbehave(SimTime at, SimTime end) {
+    if (!scenario_.operator_client.connect) return;
+    SetOperatorMisbehaviour on;
+    switch (draw_.integer(0, 6)) {
+      case 0: on.misbehave.malformed_json = true; break;
+      case 1: on.misbehave.oversized_frames = true; break;
+      case 2: on.misbehave.bad_message = BadClientMessage::not_an_object; break;
+      case 3: on.misbehave.bad_message = BadClientMessage::wrong_type; break;
+      case 4: on.misbehave.bad_message = BadClientMessage::eof_mid_frame; break;
+      case 5: on.second_connection = true; break;
+      default: on.misbehave.silent = true; break;
+    }
+    push(at, on);
+    push(end, SetOperatorMisbehaviour{});
+  }
+
   // A plugin takes the latency loop over (echoing every frame to the end), and sometimes the
   // web view sends client data too: a conflict, which stops client data until restart (§4.3).
   void client_data(SimTime at, SimTime end) {
@@ -303,6 +322,12 @@ Scenario generate_world(const Profile& profile, std::uint64_t campaign_seed, std
   scenario.world.player.fleet = vehicles > 1;
   scenario.world.player.no_feedback_timeout = draw.duration(profile.no_feedback_timeout);
   scenario.world.reconnect_backoff = draw.duration(profile.reconnect_backoff);
+  if (draw.chance(profile.operator_client_share)) {
+    OperatorClientSetting& client = scenario.operator_client;
+    client.connect = true;
+    client.keep_alive_period = draw.duration(profile.operator_keep_alive_period);
+    client.reconnect_backoff = draw.duration(profile.reconnect_backoff);
+  }
   // The built-in drive script: the controller is not the default one, so a control frame that
   // should carry the default controller but does not is visible.
   scenario.gamepad.kind = GamepadScriptSetting::Kind::drive;

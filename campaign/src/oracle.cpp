@@ -13,7 +13,6 @@ namespace ocp::campaign {
 namespace {
 constexpr std::size_t max_kept_violations = 50;
 constexpr std::size_t max_issued_pairs = 1u << 16;    // 11 minutes of 10 ms ticks
-constexpr std::uint32_t max_frame_payload = 16 * 1024;   // SPEC §2
 }  // namespace
 
 std::string_view check_name(Check check) {
@@ -27,6 +26,8 @@ std::string_view check_name(Check check) {
     case Check::liveness: return "liveness";
     case Check::conservation: return "conservation";
     case Check::determinism: return "determinism";
+    case Check::operator_port: return "operator.port";
+    case Check::operator_feedback: return "operator.feedback";
     case Check::client_echo: return "client.echo";
     case Check::client_reconnect: return "client.reconnect";
     case Check::client_alive: return "client.alive";
@@ -69,6 +70,15 @@ Oracle::Oracle(const scenario::Scenario& scenario, OracleTolerances tolerances)
     state->misbehaving_at_end = state->misbehaving_at_end || spec.client.misbehave.any();
     vehicles_.emplace(spec.name, std::move(state));
   }
+  if (scenario.operator_client.connect) {
+    operator_ = std::make_unique<OperatorPort>();
+    operator_->read_timeout = scenario.world.player.client_read_timeout;
+    for (const scenario::TimelineEvent& event : scenario.timeline) {
+      if (const auto* set = std::get_if<scenario::SetOperatorMisbehaviour>(&event.action)) {
+        operator_->misbehaving_at_end = set->misbehave.any();
+      }
+    }
+  }
 }
 
 Oracle::~Oracle() = default;
@@ -91,10 +101,11 @@ Oracle::VehicleState& Oracle::vehicle(std::string_view name) {
 }
 
 void Oracle::report(Check check, SimTime now, const std::string& vehicle, std::string detail,
-                    std::optional<FaultId> fault, bool should_be_active) {
+                    std::optional<FaultId> fault, bool should_be_active,
+                    std::optional<scenario::ExpectationKind> regression) {
   ++violation_count_;
   if (violations_.size() < max_kept_violations) {
-    violations_.push_back({check, now, vehicle, std::move(detail), fault, should_be_active});
+    violations_.push_back({check, now, vehicle, std::move(detail), fault, should_be_active, std::move(regression)});
   }
 }
 
@@ -123,6 +134,7 @@ void Oracle::on_event(const Event& event) {
           gamepad_plugged_ = body.plugged;
         } else if constexpr (std::is_same_v<T, SourceLocked>) {
           source_locked_ = true;
+          if (operator_) on_source_locked(event.time - origin_, body);
         } else if constexpr (std::is_same_v<T, SourceConflict>) {
           source_conflict_ = true;
         } else if constexpr (std::is_same_v<T, ActiveVehicleChange>) {
@@ -136,10 +148,14 @@ void Oracle::on_event(const Event& event) {
 // Safety (frame size, controller during control-path faults) and the latency loop's pairs.
 void Oracle::on_wire_frame(const Event& event, const WireFrame& frame) {
   const SimTime now = event.time - origin_;
-  if (frame.direction == FrameDirection::out && frame.length_prefix > max_frame_payload &&
+  if (frame.direction == FrameDirection::out && frame.length_prefix > max_oracle_frame_payload &&
       (event.component.kind == ComponentKind::streamer || event.component.kind == ComponentKind::player)) {
     report(Check::safety_frame_size, now, std::string(event.component.name),
            "a " + std::to_string(frame.length_prefix) + "-byte frame was written (limit 16384)");
+  }
+  if (frame.wire == Wire::operator_ && event.component.kind == ComponentKind::player && operator_) {
+    on_operator_frame(now, frame);
+    return;
   }
   if (frame.wire != Wire::vehicle || event.component.kind != ComponentKind::streamer || !frame.ack) return;
   VehicleState& state = vehicle(event.component.name);
@@ -215,12 +231,17 @@ void Oracle::on_fault(const Event& event, const FaultEvent& fault) {
   VehicleState& state = vehicle(fault.vehicle);
   if (event.component.kind == ComponentKind::player) {
     state.reported_operator.set(fault.id, fault.active);
+    if (operator_) operator_->lists_changed = true;
   } else {
     state.reported_vehicle.set(fault.id, fault.active);
   }
 }
 
 void Oracle::on_connection(const Event& event, const ConnectionEvent& connection) {
+  if (connection.wire == Wire::operator_ && event.component.kind == ComponentKind::player && operator_) {
+    on_operator_connection(event.time - origin_, connection);
+    return;
+  }
   if (connection.wire != Wire::vehicle || event.component.kind != ComponentKind::streamer) return;
   VehicleState& state = vehicle(event.component.name);
   const SimTime now = event.time - origin_;
@@ -241,6 +262,9 @@ void Oracle::on_link(const Event& event, const LinkEvent& link) {
   const int route = static_cast<int>(link.route);
   LinkTally& tally = state.links[route];
   const char* way = link.route == LinkRoute::to_streamer ? "to_streamer" : "to_player";
+  if (operator_ && link.route == LinkRoute::to_player && link.kind == LinkMessageKind::feedback) {
+    on_feedback_link(state, now, link);
+  }
   switch (link.outcome) {
     case LinkOutcome::sent:
       ++tally.sent;
@@ -311,6 +335,7 @@ void Oracle::check_counters(World& world, SimTime now) {
 
 void Oracle::finish(World& world) {
   check_counters(world, world.executor().now() - origin_);
+  if (operator_) check_operator_port(world.executor().now() - origin_);
   subscriptions_.clear();
   world_ = nullptr;
 }

@@ -31,8 +31,6 @@ bool worse(const Impairments& now, const Impairments& start) {
          now.reorder_probability > start.reorder_probability;
 }
 
-std::string ms_text(Micros value) { return std::to_string(value.count() / 1000) + " ms"; }
-
 }  // namespace
 
 void Oracle::on_latency_sample(const Event& event, const LatencySample& sample) {
@@ -74,6 +72,7 @@ void Oracle::on_latency_sample(const Event& event, const LatencySample& sample) 
     check_fault_model(state, now, sample);
     check_operator_faults(state, now);
     if (liveness_possible_ && !state.liveness_done && now >= liveness_at_) check_liveness(state, now, sample);
+    if (operator_ && liveness_possible_ && now >= liveness_at_) check_operator_liveness(now);
   }
   // Counters about ten times a second (on the first vehicle's ticks), and at the end.
   if (world_ != nullptr && &state == vehicles_.begin()->second.get() && (now.count() / 10'000) % 10 == 0) {

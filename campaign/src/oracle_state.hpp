@@ -2,6 +2,7 @@
 // The oracle's per-vehicle and per-link-direction state (oracle.cpp, oracle_faults.cpp).
 #include <deque>
 #include <optional>
+#include <unordered_map>
 #include <unordered_set>
 
 #include "campaign/oracle.hpp"
@@ -25,6 +26,10 @@ inline bool oracle_control_path(FaultId id) {
   return id == FaultId::NoControlMessage || id == FaultId::HighLatency || id == FaultId::InvalidMac ||
          id == FaultId::OperatorStationHasError || id == FaultId::ControlThreadChannelSlow;
 }
+
+inline constexpr std::uint32_t max_oracle_frame_payload = 16 * 1024;   // SPEC §2
+
+inline std::string ms_text(Micros value) { return std::to_string(value.count() / 1000) + " ms"; }
 
 struct IssuedPair {
   SimTime issued{0};
@@ -66,6 +71,35 @@ struct Oracle::VehicleState {
   Impairments start_to_streamer, start_to_player, now_to_streamer, now_to_player;
   LinkTally links[2];                       // by LinkRoute
   bool conservation_broken[2] = {false, false};
+  // What the Player's feedback entry must say (oracle_operator.cpp): the vehicle faults each
+  // feedback message in flight carried when the Streamer sent it, and those of the one the
+  // Player got last.
+  std::unordered_map<std::uint64_t, FaultBits> feedback_in_flight;   // bounded
+  FaultBits player_has_receiver;
+  bool player_receiver_known = true;   // false: a delivery the oracle could not tie to a send
+  std::uint64_t last_feedback_id = 0;
+  bool feedback_mismatch = false;      // reported; said again only after the lists match once
+};
+
+// The Player's :4001 port as the oracle sees it (oracle_operator.cpp).
+struct Oracle::OperatorPort {
+  Micros read_timeout{0};
+  bool open = false;
+  std::string peer;                    // of the open connection
+  SimTime opened{0}, last_frame_in{0};
+  // A broken frame read: the Player must close the connection at once, for this.
+  struct PendingClose {
+    SimTime at{0};
+    std::optional<PeerError> expected;   // when the oracle can name the exact reason
+    std::string what;
+  };
+  std::optional<PendingClose> pending;
+  bool silence_reported = false;
+  bool client_data_sent = false;       // a frame that is not a keep-alive (§4.2 Decision)
+  bool misbehaving_at_end = false;     // the timeline leaves a misbehaviour on
+  bool liveness_done = false;
+  std::uint64_t shared_frames = 0;
+  bool lists_changed = true;           // since the last VehicleOcpShared was read
 };
 
 }  // namespace ocp::campaign

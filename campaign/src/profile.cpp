@@ -33,6 +33,7 @@ std::string_view action_kind_name(ActionKind kind) {
     case ActionKind::gamepad_unplug: return "gamepad_unplug";
     case ActionKind::client_data: return "client_data";
     case ActionKind::select_vehicle: return "select_vehicle";
+    case ActionKind::operator_misbehave: return "operator_misbehave";
   }
   return "?";
 }
@@ -139,18 +140,21 @@ Profile parse_profile(const std::string& text, const std::string& path) {
                        ": " + error.msg);
   }
   if (!root || root.IsNull()) throw ProfileError(path + ":1:1: empty profile");
-  read.check_keys(root, "profile", {"description", "duration", "vehicles", "monitor_share", "cameras", "camera_fps",
-                                    "timers", "link", "timeline", "weights", "determinism_share"});
+  read.check_keys(root, "profile", {"description", "duration", "vehicles", "monitor_share", "operator_client_share",
+                                    "cameras", "camera_fps", "timers", "link", "timeline", "weights",
+                                    "determinism_share"});
   if (root["duration"]) read.durations(root["duration"], profile.duration, Micros{1'000'000}, max_duration);
   if (root["vehicles"]) read.integers(root["vehicles"], profile.vehicles_min, profile.vehicles_max, 1, max_vehicles);
   if (root["monitor_share"]) profile.monitor_share = read.fraction(root["monitor_share"]);
+  if (root["operator_client_share"]) profile.operator_client_share = read.fraction(root["operator_client_share"]);
   if (root["cameras"]) read.integers(root["cameras"], profile.cameras_min, profile.cameras_max, 1, max_cameras);
   if (root["camera_fps"]) read.numbers(root["camera_fps"], profile.camera_fps, 1, 240);
   if (root["determinism_share"]) profile.determinism_share = read.fraction(root["determinism_share"]);
   if (const YAML::Node timers = root["timers"]) {
     read.check_keys(timers, "timers", {"latency_limit", "no_control_timeout", "vehicle_read_timeout",
                                        "camera_drop_timeout", "streamer_slow_threshold", "control_queue_limit",
-                                       "control_queue_max_age", "no_feedback_timeout", "reconnect_backoff"});
+                                       "control_queue_max_age", "no_feedback_timeout", "reconnect_backoff",
+                                       "operator_keep_alive_period"});
     const std::vector<std::pair<const char*, DurationRange*>> durations = {
         {"latency_limit", &profile.latency_limit},
         {"no_control_timeout", &profile.no_control_timeout},
@@ -159,7 +163,8 @@ Profile parse_profile(const std::string& text, const std::string& path) {
         {"streamer_slow_threshold", &profile.streamer_slow_threshold},
         {"control_queue_max_age", &profile.control_queue_max_age},
         {"no_feedback_timeout", &profile.no_feedback_timeout},
-        {"reconnect_backoff", &profile.reconnect_backoff}};
+        {"reconnect_backoff", &profile.reconnect_backoff},
+        {"operator_keep_alive_period", &profile.operator_keep_alive_period}};
     // Timers shorter than a few control periods would make every world a fault storm.
     for (const auto& [key, range] : durations) {
       if (timers[key]) read.durations(timers[key], *range, Micros{30'000}, max_timer);

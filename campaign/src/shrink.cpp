@@ -18,8 +18,8 @@ bool mentions(const Action& action, const std::string& vehicle) {
   return std::visit(
       [&](const auto& a) -> bool {
         using T = std::decay_t<decltype(a)>;
-        if constexpr (std::is_same_v<T, GamepadAction>) {
-          return false;
+        if constexpr (std::is_same_v<T, GamepadAction> || std::is_same_v<T, SetOperatorMisbehaviour>) {
+          return false;   // the gamepad and the :4001 port are the Player's, no vehicle's
         } else if constexpr (std::is_same_v<T, SelectVehicle>) {
           return a.vehicle == vehicle;
         } else if constexpr (std::is_same_v<T, ClientDataAction>) {
@@ -88,6 +88,19 @@ class Shrinker {
         }
         if (chunk == 1) break;
       }
+      // The operator client, once no timeline event needs it.
+      if (current.operator_client.connect &&
+          std::none_of(current.timeline.begin(), current.timeline.end(), [](const TimelineEvent& event) {
+            return std::holds_alternative<SetOperatorMisbehaviour>(event.action);
+          })) {
+        Scenario candidate = current;
+        candidate.operator_client = OperatorClientSetting{};
+        if (still_fails(candidate)) {
+          current = std::move(candidate);
+          found = last_;
+          progress = true;
+        }
+      }
       // Start impairments back to a clean link.
       for (std::size_t v = 0; v < current.world.vehicles.size(); ++v) {
         Scenario candidate = current;
@@ -145,6 +158,8 @@ std::string regression_yaml(const ShrinkResult& shrunk, const std::string& repro
     state.at = v.at;
     (v.should_be_active ? state.active_on : state.inactive_on).push_back(v.vehicle);
     scenario.expectations.push_back({"", {}, state});
+  } else if (v.regression) {
+    scenario.expectations.push_back({"", {}, *v.regression});
   } else if (v.check == Check::stale_pair) {
     scenario.expectations.push_back({"", {}, InvariantExpectation{Invariant::no_stale_pair_after_reconnect}});
   } else {

@@ -50,7 +50,7 @@ WorldOutcome check_world(const scenario::Scenario& scenario, const CheckOptions&
                                       "two runs of the same world gave different traces (digest " +
                                           std::to_string(first.trace_digest) + " vs " +
                                           std::to_string(second.trace_digest) + ")",
-                                      std::nullopt, false});
+                                      std::nullopt, false, std::nullopt});
       }
     }
   } catch (const scenario::HarnessError& error) {

@@ -46,8 +46,14 @@ Micros liveness_bound(const scenario::Scenario& scenario) {
     for (const CameraConfig& camera : spec.streamer.cameras) slowest_fps = std::min(slowest_fps, camera.fps);
   }
   const Micros frame{static_cast<std::int64_t>(1e6 / std::max(slowest_fps, 0.1))};
-  return scenario.world.reconnect_backoff + read_timeout + 2 * largest_delay(scenario) + queue_allowance + 2 * frame +
-         margin;
+  const Micros vehicle_side = scenario.world.reconnect_backoff + read_timeout + 2 * largest_delay(scenario) +
+                              queue_allowance + 2 * frame + margin;
+  if (!scenario.operator_client.connect) return vehicle_side;
+  // The operator client is back: a silent second connection holding :4001 times out, then the
+  // client reconnects after its backoff and sends its first keep-alive.
+  const scenario::OperatorClientSetting& client = scenario.operator_client;
+  return std::max(vehicle_side, scenario.world.player.client_read_timeout + client.reconnect_backoff +
+                                    client.keep_alive_period + margin);
 }
 
 SimTime quiet_point(const scenario::Scenario& scenario) {

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "ocp/json_codec.hpp"
+#include "ocp/mutants.hpp"
 #include "ocp/raw_pieces.hpp"
 
 #include "player_impl.hpp"
@@ -23,7 +24,11 @@ std::string remembering_no_more(const WarnedNames& names) {
 
 void PlayerCore::Impl::on_client_data(ClientSource source, const ClientOcpShared& data) {
   ++stats.client_messages_received;
-  if (is_keep_alive(data)) {
+  bool keep_alive = is_keep_alive(data);
+#ifdef OCP_MUTANTS
+  if (mutant_active(Mutant::keep_alive_locks_source)) keep_alive = false;
+#endif
+  if (keep_alive) {
     // Its bytes already reset the :4001 read timer; it carries nothing to apply or lock on.
     ++stats.client_keep_alives;
     return;
@@ -141,6 +146,9 @@ void PlayerCore::Impl::accept_client(std::shared_ptr<ByteStream> stream) {
   FramedConnection::Handlers handlers;
   handlers.on_payload = [this](std::string_view payload) -> Status {
     Result<ClientOcpShared> message = decode_client_ocp_shared(payload);
+#ifdef OCP_MUTANTS
+    if (!message && mutant_active(Mutant::operator_bad_frame_kept)) return Ok{};
+#endif
     if (!message) return message.error();
     on_client_data(ClientSource::tcp, *message);
     return Ok{};

@@ -1,6 +1,7 @@
 // The VehicleOcpShared entry of one vehicle (SPEC §4.1), built from what its Streamer sent.
 #include <array>
 
+#include "ocp/mutants.hpp"
 #include "vehicle_link.hpp"
 
 namespace ocp {
@@ -41,7 +42,11 @@ struct FaultList {
 void refresh_vehicle_feedback(VehicleFeedback& entry, const VehicleLink& link, SimTime now, SimTime measured_since) {
   entry.ping_latency_ms = link.ping_latency_ms;
   entry.is_monitor = link.monitor;
-  assign_identifiers(entry.sender_fault, FaultList(link.sender_faults));
+  bool refresh_faults = true;
+#ifdef OCP_MUTANTS
+  refresh_faults = !mutant_active(Mutant::feedback_fault_lists_stale);
+#endif
+  if (refresh_faults) assign_identifiers(entry.sender_fault, FaultList(link.sender_faults));
   entry.ack = link.latest_sei ? *link.latest_sei : AckPair{};
   const StreamerFeedback* feedback = link.last_feedback ? &*link.last_feedback : nullptr;
   Micros data_age = now - measured_since;  // never updated: age since the link started
@@ -52,7 +57,7 @@ void refresh_vehicle_feedback(VehicleFeedback& entry, const VehicleLink& link, S
     } else {
       entry.missing_cameras = feedback->missing_cameras;
     }
-    assign_identifiers(entry.receiver_fault, feedback->receiver_faults);
+    if (refresh_faults) assign_identifiers(entry.receiver_fault, feedback->receiver_faults);
     entry.vehicle_data = feedback->vehicle_data;   // copy-assignment reuses the strings' buffers
     entry.last_remote_input = feedback->last_remote_input;
     if (feedback->vehicle_data_age) {

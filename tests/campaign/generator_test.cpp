@@ -35,6 +35,16 @@ void note_misbehaviour_kinds(const scenario::SetMisbehaviour& set, std::set<std:
   if (set.second_connection) kinds.insert("second_connection");
 }
 
+// The same for the operator port's misbehaviours.
+void note_operator_kinds(const scenario::SetOperatorMisbehaviour& set, std::set<std::string>& kinds) {
+  const scenario::OperatorMisbehaviour& m = set.misbehave;
+  if (m.silent) kinds.insert("silent");
+  if (m.malformed_json) kinds.insert("malformed_json");
+  if (m.oversized_frames) kinds.insert("oversized_frames");
+  if (m.bad_message != scenario::BadClientMessage::none) kinds.insert(std::string(bad_client_message_name(m.bad_message)));
+  if (set.second_connection) kinds.insert("second_connection");
+}
+
 TEST(CampaignGenerator, SameSeedSameWorlds) {
   const Profile profile = load_profile(shipped_profile_path("default"));
   for (std::uint64_t index = 0; index < 20; ++index) {
@@ -58,8 +68,9 @@ TEST(CampaignGenerator, WrittenWorldParsesBackToTheSameWorld) {
 TEST(CampaignGenerator, WorldsStayInTheirRangesAndUseEveryAction) {
   const Profile profile = load_profile(shipped_profile_path("default"));
   std::set<std::size_t> actions;
-  std::set<std::string> misbehaviours;
+  std::set<std::string> misbehaviours, operator_misbehaviours;
   bool monitor = false, fleet = false;
+  int operator_clients = 0;
   for (std::uint64_t index = 0; index < 300; ++index) {
     const scenario::Scenario world = generate_world(profile, 5, index);
     EXPECT_GE(world.duration, profile.duration.min);
@@ -67,6 +78,11 @@ TEST(CampaignGenerator, WorldsStayInTheirRangesAndUseEveryAction) {
     EXPECT_GE(world.world.vehicles.size(), 1u);
     EXPECT_LE(world.world.vehicles.size(), 4u);
     EXPECT_FALSE(world.world.vehicles.front().monitor);
+    if (world.operator_client.connect) {
+      ++operator_clients;
+      EXPECT_GE(world.operator_client.keep_alive_period, profile.operator_keep_alive_period.min);
+      EXPECT_LE(world.operator_client.keep_alive_period, profile.operator_keep_alive_period.max);
+    }
     fleet = fleet || world.world.vehicles.size() > 1;
     for (const VehicleSpec& spec : world.world.vehicles) {
       monitor = monitor || spec.monitor;
@@ -77,21 +93,26 @@ TEST(CampaignGenerator, WorldsStayInTheirRangesAndUseEveryAction) {
       actions.insert(event.action.index());
       EXPECT_LT(event.at, world.duration - liveness_bound(world) + Micros{1});
       if (const auto* set = std::get_if<scenario::SetMisbehaviour>(&event.action)) note_misbehaviour_kinds(*set, misbehaviours);
+      if (const auto* set = std::get_if<scenario::SetOperatorMisbehaviour>(&event.action)) {
+        EXPECT_TRUE(world.operator_client.connect) << "world " << index;
+        note_operator_kinds(*set, operator_misbehaviours);
+      }
     }
   }
-  // Every action but the operator port's misbehaviours, which the generator does not draw yet:
-  // its worlds connect no operator client (scenarios.md, "The operator side").
-  EXPECT_FALSE(actions.contains(scenario::Action(scenario::SetOperatorMisbehaviour{}).index()));
-  actions.insert(scenario::Action(scenario::SetOperatorMisbehaviour{}).index());
+  // About operator_client_share (0.5) of the worlds have an operator client.
+  EXPECT_GT(operator_clients, 100);
+  EXPECT_LT(operator_clients, 200);
   EXPECT_TRUE(monitor);
   EXPECT_TRUE(fleet);
   EXPECT_EQ(actions.size(), std::variant_size_v<scenario::Action>);
   // Every misbehaviour of the format: 7 switches, 5 broken responses, a second connection.
   EXPECT_EQ(misbehaviours.size(), 13u) << ::testing::PrintToString(misbehaviours);
+  // And on the operator port: silence, malformed JSON, oversized, 3 bad messages, a second connection.
+  EXPECT_EQ(operator_misbehaviours.size(), 7u) << ::testing::PrintToString(operator_misbehaviours);
 }
 
 // Besides a fleet's first selection at 0 s, which every fleet world needs.
-TEST(CampaignGenerator, CalmProfileHasImpairmentsOnly) {
+TEST(CampaignGenerator, CalmProfileHasImpairmentsOnly) {   // and keep-alives, where an operator client is on
   const Profile profile = load_profile(shipped_profile_path("calm"));
   for (std::uint64_t index = 0; index < 100; ++index) {
     for (const scenario::TimelineEvent& event : generate_world(profile, 5, index).timeline) {

@@ -9,6 +9,8 @@
 #include "campaign/world_check.hpp"
 #include "ocp/mutants.hpp"
 #include "scenario/parse.hpp"
+#include "scenario/runner.hpp"
+#include "scenario/verdicts.hpp"
 
 namespace ocp {
 Mutant& active_mutant() {
@@ -56,6 +58,24 @@ expect:
   invariants: [default_controller_during_control_fault]
 )";
 
+// An operator client on the Player's :4001: its fault lists change (an unplug), and it sends a
+// malformed frame once (at the 4.5 s keep-alive), is closed and comes back.
+constexpr const char* operator_world = R"(
+duration: 8s
+world:
+  gamepad: drive
+  operator_client: {connect: true, keep_alive_period: 500ms, reconnect_backoff: 200ms}
+  vehicles:
+    - name: v1
+timeline:
+  - {at: 2s, gamepad: unplug}
+  - {at: 3s, gamepad: replug}
+  - {at: 4100ms, operator_misbehave: {malformed_json: true}}
+  - {at: 4700ms, operator_misbehave: {}}
+expect:
+  invariants: [default_controller_during_control_fault]
+)";
+
 bool caught(const WorldOutcome& outcome, Check check) {
   for (const Violation& v : outcome.violations) {
     if (v.check == check) return true;
@@ -75,7 +95,7 @@ WorldOutcome check(const char* yaml, Mutant mutant) {
 }
 
 TEST(CampaignMutants, CleanWorldsPass) {
-  for (const char* world : {outage_world, reorder_world}) {
+  for (const char* world : {outage_world, reorder_world, operator_world}) {
     const WorldOutcome outcome = check(world, Mutant::none);
     EXPECT_EQ(outcome.violation_count, 0u) << describe(outcome);
   }
@@ -101,6 +121,21 @@ TEST(CampaignMutants, StalePairAcceptedIsCaught) {
 TEST(CampaignMutants, DeliveryCountedTwiceIsCaught) {
   const WorldOutcome outcome = check(outage_world, Mutant::delivered_counted_twice);
   EXPECT_TRUE(caught(outcome, Check::conservation)) << describe(outcome);
+}
+
+TEST(CampaignMutants, BadOperatorFrameKeptIsCaught) {
+  const WorldOutcome outcome = check(operator_world, Mutant::operator_bad_frame_kept);
+  EXPECT_TRUE(caught(outcome, Check::operator_port)) << describe(outcome);
+}
+
+TEST(CampaignMutants, KeepAliveLockingTheSourceIsCaught) {
+  const WorldOutcome outcome = check(operator_world, Mutant::keep_alive_locks_source);
+  EXPECT_TRUE(caught(outcome, Check::operator_port)) << describe(outcome);
+}
+
+TEST(CampaignMutants, StaleFeedbackFaultListsAreCaught) {
+  const WorldOutcome outcome = check(operator_world, Mutant::feedback_fault_lists_stale);
+  EXPECT_TRUE(caught(outcome, Check::operator_feedback)) << describe(outcome);
 }
 
 }  // namespace
@@ -129,6 +164,31 @@ TEST(CampaignShrink, KnownFailureShrinksToThreeEventsOrFewer) {
     return;
   }
   FAIL() << "no generated world of campaign 3 fails under the mutant";
+}
+
+// An operator-side failure shrinks to a scenario whose own expectation fails under the mutant
+// (judged by the scenario runner, not the oracle) and passes without it: a regression test.
+TEST(CampaignShrink, OperatorFailuresShrinkToScenariosThatFailOnTheirOwn) {
+  const std::pair<Mutant, Check> cases[] = {{Mutant::operator_bad_frame_kept, Check::operator_port},
+                                            {Mutant::keep_alive_locks_source, Check::operator_port},
+                                            {Mutant::feedback_fault_lists_stale, Check::operator_feedback}};
+  for (const auto& [mutant, family] : cases) {
+    std::string yaml;
+    {
+      const MutantOn on(mutant);
+      const ShrinkResult shrunk = shrink(scenario::parse_scenario(operator_world, "operator.yaml"), {family, std::nullopt}, 100);
+      ASSERT_EQ(shrunk.violation.check, family) << static_cast<int>(mutant);
+      ASSERT_TRUE(shrunk.violation.regression.has_value()) << shrunk.violation.detail;
+      yaml = regression_yaml(shrunk, "ocp_campaign check shrunk.yaml");
+    }
+    const scenario::Scenario regression = scenario::parse_scenario(yaml, "shrunk.yaml");
+    auto verdicts = [&] { return scenario::evaluate(regression, scenario::run_scenario(regression, {})); };
+    {
+      const MutantOn on(mutant);
+      EXPECT_FALSE(scenario::all_passed(verdicts())) << yaml;
+    }
+    EXPECT_TRUE(scenario::all_passed(verdicts())) << yaml;
+  }
 }
 
 }  // namespace

@@ -32,13 +32,16 @@ enum class Check {
   liveness,            // after the last disturbance, a fault did not clear or the loop did not close
   conservation,        // sent ≠ delivered + lost + in flight on a link direction
   determinism,         // the same world twice, two different traces
+  // The Player's :4001 port, in worlds with an operator client (oracle_operator.cpp):
+  operator_port,       // a broken frame kept, a close nothing explains, a late read timeout, two clients
+  operator_feedback,   // VehicleOcpShared's fault lists differ from the faults the cores reported
   // An external vehicle client (ocp_campaign run --client), judged from the Streamer's side
   // by ClientWatch (client_watch.hpp), not by the Oracle:
   client_echo,         // an echo that is not byte-exact, or not the current pair
   client_reconnect,    // no new connection within the bound after the Streamer closed one
   client_alive,        // the client process exited or crashed during the world
 };
-inline constexpr int check_count = 12;
+inline constexpr int check_count = 14;
 std::string_view check_name(Check check);
 
 struct Violation {
@@ -50,6 +53,9 @@ struct Violation {
   // this as a fault-state expectation).
   std::optional<FaultId> fault;
   bool should_be_active = false;
+  // The scenario expectation that fails the same way, where the oracle can state one (the
+  // shrinker writes it into the regression file).
+  std::optional<scenario::ExpectationKind> regression;
 };
 
 // Tolerances of the fault model, stated (docs/campaigns.md). In virtual time every threshold is
@@ -89,19 +95,29 @@ class Oracle {
  private:
   struct VehicleState;
   struct LinkTally;
+  struct OperatorPort;
   void on_event(const Event& event);
   void on_wire_frame(const Event& event, const WireFrame& frame);
   void on_fault(const Event& event, const FaultEvent& fault);
   void on_connection(const Event& event, const ConnectionEvent& connection);
   void on_latency_sample(const Event& event, const LatencySample& sample);
   void on_link(const Event& event, const LinkEvent& link);
+  // The operator port (oracle_operator.cpp).
+  void on_operator_connection(SimTime now, const ConnectionEvent& connection);
+  void on_operator_frame(SimTime now, const WireFrame& frame);
+  void on_source_locked(SimTime now, const SourceLocked& locked);
+  void on_feedback_link(VehicleState& vehicle, SimTime now, const LinkEvent& link);
+  void check_operator_port(SimTime now);
+  void check_feedback_lists(SimTime now, std::string_view payload);
+  void check_operator_liveness(SimTime now);
   void check_fault_model(VehicleState& vehicle, SimTime now, const LatencySample& sample);
   void check_operator_faults(VehicleState& vehicle, SimTime now);
   void check_liveness(VehicleState& vehicle, SimTime now, const LatencySample& sample);
   void check_controller(VehicleState& vehicle, SimTime now, const WireFrame& frame);
   void check_counters(World& world, SimTime now);
   void report(Check check, SimTime now, const std::string& vehicle, std::string detail,
-              std::optional<FaultId> fault = std::nullopt, bool should_be_active = false);
+              std::optional<FaultId> fault = std::nullopt, bool should_be_active = false,
+              std::optional<scenario::ExpectationKind> regression = std::nullopt);
   VehicleState& vehicle(std::string_view name);
 
   const scenario::Scenario& scenario_;
@@ -117,6 +133,7 @@ class Oracle {
   SimTime selected_since_{0};
   bool gamepad_plugged_ = true;
   std::map<std::string, std::unique_ptr<VehicleState>, std::less<>> vehicles_;
+  std::unique_ptr<OperatorPort> operator_;   // null: the world connects no operator client
   std::vector<EventBus::Subscription> subscriptions_;
   std::vector<Violation> violations_;
   std::uint64_t violation_count_ = 0;

@@ -37,8 +37,9 @@ enum class ActionKind {
   gamepad_unplug,        // unplug, then replug
   client_data,           // a client-data source appears (and sometimes a second one conflicts)
   select_vehicle,        // active-vehicle switch (fleets with two control vehicles or more)
+  operator_misbehave,    // one misbehaviour on the Player's :4001 port, then all off (worlds with an operator client)
 };
-inline constexpr int action_kind_count = 12;
+inline constexpr int action_kind_count = 13;
 std::string_view action_kind_name(ActionKind kind);
 
 struct Profile {
@@ -47,6 +48,7 @@ struct Profile {
   DurationRange duration{Micros{10'000'000}, Micros{120'000'000}};
   int vehicles_min = 1, vehicles_max = 4;
   double monitor_share = 0.25;   // each vehicle after the first is a monitor with this chance
+  double operator_client_share = 0.5;   // a world connects an operator client to :4001 with this chance
   int cameras_min = 1, cameras_max = 3;
   NumberRange camera_fps{10, 60};
   // SPEC §8 timers.
@@ -58,7 +60,8 @@ struct Profile {
   NumberRange control_queue_limit{10, 50};
   DurationRange control_queue_max_age{Micros{50'000}, Micros{200'000}};
   DurationRange no_feedback_timeout{Micros{500'000}, Micros{2'000'000}};
-  DurationRange reconnect_backoff{Micros{50'000}, Micros{500'000}};
+  DurationRange reconnect_backoff{Micros{50'000}, Micros{500'000}};   // vehicle and operator clients
+  DurationRange operator_keep_alive_period{Micros{100'000}, Micros{1'000'000}};   // < the 2 s :4001 read timeout
   // The links' settings at start (every world).
   DurationRange base_delay{Micros{0}, Micros{30'000}};
   DurationRange base_jitter{Micros{0}, Micros{5'000}};

@@ -14,7 +14,7 @@ namespace ocp::campaign {
 // derived from the timers (docs/campaigns.md, "Liveness"): a reconnect (backoff), a read
 // timeout that was about to fire, the worst one-way delay a link can still hold back behind
 // FIFO order (its largest delay plus one second of bandwidth queue), and two frames of the
-// slowest camera.
+// slowest camera; with an operator client, at least the time its connection takes to come back.
 Micros liveness_bound(const scenario::Scenario& scenario);
 
 // The time the last timeline action's effect ends (outages, stalls and ramps last; a

@@ -14,6 +14,10 @@ enum class Mutant {
   default_controller_not_applied,   // control-path faults let the operator's controller through
   stale_pair_accepted,              // an older returned pair replaces the newest valid one
   delivered_counted_twice,          // a link counts each delivery twice
+  // The Player's :4001 port (the oracle's operator checks, oracle_operator.cpp):
+  operator_bad_frame_kept,          // a broken client frame is ignored, the connection kept
+  keep_alive_locks_source,          // a keep-alive `{}` takes the tcp source lock (SPEC §4.2)
+  feedback_fault_lists_stale,       // VehicleOcpShared's fault lists are never refreshed
 };
 
 #ifdef OCP_MUTANTS

@@ -104,11 +104,7 @@ struct OperatorMisbehaviour {
   BadClientMessage bad_message = BadClientMessage::none;
   bool any() const { return silent || malformed_json || oversized_frames || bad_message != BadClientMessage::none; }
 };
-struct SetOperatorMisbehaviour {
-  // Always empty: the :4001 port is the Player's, no vehicle's. It is here for code that asks
-  // every action which vehicle it names (campaign/src/shrink.cpp, removing a vehicle keeps the
-  // events that name none); it can go once that code knows this action.
-  std::string vehicle;
+struct SetOperatorMisbehaviour {   // names no vehicle: the :4001 port is the Player's
   OperatorMisbehaviour misbehave;
   // Once, at this event: a second :4001 connection while the client's is open (SPEC §4.2:
   // one client at a time, the newcomer is refused); it sends nothing and stays open this side.
