@@ -263,7 +263,7 @@ void Oracle::on_link(const Event& event, const LinkEvent& link) {
   LinkTally& tally = state.links[route];
   const char* way = link.route == LinkRoute::to_streamer ? "to_streamer" : "to_player";
   if (operator_ && link.route == LinkRoute::to_player && link.kind == LinkMessageKind::feedback) {
-    on_feedback_link(state, now, link);
+    on_feedback_link(state, link);
   }
   switch (link.outcome) {
     case LinkOutcome::sent:

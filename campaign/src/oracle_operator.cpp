@@ -147,21 +147,22 @@ void Oracle::on_operator_connection(SimTime now, const ConnectionEvent& connecti
     case ConnectionChange::closed: break;
   }
   if (!port.open || peer != port.peer) return;
-  check_operator_port(now);
-  port.open = false;
   const std::error_code code = connection.reason != nullptr ? connection.reason->code : std::error_code{};
   const std::string why = error_code_id(code);
   if (port.pending) {
     const OperatorPort::PendingClose pending = *port.pending;
     port.pending.reset();
+    port.open = false;
     const bool right = (pending.expected ? code == make_error_code(*pending.expected) : is_bad_frame_reason(code));
-    if (!right) {
+    if (!right || now > pending.at + tolerances_.real_time_slack) {
       report(Check::operator_port, now, "",
-             "the connection closed for " + why + " after a frame with " + pending.what +
-                 (pending.expected ? " (SPEC §2: " + error_code_id(make_error_code(*pending.expected)) + ")" : ""));
+             "the connection closed for " + why + " " + ms_text(now - pending.at) + " after a frame with " +
+                 pending.what + (pending.expected ? " (SPEC §2: " + error_code_id(make_error_code(*pending.expected)) + ", at once)" : ""));
     }
     return;
   }
+  check_operator_port(now);   // a close that comes later than the read timeout
+  port.open = false;
   const Micros silence = now - port.last_frame_in;
   if (code == make_error_code(PeerError::read_timeout)) {
     if (silence + tolerances_.real_time_slack < port.read_timeout) {
@@ -248,7 +249,7 @@ void Oracle::on_source_locked(SimTime now, const SourceLocked& locked) {
 }
 
 // Feedback messages to the Player, for the receiver_fault list it must show.
-void Oracle::on_feedback_link(VehicleState& state, SimTime /*now*/, const LinkEvent& link) {
+void Oracle::on_feedback_link(VehicleState& state, const LinkEvent& link) {
   switch (link.outcome) {
     case LinkOutcome::sent:
       if (state.feedback_in_flight.size() < max_feedback_in_flight) {

@@ -106,7 +106,7 @@ class Oracle {
   void on_operator_connection(SimTime now, const ConnectionEvent& connection);
   void on_operator_frame(SimTime now, const WireFrame& frame);
   void on_source_locked(SimTime now, const SourceLocked& locked);
-  void on_feedback_link(VehicleState& vehicle, SimTime now, const LinkEvent& link);
+  void on_feedback_link(VehicleState& vehicle, const LinkEvent& link);
   void check_operator_port(SimTime now);
   void check_feedback_lists(SimTime now, std::string_view payload);
   void check_operator_liveness(SimTime now);
