@@ -79,28 +79,28 @@ scenario::ExpectationKind operator_close_between(SimTime from, SimTime until) {
   return close;
 }
 
-scenario::ExpectationKind fault_list_at(const std::string& vehicle, const char* field, FaultBits bits, SimTime at) {
+// The identifiers of a fault set in table order, each between `quote`s: "[A, B]" for a
+// person, "["A", "B"]" for a scenario file's JSON.
+std::string fault_list(FaultBits bits, std::string_view quote) {
   std::string list;
   for (std::size_t f = 0; f < fault_count; ++f) {
-    if (bits.has(static_cast<FaultId>(f))) {
-      list += (list.empty() ? "\"" : ", \"") + std::string(fault_identifier(static_cast<FaultId>(f))) + "\"";
-    }
+    if (!bits.has(static_cast<FaultId>(f))) continue;
+    list += (list.empty() ? "" : ", ") + std::string(quote) + std::string(fault_identifier(static_cast<FaultId>(f))) +
+            std::string(quote);
   }
+  return "[" + list + "]";
+}
+
+std::string fault_list_text(FaultBits bits) { return fault_list(bits, ""); }
+
+scenario::ExpectationKind fault_list_at(const std::string& vehicle, const char* field, FaultBits bits, SimTime at) {
   scenario::FeedbackExpectation feedback;
   feedback.vehicle = vehicle;
-  feedback.checks.push_back({field, "[" + list + "]", true});
+  feedback.checks.push_back({field, fault_list(bits, "\""), true});
   feedback.from = at;
   feedback.until = at;
   feedback.instant = true;
   return feedback;
-}
-
-std::string fault_list_text(FaultBits bits) {
-  std::string text;
-  for (std::size_t f = 0; f < fault_count; ++f) {
-    if (bits.has(static_cast<FaultId>(f))) text += (text.empty() ? "" : ", ") + std::string(fault_identifier(static_cast<FaultId>(f)));
-  }
-  return "[" + text + "]";
 }
 
 // A list of fault identifiers as bits; nullopt when it is not a list of known identifiers.

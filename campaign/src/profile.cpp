@@ -125,13 +125,68 @@ class Reader {
   std::string path_;
 };
 
-}  // namespace
-Profile parse_profile(const std::string& text, const std::string& path) {
-  Profile profile;
-  profile.name = std::filesystem::path(path).stem().string();
-  profile.digest = derive_seed(0x0c9a3a16e5ULL, text);
-  for (int k = 0; k < action_kind_count; ++k) profile.weights[static_cast<ActionKind>(k)] = 1.0;
-  const Reader read(path);
+// The sections of a profile file, each into its part of the Profile.
+void read_timers(const Reader& read, const YAML::Node& timers, Profile& profile) {
+  read.check_keys(timers, "timers", {"latency_limit", "no_control_timeout", "vehicle_read_timeout",
+                                     "camera_drop_timeout", "streamer_slow_threshold", "control_queue_limit",
+                                     "control_queue_max_age", "no_feedback_timeout", "reconnect_backoff",
+                                     "operator_keep_alive_period"});
+  const std::vector<std::pair<const char*, DurationRange*>> durations = {
+      {"latency_limit", &profile.latency_limit},
+      {"no_control_timeout", &profile.no_control_timeout},
+      {"vehicle_read_timeout", &profile.vehicle_read_timeout},
+      {"camera_drop_timeout", &profile.camera_drop_timeout},
+      {"streamer_slow_threshold", &profile.streamer_slow_threshold},
+      {"control_queue_max_age", &profile.control_queue_max_age},
+      {"no_feedback_timeout", &profile.no_feedback_timeout},
+      {"reconnect_backoff", &profile.reconnect_backoff},
+      {"operator_keep_alive_period", &profile.operator_keep_alive_period}};
+  // Timers shorter than a few control periods would make every world a fault storm.
+  for (const auto& [key, range] : durations) {
+    if (timers[key]) read.durations(timers[key], *range, Micros{30'000}, max_timer);
+  }
+  if (timers["control_queue_limit"]) read.numbers(timers["control_queue_limit"], profile.control_queue_limit, 2, 10'000);
+}
+
+void read_link(const Reader& read, const YAML::Node& link, Profile& profile) {
+  read.check_keys(link, "link", {"delay", "jitter", "loss"});
+  if (link["delay"]) read.durations(link["delay"], profile.base_delay, Micros{0}, Micros{5'000'000});
+  if (link["jitter"]) read.durations(link["jitter"], profile.base_jitter, Micros{0}, Micros{1'000'000});
+  if (link["loss"]) read.numbers(link["loss"], profile.base_loss, 0, 1);
+}
+
+void read_timeline(const Reader& read, const YAML::Node& timeline, Profile& profile) {
+  read.check_keys(timeline, "timeline", {"events", "episode", "delay", "jitter", "loss", "duplicate", "reorder",
+                                         "reorder_extra_delay", "bandwidth_bps", "queue_limit_bytes"});
+  if (timeline["events"]) read.integers(timeline["events"], profile.events_min, profile.events_max, 0, max_events);
+  if (timeline["episode"]) read.durations(timeline["episode"], profile.episode, Micros{10'000}, max_timer);
+  if (timeline["delay"]) read.durations(timeline["delay"], profile.delay, Micros{0}, Micros{10'000'000});
+  if (timeline["jitter"]) read.durations(timeline["jitter"], profile.jitter, Micros{0}, Micros{1'000'000});
+  if (timeline["reorder_extra_delay"]) {
+    read.durations(timeline["reorder_extra_delay"], profile.reorder_extra_delay, Micros{0}, Micros{1'000'000});
+  }
+  if (timeline["loss"]) read.numbers(timeline["loss"], profile.loss, 0, 1);
+  if (timeline["duplicate"]) read.numbers(timeline["duplicate"], profile.duplicate, 0, 1);
+  if (timeline["reorder"]) read.numbers(timeline["reorder"], profile.reorder, 0, 1);
+  if (timeline["bandwidth_bps"]) read.numbers(timeline["bandwidth_bps"], profile.bandwidth_bps, 1'000, 1e10);
+  if (timeline["queue_limit_bytes"]) read.numbers(timeline["queue_limit_bytes"], profile.queue_limit_bytes, 100, 1e9);
+}
+
+void read_weights(const Reader& read, const YAML::Node& weights, Profile& profile) {
+  std::vector<std::string> names;
+  for (int k = 0; k < action_kind_count; ++k) names.emplace_back(action_kind_name(static_cast<ActionKind>(k)));
+  read.check_keys(weights, "weights", names);
+  for (int k = 0; k < action_kind_count; ++k) {
+    const auto kind = static_cast<ActionKind>(k);
+    if (const YAML::Node weight = weights[std::string(action_kind_name(kind))]) {
+      const double value = read.number(weight);
+      if (value < 0 || value > 1e6) read.fail(weight, "weight out of range [0, 1000000]");
+      profile.weights[kind] = value;
+    }
+  }
+}
+
+YAML::Node load_yaml(const std::string& text, const std::string& path) {
   YAML::Node root;
   try {
     root = YAML::Load(text);
@@ -140,6 +195,18 @@ Profile parse_profile(const std::string& text, const std::string& path) {
                        ": " + error.msg);
   }
   if (!root || root.IsNull()) throw ProfileError(path + ":1:1: empty profile");
+  return root;
+}
+
+}  // namespace
+
+Profile parse_profile(const std::string& text, const std::string& path) {
+  Profile profile;
+  profile.name = std::filesystem::path(path).stem().string();
+  profile.digest = derive_seed(0x0c9a3a16e5ULL, text);
+  for (int k = 0; k < action_kind_count; ++k) profile.weights[static_cast<ActionKind>(k)] = 1.0;
+  const Reader read(path);
+  const YAML::Node root = load_yaml(text, path);
   read.check_keys(root, "profile", {"description", "duration", "vehicles", "monitor_share", "operator_client_share",
                                     "cameras", "camera_fps", "timers", "link", "timeline", "weights",
                                     "determinism_share"});
@@ -150,62 +217,10 @@ Profile parse_profile(const std::string& text, const std::string& path) {
   if (root["cameras"]) read.integers(root["cameras"], profile.cameras_min, profile.cameras_max, 1, max_cameras);
   if (root["camera_fps"]) read.numbers(root["camera_fps"], profile.camera_fps, 1, 240);
   if (root["determinism_share"]) profile.determinism_share = read.fraction(root["determinism_share"]);
-  if (const YAML::Node timers = root["timers"]) {
-    read.check_keys(timers, "timers", {"latency_limit", "no_control_timeout", "vehicle_read_timeout",
-                                       "camera_drop_timeout", "streamer_slow_threshold", "control_queue_limit",
-                                       "control_queue_max_age", "no_feedback_timeout", "reconnect_backoff",
-                                       "operator_keep_alive_period"});
-    const std::vector<std::pair<const char*, DurationRange*>> durations = {
-        {"latency_limit", &profile.latency_limit},
-        {"no_control_timeout", &profile.no_control_timeout},
-        {"vehicle_read_timeout", &profile.vehicle_read_timeout},
-        {"camera_drop_timeout", &profile.camera_drop_timeout},
-        {"streamer_slow_threshold", &profile.streamer_slow_threshold},
-        {"control_queue_max_age", &profile.control_queue_max_age},
-        {"no_feedback_timeout", &profile.no_feedback_timeout},
-        {"reconnect_backoff", &profile.reconnect_backoff},
-        {"operator_keep_alive_period", &profile.operator_keep_alive_period}};
-    // Timers shorter than a few control periods would make every world a fault storm.
-    for (const auto& [key, range] : durations) {
-      if (timers[key]) read.durations(timers[key], *range, Micros{30'000}, max_timer);
-    }
-    if (timers["control_queue_limit"]) read.numbers(timers["control_queue_limit"], profile.control_queue_limit, 2, 10'000);
-  }
-  if (const YAML::Node link = root["link"]) {
-    read.check_keys(link, "link", {"delay", "jitter", "loss"});
-    if (link["delay"]) read.durations(link["delay"], profile.base_delay, Micros{0}, Micros{5'000'000});
-    if (link["jitter"]) read.durations(link["jitter"], profile.base_jitter, Micros{0}, Micros{1'000'000});
-    if (link["loss"]) read.numbers(link["loss"], profile.base_loss, 0, 1);
-  }
-  if (const YAML::Node timeline = root["timeline"]) {
-    read.check_keys(timeline, "timeline", {"events", "episode", "delay", "jitter", "loss", "duplicate", "reorder",
-                                           "reorder_extra_delay", "bandwidth_bps", "queue_limit_bytes"});
-    if (timeline["events"]) read.integers(timeline["events"], profile.events_min, profile.events_max, 0, max_events);
-    if (timeline["episode"]) read.durations(timeline["episode"], profile.episode, Micros{10'000}, max_timer);
-    if (timeline["delay"]) read.durations(timeline["delay"], profile.delay, Micros{0}, Micros{10'000'000});
-    if (timeline["jitter"]) read.durations(timeline["jitter"], profile.jitter, Micros{0}, Micros{1'000'000});
-    if (timeline["reorder_extra_delay"]) {
-      read.durations(timeline["reorder_extra_delay"], profile.reorder_extra_delay, Micros{0}, Micros{1'000'000});
-    }
-    if (timeline["loss"]) read.numbers(timeline["loss"], profile.loss, 0, 1);
-    if (timeline["duplicate"]) read.numbers(timeline["duplicate"], profile.duplicate, 0, 1);
-    if (timeline["reorder"]) read.numbers(timeline["reorder"], profile.reorder, 0, 1);
-    if (timeline["bandwidth_bps"]) read.numbers(timeline["bandwidth_bps"], profile.bandwidth_bps, 1'000, 1e10);
-    if (timeline["queue_limit_bytes"]) read.numbers(timeline["queue_limit_bytes"], profile.queue_limit_bytes, 100, 1e9);
-  }
-  if (const YAML::Node weights = root["weights"]) {
-    std::vector<std::string> names;
-    for (int k = 0; k < action_kind_count; ++k) names.emplace_back(action_kind_name(static_cast<ActionKind>(k)));
-    read.check_keys(weights, "weights", names);
-    for (int k = 0; k < action_kind_count; ++k) {
-      const auto kind = static_cast<ActionKind>(k);
-      if (const YAML::Node weight = weights[std::string(action_kind_name(kind))]) {
-        const double value = read.number(weight);
-        if (value < 0 || value > 1e6) read.fail(weight, "weight out of range [0, 1000000]");
-        profile.weights[kind] = value;
-      }
-    }
-  }
+  if (const YAML::Node timers = root["timers"]) read_timers(read, timers, profile);
+  if (const YAML::Node link = root["link"]) read_link(read, link, profile);
+  if (const YAML::Node timeline = root["timeline"]) read_timeline(read, timeline, profile);
+  if (const YAML::Node weights = root["weights"]) read_weights(read, weights, profile);
   return profile;
 }
 

@@ -108,34 +108,27 @@ TEST(CampaignMutants, FaultRaisedOneTickLateIsCaught) {
   EXPECT_TRUE(outcome.violations.front().should_be_active);
 }
 
-TEST(CampaignMutants, DefaultControllerNotAppliedIsCaught) {
-  const WorldOutcome outcome = check(outage_world, Mutant::default_controller_not_applied);
-  EXPECT_TRUE(caught(outcome, Check::safety_controller)) << describe(outcome);
-}
+// Each other mutant, the world that shows it, and the check that must catch it.
+struct MutantCase {
+  const char* name;
+  const char* world;
+  Mutant mutant;
+  Check family;
+};
+const MutantCase mutant_cases[] = {
+    {"default controller not applied", outage_world, Mutant::default_controller_not_applied, Check::safety_controller},
+    {"stale pair accepted", reorder_world, Mutant::stale_pair_accepted, Check::latency_loop},
+    {"delivery counted twice", outage_world, Mutant::delivered_counted_twice, Check::conservation},
+    {"bad operator frame kept", operator_world, Mutant::operator_bad_frame_kept, Check::operator_port},
+    {"keep-alive locks the source", operator_world, Mutant::keep_alive_locks_source, Check::operator_port},
+    {"feedback fault lists stale", operator_world, Mutant::feedback_fault_lists_stale, Check::operator_feedback},
+};
 
-TEST(CampaignMutants, StalePairAcceptedIsCaught) {
-  const WorldOutcome outcome = check(reorder_world, Mutant::stale_pair_accepted);
-  EXPECT_TRUE(caught(outcome, Check::latency_loop)) << describe(outcome);
-}
-
-TEST(CampaignMutants, DeliveryCountedTwiceIsCaught) {
-  const WorldOutcome outcome = check(outage_world, Mutant::delivered_counted_twice);
-  EXPECT_TRUE(caught(outcome, Check::conservation)) << describe(outcome);
-}
-
-TEST(CampaignMutants, BadOperatorFrameKeptIsCaught) {
-  const WorldOutcome outcome = check(operator_world, Mutant::operator_bad_frame_kept);
-  EXPECT_TRUE(caught(outcome, Check::operator_port)) << describe(outcome);
-}
-
-TEST(CampaignMutants, KeepAliveLockingTheSourceIsCaught) {
-  const WorldOutcome outcome = check(operator_world, Mutant::keep_alive_locks_source);
-  EXPECT_TRUE(caught(outcome, Check::operator_port)) << describe(outcome);
-}
-
-TEST(CampaignMutants, StaleFeedbackFaultListsAreCaught) {
-  const WorldOutcome outcome = check(operator_world, Mutant::feedback_fault_lists_stale);
-  EXPECT_TRUE(caught(outcome, Check::operator_feedback)) << describe(outcome);
+TEST(CampaignMutants, EachIsCaughtByItsCheck) {
+  for (const MutantCase& c : mutant_cases) {
+    const WorldOutcome outcome = check(c.world, c.mutant);
+    EXPECT_TRUE(caught(outcome, c.family)) << c.name << ":\n" << describe(outcome);
+  }
 }
 
 }  // namespace
