@@ -219,19 +219,22 @@ int run_one_world(const CampaignOptions& options, std::uint64_t index) {
   return outcome.failed() ? exit_fail : exit_pass;
 }
 
-// The results folder: summary, JUnit, index, and each failure's folder (shrunk, up to --shrink-max).
-void write_campaign_results(const RunCommand& command, const CampaignOptions& options, const Summary& summary) {
-  write_outputs(summary, fs::path(command.out));
+// The results folder: each failure's folder (shrunk, up to --shrink-max), then the summary,
+// JUnit and index, which name the files each folder got.
+void write_campaign_results(const RunCommand& command, const CampaignOptions& options, Summary& summary) {
   FailureFilesOptions files{command.out, command.seed, command.worlds, command.profile, !command.no_shrink,
                             command.shrink_runs, std::nullopt};
   if (options.client) files.client = FailureFilesOptions::Client{*command.client, command.max_world_seconds, options.client->max_world};
   int shrunk = 0;
-  for (const WorldRecord& record : summary.records) {
+  for (WorldRecord& record : summary.records) {
     if (!record.failed() || ocp::cli::interrupt_requested()) continue;
     files.shrink = !command.no_shrink && shrunk < command.shrink_max;
-    write_failure_files(options.profile, record.index, files);
+    FailureFiles made = write_failure_files(options.profile, record.index, files);
+    record.files = std::move(made.files);
+    record.replay = std::move(made.replay);
     ++shrunk;
   }
+  write_outputs(summary, fs::path(command.out));
 }
 
 void print_rates(const CampaignRun& run) {
@@ -254,7 +257,7 @@ int run_command(const RunCommand& command) {
     std::cerr << "ocp_campaign run: " << run.harness_error << "\n";
     return exit_usage;
   }
-  const Summary summary = summarise(options, run);
+  Summary summary = summarise(options, run);
   try {
     write_campaign_results(command, options, summary);
   } catch (const std::exception& failure) {

@@ -18,7 +18,7 @@ bool determinism_sampled(const Profile& profile, std::uint64_t campaign_seed, st
 WorldOutcome check_campaign_world(const CampaignOptions& options, std::uint64_t index) {
   const scenario::Scenario world = generate_world(options.profile, options.seed, index);
   if (options.client) {
-    return check_world_with_client(for_external_client(world, options.client->max_world), index, *options.client,
+    return check_world_with_client(for_external_client(world, index, options.client->max_world), index, *options.client,
                                    options.stop);
   }
   WorldOutcome outcome = check_world(world, {determinism_sampled(options.profile, options.seed, index)});

@@ -5,6 +5,9 @@
 
 #include <algorithm>
 #include <charconv>
+#include <optional>
+
+#include "ocp/pair_diagnosis.hpp"
 
 #include "world/world.hpp"
 
@@ -24,6 +27,16 @@ std::string_view raw_number(const rapidjson::Document& document, const char* nam
 }
 
 std::string millis(Micros span) { return std::to_string(span.count() / 1000) + " ms"; }
+
+template <class Integer>
+std::optional<Integer> integer_of(std::string_view text) {
+  Integer value{};
+  const auto parsed = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (parsed.ec != std::errc{} || parsed.ptr != text.data() + text.size()) return std::nullopt;
+  return value;
+}
+
+constexpr std::ptrdiff_t pairs_to_compare = 16;   // on each side of where the echo would sit
 
 }  // namespace
 
@@ -88,27 +101,51 @@ void ClientWatch::judge_echo(Connection& connection, const std::string& vehicle,
   document.Parse<rapidjson::kParseNumbersAsStringsFlag>(frame.payload.data(), frame.payload.size());
   const std::string_view ack_text = raw_number(document, "ack_time");
   if (ack_text.empty()) return;   // not an echo (the Streamer judges malformed responses)
-  std::uint64_t ack = 0;
-  const auto parsed = std::from_chars(ack_text.data(), ack_text.data() + ack_text.size(), ack);
+  const std::string_view mac_text = raw_number(document, "ack_time_mac");
+  const std::optional<std::uint64_t> ack = integer_of<std::uint64_t>(ack_text);
   std::string problem;
   // Pairs are issued in increasing ack_time order.
-  auto found = std::lower_bound(connection.sent.begin(), connection.sent.end(), ack,
+  const std::uint64_t key = ack.value_or(0);
+  auto found = std::lower_bound(connection.sent.begin(), connection.sent.end(), key,
                                 [](const SentPair& pair, std::uint64_t value) { return pair.ack_time < value; });
-  if (found != connection.sent.end() && found->ack_time != ack) found = connection.sent.end();
-  if (parsed.ec != std::errc{} || parsed.ptr != ack_text.data() + ack_text.size()) {
-    problem = "ack_time came back as " + std::string(ack_text) + ", not as the integer the Streamer sent";
-  } else if (ack < connection.sent.front().ack_time) {
+  const bool issued = ack && found != connection.sent.end() && found->ack_time == *ack;
+  if (!ack) {
+    problem = "ack_time came back as " + std::string(ack_text) +
+              ", not as the integer the Streamer sent: rounded through a double? Keep the number's text, or parse it "
+              "as an unsigned 64-bit integer";
+  } else if (*ack < connection.sent.front().ack_time) {
     return;   // older than this connection: the Oracle's stale-pair check
-  } else if (found == connection.sent.end()) {
-    problem = "echoed ack_time " + std::string(ack_text) + ", which this connection was never sent";
-  } else if (raw_number(document, "ack_time_mac") != std::to_string(found->mac)) {
-    problem = "echoed ack_time " + std::string(ack_text) + " with ack_time_mac " +
-              std::string(raw_number(document, "ack_time_mac")) + ", sent as " + std::to_string(found->mac);
+  } else if (!issued || mac_text != std::to_string(found->mac)) {
+    problem = "echoed a pair this connection was never sent: " + diagnose(connection, found, *ack, mac_text);
   } else if (const auto next = std::next(found); next != connection.sent.end() && now - next->first_sent > bounds_.echo_current) {
     problem = "echoed the pair sent at " + millis(found->first_sent) + ", superseded " + millis(now - next->first_sent) +
               " before the echo (bound " + millis(bounds_.echo_current) + ")";
   }
   if (problem.empty()) return;
+  report_echo(connection, vehicle, now, std::move(problem));
+}
+
+// The cause, by the one rule for altered pairs (ocp/pair_diagnosis.hpp), against the pairs
+// sent around where the echo would sit.
+std::string ClientWatch::diagnose(const Connection& connection, std::deque<SentPair>::const_iterator near,
+                                  std::uint64_t ack, std::string_view mac_text) const {
+  const std::optional<std::uint32_t> mac = integer_of<std::uint32_t>(mac_text);
+  if (!mac) {
+    return "ack_time " + std::to_string(ack) +
+           (mac_text.empty() ? std::string(" without an ack_time_mac") : " with ack_time_mac " + std::string(mac_text) + ", not a 32-bit integer");
+  }
+  const auto at = near - connection.sent.begin();
+  const auto size = static_cast<std::ptrdiff_t>(connection.sent.size());
+  std::vector<AckPair> around;
+  for (auto i = std::max<std::ptrdiff_t>(0, at - pairs_to_compare); i < std::min(size, at + pairs_to_compare); ++i) {
+    const SentPair& pair = connection.sent[static_cast<std::size_t>(i)];
+    around.push_back({pair.ack_time, pair.mac});
+  }
+  const AckPair echoed{ack, *mac};
+  return describe_rejected_pair(echoed, judge_altered_pair(echoed, around));
+}
+
+void ClientWatch::report_echo(Connection& connection, const std::string& vehicle, SimTime now, std::string problem) {
   if (connection.echo_reported) {
     ++count_;
     return;

@@ -50,6 +50,16 @@ void judge_clients(std::vector<LaunchedClient>& clients, const ClientWatch& watc
   }
 }
 
+// A restarted listener refuses connections for a while: the reconnect bound starts after it.
+ClientBounds with_listener_restarts(ClientBounds bounds, const scenario::Scenario& world) {
+  Micros longest{0};
+  for (const scenario::TimelineEvent& event : world.timeline) {
+    if (const auto* close = std::get_if<scenario::DisconnectVehicle>(&event.action)) longest = std::max(longest, close->listener_down);
+  }
+  bounds.reconnect_within += longest;
+  return bounds;
+}
+
 void take_violations(WorldOutcome& outcome, const std::vector<Violation>& violations, std::uint64_t count) {
   outcome.violations.insert(outcome.violations.end(), violations.begin(), violations.end());
   outcome.violation_count += count;
@@ -57,7 +67,7 @@ void take_violations(WorldOutcome& outcome, const std::vector<Violation>& violat
 
 }  // namespace
 
-scenario::Scenario for_external_client(scenario::Scenario world, std::optional<Micros> max_world) {
+scenario::Scenario for_external_client(scenario::Scenario world, std::uint64_t index, std::optional<Micros> max_world) {
   for (VehicleSpec& vehicle : world.world.vehicles) {
     vehicle.in_process_client = false;
     vehicle.client.misbehave = {};
@@ -69,6 +79,7 @@ scenario::Scenario for_external_client(scenario::Scenario world, std::optional<M
     return event.at >= world.duration || std::holds_alternative<scenario::SetMisbehaviour>(event.action) ||
            std::holds_alternative<scenario::SetOperatorMisbehaviour>(event.action);
   });
+  add_client_hazards(world, index);
   return world;
 }
 
@@ -80,9 +91,10 @@ WorldOutcome check_world_with_client(const scenario::Scenario& world, std::uint6
   outcome.duration = world.duration;
   outcome.vehicles = static_cast<int>(world.world.vehicles.size());
   outcome.timeline_events = static_cast<int>(world.timeline.size());
+  outcome.hazards = hazards_in(world);
   std::vector<LaunchedClient> clients;
   Oracle oracle(world, OracleTolerances{.real_time_slack = real_time_oracle_slack, .judge_timing = false});
-  ClientWatch watch(run.bounds);
+  ClientWatch watch(with_listener_restarts(run.bounds, world));
   scenario::RunOptions options;
   options.trace = false;
   options.interrupted = stop;

@@ -49,28 +49,33 @@ std::string replay_command(std::uint64_t index, const FailureFilesOptions& optio
 
 }  // namespace
 
-int write_failure_files(const Profile& profile, std::uint64_t index, const FailureFilesOptions& options) {
+FailureFiles write_failure_files(const Profile& profile, std::uint64_t index, const FailureFilesOptions& options) {
   namespace fs = std::filesystem;
   const fs::path dir = fs::path(options.out_dir) / ("failures/world-" + std::to_string(index));
   fs::create_directories(dir);
   scenario::Scenario world = generate_world(profile, options.campaign_seed, index);
-  if (options.client) world = for_external_client(std::move(world), options.client->max_world);
-  const std::string replay = replay_command(index, options);
+  if (options.client) world = for_external_client(std::move(world), index, options.client->max_world);
+  FailureFiles made;
+  made.replay = replay_command(index, options);
   write_text(dir / "world.yaml",
              scenario::write_scenario_yaml(with_placeholder_expectation(world), "World " + std::to_string(index) +
-                                                                                    " as generated.\nReplay: " + replay));
-  if (options.client) return -1;
+                                                                                    " as generated.\nReplay: " + made.replay));
+  made.files.push_back("world.yaml");
+  if (options.client) return made;
   const WorldOutcome outcome = check_world(world, {true});
-  if (outcome.violations.empty() || !options.shrink) return -1;
+  if (outcome.violations.empty() || !options.shrink) return made;
   const ShrinkResult shrunk = shrink(world, ShrinkTarget::of(outcome.violations.front()), options.shrink_runs);
   const std::string shrunk_path = (dir / "shrunk.yaml").string();
   write_text(dir / "shrunk.yaml", regression_yaml(shrunk, "ocp_campaign check " + shrunk_path));
+  made.files.push_back("shrunk.yaml");
   // The scenario runner's own report of the shrunk world, as for any scenario.
   scenario::Scenario report_world = with_placeholder_expectation(shrunk.scenario);
   const scenario::RunResult run = run_for_report(report_world);
   scenario::RunReport report{&report_world, &run, scenario::evaluate(report_world, run), "ocp_campaign check " + shrunk_path};
   write_text(dir / "report.html", scenario::report_html(report, scenario::summary_json(report)));
-  return static_cast<int>(shrunk.scenario.timeline.size());
+  made.files.push_back("report.html");
+  made.shrunk_events = static_cast<int>(shrunk.scenario.timeline.size());
+  return made;
 }
 
 }  // namespace ocp::campaign

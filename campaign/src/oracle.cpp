@@ -13,6 +13,7 @@ namespace ocp::campaign {
 namespace {
 constexpr std::size_t max_kept_violations = 50;
 constexpr std::size_t max_issued_pairs = 1u << 16;    // 11 minutes of 10 ms ticks
+
 }  // namespace
 
 std::string_view check_name(Check check) {
@@ -33,6 +34,23 @@ std::string_view check_name(Check check) {
     case Check::client_alive: return "client.alive";
   }
   return "?";
+}
+
+// As client_world.cpp sets the tolerances (judge_timing off) and prepares the world (no
+// operator client), and as only client worlds have a ClientWatch.
+std::string_view not_judged_because(Check check, bool client_worlds) {
+  switch (check) {
+    case Check::fault_model:
+    case Check::latency_loop:
+    case Check::liveness:
+    case Check::determinism: return client_worlds ? "not judged in real time" : "";
+    case Check::operator_port:
+    case Check::operator_feedback: return client_worlds ? "no operator client in client worlds" : "";
+    case Check::client_echo:
+    case Check::client_reconnect:
+    case Check::client_alive: return client_worlds ? "" : "only with --client";
+    default: return "";
+  }
 }
 
 Oracle::Oracle(const scenario::Scenario& scenario, OracleTolerances tolerances)
@@ -255,7 +273,9 @@ void Oracle::on_connection(const Event& event, const ConnectionEvent& connection
 }
 
 // Conservation, message by message: a delivery or a drop of a message that is not in flight is
-// a miscount (a duplicate is the same message delivered again at once, on a link that duplicates).
+// a miscount. A message is in flight once for its send and once more for each copy the link
+// announced (LinkOutcome::duplicated, only on a link set to duplicate); each delivery takes
+// one. No rule here compares two instants, so real time judges it as virtual time does.
 void Oracle::on_link(const Event& event, const LinkEvent& link) {
   VehicleState& state = vehicle(event.component.name);
   const SimTime now = event.time - origin_;
@@ -269,30 +289,39 @@ void Oracle::on_link(const Event& event, const LinkEvent& link) {
     case LinkOutcome::sent:
       ++tally.sent;
       tally.last_sent = link.message_id;
-      tally.in_flight.insert(link.message_id);
+      tally.in_flight[link.message_id] = 1;
+      ++tally.copies_in_flight;
       if (link.route == LinkRoute::to_streamer && link.kind == LinkMessageKind::operator_control && state.spec != nullptr &&
           state.spec->monitor) {
         report(Check::safety_monitor, now, state.name, "the Player sent control on a monitor link");
       }
       return;
+    case LinkOutcome::duplicated: {
+      ++tally.duplicated;
+      const auto found = tally.in_flight.find(link.message_id);
+      if (!tally.duplicates_possible || found == tally.in_flight.end()) {
+        report(Check::conservation, now, state.name,
+               std::string(way) + ": message " + std::to_string(link.message_id) +
+                   (found == tally.in_flight.end() ? " duplicated but not in flight" : " duplicated on a link set to duplicate none"));
+        return;
+      }
+      ++found->second;
+      ++tally.copies_in_flight;
+      return;
+    }
     case LinkOutcome::dropped:
       ++tally.dropped;
-      if (tally.in_flight.erase(link.message_id) == 0 || link.message_id != tally.last_sent) {
+      if (tally.take_copy(link.message_id) == 0 || link.message_id != tally.last_sent) {
         report(Check::conservation, now, state.name,
                std::string(way) + ": message " + std::to_string(link.message_id) + " dropped but not just sent");
       }
       return;
     case LinkOutcome::delivered:
       ++tally.delivered;
-      if (tally.in_flight.erase(link.message_id) == 0) {
-        const bool duplicate = tally.duplicates_possible && link.message_id == tally.last_delivered && now == tally.last_delivered_at;
-        if (!duplicate) {
-          report(Check::conservation, now, state.name,
-                 std::string(way) + ": message " + std::to_string(link.message_id) + " delivered but not in flight");
-        }
+      if (tally.take_copy(link.message_id) == 0) {
+        report(Check::conservation, now, state.name,
+               std::string(way) + ": message " + std::to_string(link.message_id) + " delivered but not in flight");
       }
-      tally.last_delivered = link.message_id;
-      tally.last_delivered_at = now;
       if (link.route == LinkRoute::to_streamer && link.kind == LinkMessageKind::operator_control) {
         state.last_control_delivered = now;
       } else if (link.route == LinkRoute::to_player && link.kind == LinkMessageKind::feedback) {
@@ -313,17 +342,19 @@ void Oracle::check_counters(World& world, SimTime now) {
       const DirectionCounters& counters = (route == 0 ? link.to_streamer() : link.to_player()).counters();
       const LinkTally& tally = state->links[route];
       std::string problem;
-      if (counters.sent != tally.sent || counters.delivered != tally.delivered || counters.dropped != tally.dropped) {
-        problem = "counters sent/delivered/dropped " + std::to_string(counters.sent) + "/" +
-                  std::to_string(counters.delivered) + "/" + std::to_string(counters.dropped) + ", observed " +
-                  std::to_string(tally.sent) + "/" + std::to_string(tally.delivered) + "/" + std::to_string(tally.dropped);
+      if (counters.sent != tally.sent || counters.delivered != tally.delivered || counters.dropped != tally.dropped ||
+          counters.duplicated != tally.duplicated) {
+        problem = "counters sent/delivered/dropped/duplicated " + std::to_string(counters.sent) + "/" +
+                  std::to_string(counters.delivered) + "/" + std::to_string(counters.dropped) + "/" +
+                  std::to_string(counters.duplicated) + ", observed " + std::to_string(tally.sent) + "/" +
+                  std::to_string(tally.delivered) + "/" + std::to_string(tally.dropped) + "/" + std::to_string(tally.duplicated);
       } else if (counters.sent + counters.duplicated != counters.delivered + counters.dropped + counters.in_flight) {
         problem = "sent + duplicated (" + std::to_string(counters.sent + counters.duplicated) +
                   ") != delivered + dropped + in flight (" +
                   std::to_string(counters.delivered + counters.dropped + counters.in_flight) + ")";
-      } else if (counters.in_flight < tally.in_flight.size()) {
-        problem = "in flight " + std::to_string(counters.in_flight) + " < " + std::to_string(tally.in_flight.size()) +
-                  " messages sent and neither delivered nor dropped";
+      } else if (counters.in_flight < tally.copies_in_flight) {
+        problem = "in flight " + std::to_string(counters.in_flight) + " < " + std::to_string(tally.copies_in_flight) +
+                  " copies sent and neither delivered nor dropped";
       }
       if (!problem.empty()) {
         state->conservation_broken[route] = true;

@@ -253,22 +253,28 @@ void Oracle::on_feedback_link(VehicleState& state, const LinkEvent& link) {
   switch (link.outcome) {
     case LinkOutcome::sent:
       if (state.feedback_in_flight.size() < max_feedback_in_flight) {
-        state.feedback_in_flight.emplace(link.message_id, state.reported_vehicle);
+        state.feedback_in_flight.emplace(link.message_id, VehicleState::FeedbackInFlight{state.reported_vehicle});
+      }
+      return;
+    case LinkOutcome::duplicated:
+      if (const auto found = state.feedback_in_flight.find(link.message_id); found != state.feedback_in_flight.end()) {
+        ++found->second.copies;
       }
       return;
     case LinkOutcome::dropped: state.feedback_in_flight.erase(link.message_id); return;
     case LinkOutcome::delivered: break;
   }
   const auto found = state.feedback_in_flight.find(link.message_id);
-  if (found != state.feedback_in_flight.end()) {
-    if (found->second.bits != state.player_has_receiver.bits || !state.player_receiver_known) operator_->lists_changed = true;
-    state.player_has_receiver = found->second;
-    state.player_receiver_known = true;
-    state.feedback_in_flight.erase(found);
-  } else if (link.message_id != state.last_feedback_id) {
-    state.player_receiver_known = false;   // not tied to a send the oracle saw (a duplicate is)
+  if (found == state.feedback_in_flight.end()) {
+    state.player_receiver_known = false;   // not tied to a send the oracle saw
+    return;
   }
-  state.last_feedback_id = link.message_id;
+  if (found->second.faults.bits != state.player_has_receiver.bits || !state.player_receiver_known) {
+    operator_->lists_changed = true;
+  }
+  state.player_has_receiver = found->second.faults;
+  state.player_receiver_known = true;
+  if (--found->second.copies == 0) state.feedback_in_flight.erase(found);
 }
 
 void Oracle::check_feedback_lists(SimTime now, std::string_view payload) {

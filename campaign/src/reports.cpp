@@ -69,14 +69,53 @@ std::string html_index(const Summary& s) {
   out << "<table><tr><th>world</th><th>seed</th><th>first violation</th><th>files</th></tr>\n";
   for (const WorldRecord& r : s.records) {
     if (!r.failed()) continue;
-    const std::string dir = r.failure_dir();
     out << "<tr class=\"fail\"><td>" << r.index << "</td><td>" << r.seed << "</td><td>" << escape_xml(first_line(r))
-        << "</td><td><a href=\"" << dir << "/report.html\">report.html</a> · <a href=\"" << dir
-        << "/shrunk.yaml\">shrunk.yaml</a> · <a href=\"" << dir << "/world.yaml\">world.yaml</a></td></tr>\n";
+        << "</td><td>";
+    // Only the files the world's folder got (a client world is not shrunk: no report.html).
+    for (std::size_t k = 0; k < r.files.size(); ++k) {
+      const std::string path = r.failure_dir() + "/" + r.files[k];
+      out << (k == 0 ? "" : " · ") << "<a href=\"" << escape_xml(path) << "\">" << escape_xml(r.files[k]) << "</a>";
+    }
+    if (!r.replay.empty()) out << "<br><code>" << escape_xml(r.replay) << "</code>";
+    out << "</td></tr>\n";
   }
   out << "</table></body></html>\n";
   return out.str();
 }
+
+namespace {
+constexpr std::size_t failing_worlds_listed = 10;
+
+// What the client worlds put the client through: in how many worlds each hazard came.
+void client_hazards(std::ostringstream& out, const Summary& s) {
+  std::map<std::string, std::size_t> worlds;
+  for (const WorldRecord& r : s.records) {
+    for (const std::string& hazard : r.hazards) ++worlds[hazard];
+  }
+  out << "  client hazards (worlds of " << s.records.size() << "):";
+  if (worlds.empty()) out << " none";
+  for (const auto& [hazard, count] : worlds) out << " " << hazard << " " << count;
+  out << "\n";
+}
+
+// Each failing world's first violation and replay command (the first ten, then a count).
+void failing_worlds(std::ostringstream& out, const Summary& s) {
+  std::size_t listed = 0, failing = 0;
+  for (const WorldRecord& r : s.records) {
+    if (!r.failed()) continue;
+    if (++failing > failing_worlds_listed) continue;
+    ++listed;
+    out << "  ✗ world " << r.index << ": " << first_line(r) << "\n";
+    if (!r.replay.empty()) out << "      replay: " << r.replay << "\n";
+    if (!r.files.empty()) {
+      out << "      files:  " << r.failure_dir() << "/";
+      for (std::size_t k = 0; k < r.files.size(); ++k) out << (k == 0 ? "" : ", ") << r.files[k];
+      out << "\n";
+    }
+  }
+  if (failing > listed) out << "  … and " << failing - listed << " more failing worlds (summary.json)\n";
+}
+}  // namespace
 
 std::string summary_table(const Summary& s) {
   std::map<std::string, std::uint64_t> by_check;
@@ -93,24 +132,28 @@ std::string summary_table(const Summary& s) {
   std::ostringstream out;
   out << "campaign " << s.seed << ", profile " << s.profile << ": " << s.records.size() << " of " << s.worlds
       << " worlds, " << static_cast<std::uint64_t>(simulated) << " s simulated, " << failures(s) << " failed\n";
-  out << "  check                     worlds failing\n";
-  // Every oracle check, then any other that failed (the client.* checks of a --client campaign).
-  std::vector<std::string> rows;
+  out << "     check                     worlds failing\n";
+  // Every check, then any other name that failed (from a summary of another version).
+  std::vector<std::pair<std::string, std::string_view>> rows;   // name, why not judged
   for (int c = 0; c < check_count; ++c) {
     const auto check = static_cast<Check>(c);
-    if (check != Check::client_echo && check != Check::client_reconnect && check != Check::client_alive) {
-      rows.emplace_back(check_name(check));
-    }
+    rows.emplace_back(std::string(check_name(check)), not_judged_because(check, s.client_worlds));
   }
-  rows.emplace_back("world_refused_to_start");
+  rows.emplace_back("world_refused_to_start", "");
   for (const auto& [check, count] : by_check) {
-    if (std::find(rows.begin(), rows.end(), check) == rows.end()) rows.push_back(check);
+    if (std::none_of(rows.begin(), rows.end(), [&](const auto& row) { return row.first == check; })) rows.emplace_back(check, "");
   }
-  for (const std::string& check : rows) {
-    char line[80];
-    std::snprintf(line, sizeof line, "  %-25s %llu\n", check.c_str(), static_cast<unsigned long long>(by_check[check]));
+  for (const auto& [check, why] : rows) {
+    const std::uint64_t count = by_check[check];
+    // A check not judged shows its reason, never a 0 that reads as "passed".
+    const std::string mark = count > 0 ? "✗" : why.empty() ? "✓" : "—";
+    const std::string result = count > 0 || why.empty() ? std::to_string(count) : "— (" + std::string(why) + ")";
+    char line[160];
+    std::snprintf(line, sizeof line, "  %s  %-25s %s\n", mark.c_str(), check.c_str(), result.c_str());
     out << line;
   }
+  if (s.client_worlds) client_hazards(out, s);
+  failing_worlds(out, s);
   return out.str();
 }
 

@@ -15,6 +15,20 @@ namespace {
 constexpr std::size_t violations_per_world = 5;
 
 std::string json_string(const std::string& text) { return "\"" + report::json_escape(text) + "\""; }
+
+std::string json_strings(const std::vector<std::string>& texts) {
+  std::string out = "[";
+  for (std::size_t k = 0; k < texts.size(); ++k) out += (k == 0 ? "" : ", ") + json_string(texts[k]);
+  return out + "]";
+}
+
+std::vector<std::string> strings_of(const rapidjson::Value& item, const char* key) {
+  std::vector<std::string> out;
+  if (item.HasMember(key)) {
+    for (const auto& text : item[key].GetArray()) out.emplace_back(text.GetString());
+  }
+  return out;
+}
 }  // namespace
 
 Summary summarise(const CampaignOptions& options, const CampaignRun& run) {
@@ -25,6 +39,7 @@ Summary summarise(const CampaignOptions& options, const CampaignRun& run) {
   summary.worlds = options.worlds;
   summary.shard = options.shard;
   summary.interrupted = run.interrupted;
+  summary.client_worlds = options.client.has_value();
   for (const WorldOutcome& outcome : run.outcomes) {
     WorldRecord record;
     record.index = outcome.index;
@@ -36,6 +51,7 @@ Summary summarise(const CampaignOptions& options, const CampaignRun& run) {
     record.liveness_checked = outcome.liveness_checked;
     record.violation_count = outcome.violation_count;
     record.error = outcome.error;
+    record.hazards = outcome.hazards;
     for (const Violation& violation : outcome.violations) {
       if (record.violations.size() >= violations_per_world) break;
       record.violations.push_back({std::string(check_name(violation.check)), violation.at.count(), violation.vehicle,
@@ -63,7 +79,8 @@ std::string summary_json(const Summary& s) {
   out << "{\n  \"campaign_seed\": " << s.seed << ",\n  \"profile\": " << json_string(s.profile)
       << ",\n  \"profile_digest\": " << s.profile_digest << ",\n  \"worlds\": " << s.worlds
       << ",\n  \"shard\": {\"index\": " << s.shard.index << ", \"count\": " << s.shard.count << "}"
-      << ",\n  \"interrupted\": " << (s.interrupted ? "true" : "false") << ",\n  \"worlds_run\": " << s.records.size()
+      << ",\n  \"interrupted\": " << (s.interrupted ? "true" : "false")
+      << ",\n  \"client_worlds\": " << (s.client_worlds ? "true" : "false") << ",\n  \"worlds_run\": " << s.records.size()
       << ",\n  \"failures\": " << failures << ",\n  \"failures_by_check\": {";
   bool first = true;
   for (const auto& [check, count] : by_check) {
@@ -79,8 +96,12 @@ std::string summary_json(const Summary& s) {
         << ", \"determinism_checked\": " << (r.determinism_checked ? "true" : "false")
         << ", \"liveness_checked\": " << (r.liveness_checked ? "true" : "false")
         << ", \"violation_count\": " << r.violation_count;
+    if (s.client_worlds) out << ", \"hazards\": " << json_strings(r.hazards);
     if (!r.error.empty()) out << ", \"error\": " << json_string(r.error);
-    if (r.failed()) out << ", \"failure_dir\": " << json_string(r.failure_dir());
+    if (r.failed()) {
+      out << ", \"failure_dir\": " << json_string(r.failure_dir()) << ", \"files\": " << json_strings(r.files)
+          << ", \"replay\": " << json_string(r.replay);
+    }
     out << ", \"violations\": [";
     for (std::size_t k = 0; k < r.violations.size(); ++k) {
       const ViolationRecord& v = r.violations[k];
@@ -110,6 +131,7 @@ Summary read_summary_json(const std::string& text, const std::string& path) {
     s.shard.index = d["shard"]["index"].GetUint();
     s.shard.count = d["shard"]["count"].GetUint();
     s.interrupted = d["interrupted"].GetBool();
+    s.client_worlds = d.HasMember("client_worlds") && d["client_worlds"].GetBool();
     for (const auto& item : d["results"].GetArray()) {
       WorldRecord r;
       r.index = item["index"].GetUint64();
@@ -121,6 +143,9 @@ Summary read_summary_json(const std::string& text, const std::string& path) {
       r.liveness_checked = item["liveness_checked"].GetBool();
       r.violation_count = item["violation_count"].GetUint64();
       if (item.HasMember("error")) r.error = item["error"].GetString();
+      r.files = strings_of(item, "files");
+      r.hazards = strings_of(item, "hazards");
+      if (item.HasMember("replay")) r.replay = item["replay"].GetString();
       for (const auto& v : item["violations"].GetArray()) {
         r.violations.push_back({v["check"].GetString(), v["at_us"].GetInt64(), v["vehicle"].GetString(), v["detail"].GetString()});
       }
@@ -140,6 +165,7 @@ Summary merge_summaries(const std::vector<Summary>& shards) {
   merged.profile = first.profile;
   merged.profile_digest = first.profile_digest;
   merged.worlds = first.worlds;
+  merged.client_worlds = first.client_worlds;
   std::set<std::uint32_t> seen;
   for (const Summary& shard : shards) {
     if (shard.seed != first.seed || shard.profile_digest != first.profile_digest || shard.worlds != first.worlds ||

@@ -16,7 +16,9 @@ Micros effect_length(const scenario::Scenario& scenario, const scenario::Action&
   if (const auto* stall = std::get_if<CameraStall>(&action)) return stall->stalled ? stall->duration : Micros{0};
   if (const auto* stall = std::get_if<FrameLoopStall>(&action)) return stall->duration;
   if (const auto* stall = std::get_if<ControlThreadStall>(&action)) return stall->duration;
-  if (std::holds_alternative<DisconnectVehicle>(action)) return scenario.world.reconnect_backoff;
+  if (const auto* disconnect = std::get_if<DisconnectVehicle>(&action)) {
+    return disconnect->listener_down + scenario.world.reconnect_backoff;
+  }
   return Micros{0};
 }
 }  // namespace

@@ -207,6 +207,7 @@ void LinkDirection::send(LinkMessage message) {
 
   if (impairments_.duplicate_probability > 0.0 && uniform_unit() < impairments_.duplicate_probability) {
     ++counters_.duplicated;
+    if (events_.active()) publish(LinkOutcome::duplicated, message, size_bytes, message_id);
     schedule_delivery(deliver_at, message, size_bytes, message_id);
   }
   schedule_delivery(deliver_at, std::move(message), size_bytes, message_id);

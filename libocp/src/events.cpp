@@ -73,6 +73,7 @@ std::string_view link_outcome_name(LinkOutcome outcome) {
     case LinkOutcome::sent: return "sent";
     case LinkOutcome::delivered: return "delivered";
     case LinkOutcome::dropped: return "dropped";
+    case LinkOutcome::duplicated: return "duplicated";
   }
   return "?";
 }

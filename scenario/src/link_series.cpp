@@ -32,6 +32,7 @@ void LinkSeriesBuilder::on_link_event(const LinkEvent& event, SimTime now, LinkS
     case LinkOutcome::dropped:
       sent_.erase(event.message_id);
       return;
+    case LinkOutcome::duplicated: return;   // the first copy delivered is the one measured
     case LinkOutcome::delivered: {
       const auto found = sent_.find(event.message_id);
       if (found == sent_.end()) return;   // a duplicate, or sent before the run was observed

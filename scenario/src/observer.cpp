@@ -109,6 +109,7 @@ void Observer::on_link(std::string_view name, const LinkEvent& link, SimTime now
     case LinkOutcome::sent: ++counters.sent; break;
     case LinkOutcome::delivered: ++counters.delivered; break;
     case LinkOutcome::dropped: ++counters.dropped; break;
+    case LinkOutcome::duplicated: ++counters.duplicated; break;
   }
   vehicle.series(link.route).on_link_event(link, now, link.route == LinkRoute::to_streamer ? vehicle.out->to_streamer_link
                                                                                            : vehicle.out->to_player_link);

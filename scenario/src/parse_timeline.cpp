@@ -166,12 +166,19 @@ std::string Parser::camera_of(const YAML::Node& n, const VehicleSpec& spec) {
   return camera;
 }
 
-// Only an in-process client can be told to drop its connection.
+// An in-process client drops its connection; an external one is closed by the Streamer.
+// listener_down: the Streamer's vehicle port restarts, closed that long.
 DisconnectVehicle Parser::disconnect_action(const YAML::Node& n, TimelineEvent& event) {
-  read_.check_keys(n, "disconnect", {"vehicle"});
+  read_.check_keys(n, "disconnect", {"vehicle", "listener_down"});
   DisconnectVehicle disconnect{vehicle_of(n, "disconnect")};
-  if (!find_vehicle(disconnect.vehicle)->in_process_client) read_.fail(n, "disconnect needs an in-process client");
+  if (n["listener_down"]) {
+    disconnect.listener_down = read_.duration(n["listener_down"]);
+    if (disconnect.listener_down <= Micros{0} || disconnect.listener_down > max_listener_down) {
+      read_.fail(n["listener_down"], "listener_down: expected a duration above 0 and at most " + format_time(max_listener_down));
+    }
+  }
   event.label = "disconnect " + disconnect.vehicle;
+  if (disconnect.listener_down > Micros{0}) event.label += " (listener down " + format_time(disconnect.listener_down) + ")";
   return disconnect;
 }
 

@@ -16,7 +16,8 @@ RunResult run_scenario_realtime(const Scenario& scenario, const RunOptions& opti
   sim_app::RealTimeRunner runner(real_time.handle_signals ? sim_app::RealTimeRunner::Signals::handle
                                                          : sim_app::RealTimeRunner::Signals::leave_to_caller);   // first: destroyed last
   std::vector<std::unique_ptr<TcpServer>> servers;
-  return run_world(runner.executor(), scenario, options, false, [&](World& world, SimTime end) {
+  std::string relisten_error;   // a restarted listener that could not have its port back
+  RunResult result = run_world(runner.executor(), scenario, options, false, [&](World& world, SimTime end) {
     std::uint16_t port = real_time.tcp_port;
     for (const VehicleSpec& spec : scenario.world.vehicles) {
       if (spec.in_process_client) continue;
@@ -27,6 +28,17 @@ RunResult run_scenario_realtime(const Scenario& scenario, const RunOptions& opti
         throw HarnessError("vehicle " + spec.name + ": " + status.error().message());
       }
       if (real_time.on_listening) real_time.on_listening(spec.name, server->local_address());
+      // A restart of the Streamer's listener (disconnect with listener_down): the same port
+      // refuses connections that long, then listens again.
+      world.set_vehicle_listener(spec.name, [&, raw = server.get(), bound = server->port(), name = spec.name](Micros down) {
+        raw->stop();
+        runner.executor().call_after(down, [&, raw, bound, name] {
+          if (auto status = raw->listen(TcpServerOptions{bound, false}); !status && relisten_error.empty()) {
+            relisten_error = "vehicle " + name + ": the restarted listener could not listen again: " + status.error().message();
+            runner.request_stop("listener lost");
+          }
+        });
+      });
       servers.push_back(std::move(server));
       if (port != 0) ++port;
     }
@@ -43,6 +55,8 @@ RunResult run_scenario_realtime(const Scenario& scenario, const RunOptions& opti
     (void)runner.run(end - runner.executor().now());
     return stopped;
   });
+  if (!relisten_error.empty()) throw HarnessError(relisten_error);
+  return result;
 }
 
 }  // namespace ocp::scenario

@@ -76,7 +76,13 @@ class Actions {
     streamer.set_control_thread_stalled(true);
     executor_.call_after(stall.duration, [&streamer] { streamer.set_control_thread_stalled(false); });
   }
-  void operator()(const DisconnectVehicle& disconnect) { world_.drop_vehicle_connection(disconnect.vehicle); }
+  void operator()(const DisconnectVehicle& disconnect) {
+    if (disconnect.listener_down > Micros{0} || world_.vehicle_client(disconnect.vehicle) == nullptr) {
+      world_.close_vehicle_connection(disconnect.vehicle, disconnect.listener_down);
+    } else {
+      world_.drop_vehicle_connection(disconnect.vehicle);
+    }
+  }
   void operator()(const SetMisbehaviour& set) {
     if (VehicleClient* client = world_.vehicle_client(set.vehicle)) client->set_misbehaviour(set.misbehave);
     if (set.second_connection) open_second_connection(set.vehicle);

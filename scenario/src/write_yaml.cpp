@@ -268,6 +268,7 @@ struct ActionWriter {
   void operator()(const DisconnectVehicle& disconnect) {
     YAML::Node node;
     node["vehicle"] = disconnect.vehicle;
+    if (disconnect.listener_down > Micros{0}) node["listener_down"] = duration_text(disconnect.listener_down);
     item["disconnect"] = node;
   }
   void operator()(const SetMisbehaviour& set) {

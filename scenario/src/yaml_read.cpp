@@ -127,6 +127,30 @@ Micros YamlReader::duration(const YAML::Node& node) const {
 namespace {
 using JsonWriter = rapidjson::Writer<rapidjson::StringBuffer>;
 
+// JSON's number grammar (RFC 8259 §6): such a scalar is copied as its own text, so a u64 above
+// 2^63 or a long fraction reaches the vehicle digit for digit, as the product passes it on.
+bool json_number_text(std::string_view text) {
+  std::size_t i = 0;
+  const auto digits = [&] {
+    const std::size_t start = i;
+    while (i < text.size() && text[i] >= '0' && text[i] <= '9') ++i;
+    return i > start;
+  };
+  if (i < text.size() && text[i] == '-') ++i;
+  if (i < text.size() && text[i] == '0') ++i;
+  else if (!digits()) return false;
+  if (i < text.size() && text[i] == '.') {
+    ++i;
+    if (!digits()) return false;
+  }
+  if (i < text.size() && (text[i] == 'e' || text[i] == 'E')) {
+    ++i;
+    if (i < text.size() && (text[i] == '+' || text[i] == '-')) ++i;
+    if (!digits()) return false;
+  }
+  return i == text.size();
+}
+
 void write_json(const YAML::Node& node, JsonWriter& json) {
   switch (node.Type()) {
     case YAML::NodeType::Map:
@@ -149,6 +173,10 @@ void write_json(const YAML::Node& node, JsonWriter& json) {
       if (node.Tag() != "!") {
         if (value == "true" || value == "false") { json.Bool(value == "true"); return; }
         if (value == "null" || value == "~") { json.Null(); return; }
+        if (json_number_text(value)) {
+          json.RawValue(value.c_str(), value.size(), rapidjson::kNumberType);
+          return;
+        }
         char* end = nullptr;
         const long long whole = std::strtoll(value.c_str(), &end, 10);
         if (!value.empty() && *end == '\0') { json.Int64(whole); return; }

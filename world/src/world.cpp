@@ -23,6 +23,8 @@ struct World::Vehicle {
   std::unique_ptr<StreamTap> tap;
   std::uint64_t connections = 0;
   Executor::TimerId reconnect_timer = 0;
+  VehicleListener listener;        // an external client's listening socket (set_vehicle_listener)
+  SimTime listening_again_at{0};   // close_vehicle_connection: the port refuses until then
 };
 
 // One per (executor, control period) when control_tick_slots > 0.
@@ -335,7 +337,26 @@ void World::drop_vehicle_connection(std::string_view name) {
   schedule_reconnect(vehicle);
 }
 
+void World::close_vehicle_connection(std::string_view name, Micros listener_down) {
+  Vehicle& vehicle = find(name);
+  if (!running_) return;
+  if (listener_down > Micros{0}) {
+    logger_.info("{}: the Streamer's vehicle port restarts: closed for {} ms", name, to_whole_ms(listener_down));
+    vehicle.listening_again_at = executor_.now() + listener_down;
+    if (vehicle.listener) vehicle.listener(listener_down);
+  }
+  vehicle.streamer->close_vehicle_connection();
+}
+
+void World::set_vehicle_listener(std::string_view name, VehicleListener listener) {
+  find(name).listener = std::move(listener);
+}
+
 void World::connect_in_process_client(Vehicle& vehicle) {
+  if (executor_.now() < vehicle.listening_again_at) {   // refused: the client backs off and tries again
+    schedule_reconnect(vehicle);
+    return;
+  }
   PipeOptions options;
   options.one_way_delay = config_.vehicle_pipe_delay;
   options.name_a = "pipe:vehicle-client:" + vehicle.spec.name;

@@ -51,6 +51,9 @@ class ClientWatch {
   void on_event(const Event& event);
   void on_frame(Connection& connection, const std::string& vehicle, SimTime now, const WireFrame& frame);
   void judge_echo(Connection& connection, const std::string& vehicle, SimTime now, const WireFrame& frame);
+  std::string diagnose(const Connection& connection, std::deque<SentPair>::const_iterator near, std::uint64_t ack,
+                       std::string_view mac_text) const;
+  void report_echo(Connection& connection, const std::string& vehicle, SimTime now, std::string problem);
   void check_reconnect(SimTime now);
   void report(Check check, SimTime now, const std::string& vehicle, std::string detail);
 

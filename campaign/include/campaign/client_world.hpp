@@ -9,6 +9,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "campaign/client_watch.hpp"
 #include "campaign/world_check.hpp"
@@ -23,8 +24,22 @@ struct ClientRun {
 };
 
 // The generated world as a client world: external clients, no misbehaviour switches (they
-// drive the in-process client only), at most `max_world` long.
-scenario::Scenario for_external_client(scenario::Scenario world, std::optional<Micros> max_world);
+// drive the in-process client only), at most `max_world` long, and the client hazards.
+scenario::Scenario for_external_client(scenario::Scenario world, std::uint64_t index, std::optional<Micros> max_world);
+
+// What a client must survive that the product can send (client_hazards.cpp), drawn from the
+// world's seed and added to its timeline and vehicles:
+//   * ack_time_offset of 2^53 or more on every vehicle, in every even world and about half the
+//     odd ones (bands above 2^53, above 2^63 and just below 2^64);
+//   * a Streamer-side close of each vehicle's connection, a disconnect or a restart of its
+//     listener (closed 200 ms–1.5 s), in every world of 10 s or more and half the shorter ones;
+//   * client data from a plugin: client_user_data of up to 15 KiB of non-ASCII JSON (the
+//     control frame close to its 16 KiB limit), and `controller: null` (ocp_disable_gamepad);
+//   * an outage of the operator's messages past no_control_timeout: the default controller.
+void add_client_hazards(scenario::Scenario& world, std::uint64_t index);
+// Which of those a world holds, read off the world itself, by name: ack_time_above_2^53,
+// streamer_close, listener_restart, user_data_over_8KiB, controller_null, control_path_fault.
+std::vector<std::string> hazards_in(const scenario::Scenario& world);
 
 // Runs one client world (already prepared by for_external_client). `stop` is polled (Ctrl-C).
 // A client that cannot be started, or exits before it connects, is outcome.error.

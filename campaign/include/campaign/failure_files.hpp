@@ -4,6 +4,7 @@
 // repro command) and report.html (the scenario runner's report of the shrunk world).
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "campaign/profile.hpp"
 #include "ocp/time.hpp"
@@ -27,7 +28,13 @@ struct FailureFilesOptions {
   std::optional<Client> client;
 };
 
-// Writes the folder for world `index`. Returns the shrunk world's timeline size (−1: not shrunk).
-int write_failure_files(const Profile& profile, std::uint64_t index, const FailureFilesOptions& options);
+struct FailureFiles {
+  std::vector<std::string> files;   // the names written into the folder, in the order written
+  std::string replay;               // the one-line command that runs the world again
+  int shrunk_events = -1;           // the shrunk world's timeline size (−1: not shrunk)
+};
+
+// Writes the folder for world `index`.
+FailureFiles write_failure_files(const Profile& profile, std::uint64_t index, const FailureFilesOptions& options);
 
 }  // namespace ocp::campaign

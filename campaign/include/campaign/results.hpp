@@ -29,6 +29,11 @@ struct WorldRecord {
   std::uint64_t violation_count = 0;
   std::string error;
   std::vector<ViolationRecord> violations;   // the first few
+  // A failing world's folder: the files written there (failure_dir()/…) and the command that
+  // replays it. Recorded, not looked up, so a merge writes what one run writes.
+  std::vector<std::string> files;
+  std::string replay;
+  std::vector<std::string> hazards;   // a client world's (client_world.hpp, hazards_in)
   bool failed() const { return violation_count > 0 || !error.empty(); }
   std::string failure_dir() const { return "failures/world-" + std::to_string(index); }
 };
@@ -40,6 +45,7 @@ struct Summary {
   std::uint64_t worlds = 0;        // the whole campaign's
   Shard shard;
   bool interrupted = false;
+  bool client_worlds = false;         // --client: real time, the oracle's timing checks off
   std::vector<WorldRecord> records;   // by index
 };
 
@@ -55,6 +61,8 @@ Summary read_summary_json(const std::string& text, const std::string& path);   /
 Summary merge_summaries(const std::vector<Summary>& shards);
 std::string junit_xml(const Summary& summary);
 std::string html_index(const Summary& summary);
+// The table of checks (✓/✗ and the worlds failing each; "—" with the reason for a check that
+// was not judged), then each failing world's first violation and replay command.
 std::string summary_table(const Summary& summary);
 
 }  // namespace ocp::campaign

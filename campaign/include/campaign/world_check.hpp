@@ -25,6 +25,7 @@ struct WorldOutcome {
   std::string error;        // the world refused to start (a generator bug): counts as a failure
   double cpu_seconds = 0;   // not part of any compared output
   std::uint64_t events = 0;
+  std::vector<std::string> hazards;   // a client world's (client_world.hpp, hazards_in)
   bool failed() const { return violation_count > 0 || !error.empty(); }
 };
 

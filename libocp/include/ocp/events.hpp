@@ -89,7 +89,11 @@ struct LatencySample {
 // What happened to one message on one direction of the fake com channel.
 enum class LinkRoute : std::uint8_t { to_streamer, to_player };
 enum class LinkMessageKind : std::uint8_t { operator_control, feedback, video_frame, ping, pong };
-enum class LinkOutcome : std::uint8_t { sent, delivered, dropped };
+// duplicated: at send time, a second copy of the message was put in flight (it repeats the
+// message_id); each copy is delivered, or dropped with the link's queue, on its own. Judges
+// count copies by this event, never by the time between two deliveries: in real time the two
+// copies' timers fire microseconds apart.
+enum class LinkOutcome : std::uint8_t { sent, delivered, dropped, duplicated };
 enum class DropReason : std::uint8_t { none, random_loss, burst_loss, outage, queue_full, recorded_loss };
 struct LinkEvent {
   LinkRoute route = LinkRoute::to_streamer;

@@ -76,9 +76,15 @@ struct ControlThreadStall {
   std::string vehicle;
   Micros duration{0};
 };
+// An in-process client drops its connection (client side). A vehicle without one (an external
+// client) is closed from the Streamer's side instead. listener_down > 0: a restart of the
+// Streamer's vehicle listener: the Streamer closes the connection and its port refuses new
+// ones for that long, whichever the client (World::close_vehicle_connection).
 struct DisconnectVehicle {
   std::string vehicle;
+  Micros listener_down{0};
 };
+inline constexpr Micros max_listener_down{60'000'000};
 // Replaces an in-process vehicle client's misbehaviours from now on (all off = well-behaved).
 struct SetMisbehaviour {
   std::string vehicle;

@@ -32,7 +32,7 @@ struct Sample {
 };
 
 struct RouteCounters {
-  std::uint64_t sent = 0, delivered = 0, dropped = 0;
+  std::uint64_t sent = 0, delivered = 0, dropped = 0, duplicated = 0;
 };
 
 // One link direction over time, for the report's plot (link_series.cpp): per 100 ms bucket

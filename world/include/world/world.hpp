@@ -141,6 +141,16 @@ class World {
   // peer close, the client is detached and reconnects through a new pipe after
   // reconnect_backoff. No-op for a vehicle without an in-process client.
   void drop_vehicle_connection(std::string_view vehicle);
+  // The Streamer's side of a close, as a Streamer going away does: it closes the vehicle's
+  // connection (any client, in-process or external). With `listener_down` > 0 its vehicle port
+  // also refuses connections that long, then listens again on the same port (a restart of the
+  // Streamer's listener): an external client's port through the VehicleListener given for it,
+  // an in-process client's reconnects by waiting until then.
+  void close_vehicle_connection(std::string_view vehicle, Micros listener_down = Micros{0});
+  // What stops and restarts the listening socket of a vehicle's external clients (the real-time
+  // runner's TcpServer): called with the time it must stay closed. Empty: none.
+  using VehicleListener = std::function<void(Micros down)>;
+  void set_vehicle_listener(std::string_view vehicle, VehicleListener listener);
   // In-process client connections made so far (1 after start, +1 per reconnect).
   std::uint64_t vehicle_connections(std::string_view vehicle) const;
 
