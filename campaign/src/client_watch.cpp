@@ -118,8 +118,17 @@ void ClientWatch::judge_echo(Connection& connection, const std::string& vehicle,
   } else if (!issued || mac_text != std::to_string(found->mac)) {
     problem = "echoed a pair this connection was never sent: " + diagnose(connection, found, *ack, mac_text);
   } else if (const auto next = std::next(found); next != connection.sent.end() && now - next->first_sent > bounds_.echo_current) {
-    problem = "echoed the pair sent at " + millis(found->first_sent) + ", superseded " + millis(now - next->first_sent) +
-              " before the echo (bound " + millis(bounds_.echo_current) + ")";
+    // Stale. Once is a client that was not scheduled for a while: on waking, its keep-alive
+    // timer may fire before it reads what came meanwhile (Node runs timers before I/O). Only
+    // stale echoes for stale_for in a row are a client that does not take the newest pair.
+    if (!connection.stale_since) connection.stale_since = now;
+    if (now - *connection.stale_since >= bounds_.stale_for) {
+      problem = "echoed the pair sent at " + millis(found->first_sent) + ", superseded " + millis(now - next->first_sent) +
+                " before the echo (bound " + millis(bounds_.echo_current) + "), and only stale pairs for " +
+                millis(now - *connection.stale_since);
+    }
+  } else {
+    connection.stale_since.reset();
   }
   if (problem.empty()) return;
   report_echo(connection, vehicle, now, std::move(problem));

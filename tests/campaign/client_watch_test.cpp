@@ -3,11 +3,14 @@
 // and each check comes out failed for the client that breaks it.
 #include <gtest/gtest.h>
 
+#include <deque>
 #include <string>
 
 #include "campaign/client_watch.hpp"
 #include "scenario/parse.hpp"
+#include "ocp/virtual_executor.hpp"
 #include "scenario/runner.hpp"
+#include "world/world.hpp"
 
 namespace ocp::campaign {
 namespace {
@@ -62,6 +65,64 @@ TEST(ClientWatch, EchoingAnOldPairIsNotCurrent) {
   EXPECT_NE(watch.violations().front().detail.find("superseded"), std::string::npos) << described(watch);
   // Not before the bound: the first pair is superseded 10 ms after it was sent.
   EXPECT_GE(watch.violations().front().at, Micros{500'000});
+}
+
+// Hand-made Streamer frames for a watch attached to a world that never starts: pairs sent every
+// 10 ms, echoes at chosen times.
+class EchoFeed {
+ public:
+  EchoFeed() : world_(executor_, WorldConfig{}, [](const LogRecord&) {}) {
+    watch_.attach(world_);
+    publish(0, ConnectionEvent{Wire::vehicle, ConnectionChange::opened, "127.0.0.1:1", nullptr});
+  }
+  void send_pairs(std::int64_t from_ms, std::int64_t to_ms) {
+    for (std::int64_t ms = from_ms; ms <= to_ms; ms += 10) {
+      WireFrame frame;
+      frame.kind = WireMessageKind::control;
+      frame.ack = AckPair{static_cast<std::uint64_t>(ms) * 1000, 7};
+      publish(ms * 1000, frame);
+    }
+  }
+  void echo(std::int64_t at_us, std::uint64_t ack_time) {
+    payloads_.push_back("{\"ack_time\":" + std::to_string(ack_time) + ",\"ack_time_mac\":7}");
+    WireFrame frame;
+    frame.direction = FrameDirection::in;
+    frame.kind = WireMessageKind::vehicle_response;
+    frame.payload = payloads_.back();
+    frame.ack = AckPair{ack_time, 7};
+    publish(at_us, frame);
+  }
+  const ClientWatch& watch() const { return watch_; }
+
+ private:
+  void publish(std::int64_t at_us, EventBody body) {
+    world_.events().publish(Event{SimTime{at_us}, Component{ComponentKind::streamer, "truck-1"}, std::move(body)});
+  }
+  VirtualExecutor executor_;
+  World world_;
+  ClientWatch watch_{ClientBounds{}};
+  std::deque<std::string> payloads_;
+};
+
+TEST(ClientWatch, OneStaleEchoAfterAStallIsAClientThatWasNotScheduled) {
+  EchoFeed feed;
+  feed.send_pairs(0, 700);
+  feed.echo(700'000, 0);         // its keep-alive fired first on waking: the pair of 0 ms, 690 ms stale
+  feed.echo(700'050, 700'000);   // then it read what came meanwhile
+  feed.send_pairs(710, 1500);
+  feed.echo(1'500'000, 20'000);  // stale again, but the run of stale echoes starts here
+  feed.echo(1'500'100, 1'500'000);
+  EXPECT_EQ(feed.watch().violation_count(), 0u) << described(feed.watch());
+}
+
+TEST(ClientWatch, StaleEchoesInARowAreAClientThatDoesNotTakeTheNewestPair) {
+  EchoFeed feed;
+  feed.send_pairs(0, 1500);
+  for (std::int64_t at = 600'000; at <= 900'000; at += 10'000) feed.echo(at, 0);
+  ASSERT_EQ(feed.watch().violations().size(), 1u) << described(feed.watch());
+  EXPECT_EQ(feed.watch().violations().front().at, SimTime{850'000}) << "stale from 600 ms, 250 ms in a row";
+  EXPECT_NE(feed.watch().violations().front().detail.find("only stale pairs for 250 ms"), std::string::npos)
+      << described(feed.watch());
 }
 
 TEST(ClientWatch, ASlowReconnectFailsItsBound) {

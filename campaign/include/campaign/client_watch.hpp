@@ -3,7 +3,8 @@
 // Streamer's side of the one event stream, beside the Oracle (which judges the simulator):
 //   * client.echo: every echo is byte-exact (the ack_time and ack_time_mac number tokens are
 //     the decimal text the Streamer sent, so nothing went through a double) and current (the
-//     pair was not superseded by a newer one more than `echo_current` before the echo);
+//     pair was not superseded by a newer one more than `echo_current` before the echo, in
+//     echoes that stay stale for `stale_for`: one stale echo is a client that was not scheduled);
 //   * client.reconnect: after the Streamer closed the connection, a new one opens within
 //     `reconnect_within` (the reference client's backoff tops out at 2 s).
 // That the client stays alive is checked on its process (client_world.cpp), and stale pairs
@@ -22,6 +23,7 @@ namespace ocp::campaign {
 struct ClientBounds {
   Micros echo_current{500'000};        // real time on a loaded machine: generous
   Micros reconnect_within{5'000'000};
+  Micros stale_for{250'000};           // stale echoes in a row for this long
 };
 
 class ClientWatch {
@@ -46,6 +48,7 @@ class ClientWatch {
     std::deque<SentPair> sent;          // this connection's pairs, oldest first
     bool echo_reported = false;         // one client.echo per connection, then counted
     std::optional<SimTime> closed_at;   // the Streamer closed it; waiting for the next one
+    std::optional<SimTime> stale_since; // the first of the stale echoes since the last current one
     bool opened = false;
   };
   void on_event(const Event& event);
