@@ -12,13 +12,13 @@
 #include <memory>
 
 #include "bare_client.hpp"
-#include "child_process.hpp"
 #include "floor_echo.hpp"
 #include "loop_gates.hpp"
 #include "loop_recorder.hpp"
 #include "loop_report.hpp"
 #include "loop_result.hpp"
 #include "ocp/asio_executor.hpp"
+#include "sim_app/client_process.hpp"
 #include "streamer_app/streamer_simulation.hpp"
 #include "timer_client.hpp"
 #include "ocp/cli_checks.hpp"
@@ -146,11 +146,12 @@ class LoopRun {
       std::cerr << "ocp_bench loop: waiting for a vehicle client on 127.0.0.1:" << simulation_.port() << "\n";
       return true;
     }
-    std::string error;
-    if (!child_.start(options_.command, simulation_.port(), error)) {
-      std::cerr << "ocp_bench loop: cannot launch the client: " << error << "\n";
+    auto launched = sim_app::ClientProcess::launch(options_.command, simulation_.port(), sim_app::ClientProcess::to_stderr);
+    if (!launched) {
+      std::cerr << "ocp_bench loop: cannot launch the client: " << launched.error().message() << "\n";
       return false;
     }
+    child_ = std::move(*launched);
     return true;
   }
 
@@ -195,8 +196,8 @@ class LoopRun {
   LoopResult take_result() {
     LoopResult result;
     result.interrupted = interrupted_;
-    result.child_exit = launch_ ? child_.poll() : std::nullopt;
-    child_.stop();
+    result.child_exit = child_exit();
+    child_.reset();   // kills it if it still runs
     if (bare_client_) bare_client_->stop();
     if (timer_client_) timer_client_->stop();
     if (floor_) floor_->stop();
@@ -252,9 +253,9 @@ class LoopRun {
 
   // 10 Hz: starts the window at the first connection, watches the child, prints progress.
   void housekeeping(SimTime now) {
-    if (launch_ && child_.poll()) {
+    if (const auto exited = child_exit()) {
       // Before it connected, the client could not be measured at all: a harness error.
-      std::cerr << "\nocp_bench loop: the client exited with status " << *child_.poll()
+      std::cerr << "\nocp_bench loop: the client exited with status " << *exited
                 << (measure_start_ ? "" : " before it connected") << "\n";
       finish(measure_start_ ? 1 : ocp::cli::exit_usage_error);
       return;
@@ -314,7 +315,9 @@ class LoopRun {
   std::unique_ptr<BareClient> bare_client_;
   std::unique_ptr<TimerClient> timer_client_;
   std::unique_ptr<FloorEcho> floor_;
-  ChildProcess child_;
+  std::unique_ptr<sim_app::ClientProcess> child_;   // null until launched (or when waiting for one)
+  // The client's exit status (the code, or 128 + signal) once it ended; nullopt while it runs.
+  std::optional<int> child_exit() { return child_ && !child_->running() ? child_->exit_status() : std::nullopt; }
   int exit_code_ = 0;
   bool interrupted_ = false;
   std::optional<SimTime> measure_start_;

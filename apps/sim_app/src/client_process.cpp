@@ -124,8 +124,10 @@ Result<std::unique_ptr<ClientProcess>> ClientProcess::launch(const std::vector<s
     for (int fd = 3; fd < (max_fd > 0 ? max_fd : 1024); ++fd) {
       if (fd != status_pipe[1]) close(fd);
     }
-    const int fd = open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (fd >= 0) {
+    const int fd = log_path == to_stderr ? -1 : open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (log_path == to_stderr) {
+      dup2(STDERR_FILENO, STDOUT_FILENO);
+    } else if (fd >= 0) {
       dup2(fd, STDOUT_FILENO);
       dup2(fd, STDERR_FILENO);
       close(fd);

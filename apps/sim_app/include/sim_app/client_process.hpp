@@ -17,7 +17,9 @@ namespace ocp::sim_app {
 
 class ClientProcess {
  public:
-  // Output (stdout + stderr) goes to `log_path` ("" → /dev/null).
+  static constexpr const char* to_stderr = "-";
+  // Output (stdout + stderr) goes to `log_path` ("" → /dev/null; to_stderr → the harness's own
+  // stderr, so that the harness's stdout carries only its report).
   static Result<std::unique_ptr<ClientProcess>> launch(const std::vector<std::string>& command,
                                                        std::uint16_t port, const std::string& log_path);
   ~ClientProcess();
