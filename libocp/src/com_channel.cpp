@@ -176,6 +176,11 @@ void LinkDirection::send(LinkMessage message) {
     drop(message, size_bytes, message_id, DropReason::outage);
     return;
   }
+  if (counters_.in_flight >= in_flight_limit_) {
+    if (replaying) ++replay_next_;
+    drop(message, size_bytes, message_id, DropReason::in_flight_limit);
+    return;
+  }
   if (replaying) {
     send_replayed(std::move(message), size_bytes, message_id);
     return;
@@ -205,7 +210,8 @@ void LinkDirection::send(LinkMessage message) {
     last_delivery_at_ = deliver_at;
   }
 
-  if (impairments_.duplicate_probability > 0.0 && uniform_unit() < impairments_.duplicate_probability) {
+  if (impairments_.duplicate_probability > 0.0 && uniform_unit() < impairments_.duplicate_probability &&
+      counters_.in_flight + 1 < in_flight_limit_) {
     ++counters_.duplicated;
     if (events_.active()) publish(LinkOutcome::duplicated, message, size_bytes, message_id);
     schedule_delivery(deliver_at, message, size_bytes, message_id);

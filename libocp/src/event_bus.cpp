@@ -2,6 +2,8 @@
 #include "ocp/event_bus.hpp"
 
 #include <algorithm>
+#include <stdexcept>
+#include <string>
 #include <utility>
 
 namespace ocp {
@@ -64,6 +66,10 @@ EventBus::~EventBus() = default;
 
 EventBus::Subscription EventBus::subscribe(Handler handler) {
   if (!handler) return {};
+  if (registry_->live >= max_subscribers) {
+    throw std::length_error("event bus: " + std::to_string(max_subscribers) +
+                            " live subscribers (the limit): a subscription made again and again and never dropped");
+  }
   const std::uint64_t id = registry_->next_id++;
   registry_->slots.push_back({id, std::move(handler)});
   ++registry_->live;

@@ -86,6 +86,7 @@ std::string_view drop_reason_name(DropReason reason) {
     case DropReason::outage: return "outage";
     case DropReason::queue_full: return "queue_full";
     case DropReason::recorded_loss: return "recorded_loss";
+    case DropReason::in_flight_limit: return "in_flight_limit";
   }
   return "?";
 }

@@ -1,6 +1,8 @@
 #include "ocp/virtual_executor.hpp"
 
 #include <algorithm>
+#include <stdexcept>
+#include <string>
 
 #include "ocp/invariant.hpp"
 
@@ -18,6 +20,11 @@ Executor::TimerId make_id(std::uint32_t slot, std::uint32_t generation) {
 VirtualExecutor::VirtualExecutor(SimTime start) : now_(start) {}
 
 Executor::TimerId VirtualExecutor::call_at(SimTime deadline, Task task) {
+  if (live_count_ >= pending_limit_) {
+    throw std::length_error("virtual executor: " + std::to_string(pending_limit_) +
+                            " events pending at once (the limit): a runaway schedule, at " + std::to_string(now_.count()) +
+                            " us of virtual time");
+  }
   std::uint32_t slot;
   if (!free_slots_.empty()) {
     slot = free_slots_.back();

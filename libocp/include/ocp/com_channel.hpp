@@ -58,6 +58,13 @@ class LinkDirection {
   // LinkEvent per message sent, delivered or dropped; ImpairmentChange on set_impairments.
   EventBus& events() { return events_; }
 
+  // The most messages (copies included) this direction holds in flight: beyond it a message is
+  // dropped (DropReason::in_flight_limit). The default is about three hours of 100 Hz control
+  // held back: only a runaway delay or send rate reaches it, and memory stays bounded then.
+  static constexpr std::size_t default_in_flight_limit = std::size_t{1} << 20;
+  void set_in_flight_limit(std::size_t limit) { in_flight_limit_ = limit; }
+  std::size_t in_flight_limit() const { return in_flight_limit_; }
+
  private:
   bool is_down() const;
   DropReason lost_in_transit();   // none: not lost
@@ -102,6 +109,7 @@ class LinkDirection {
   std::string_view name_;
   LinkRoute route_ = LinkRoute::to_streamer;
   std::uint64_t next_message_id_ = 1;
+  std::size_t in_flight_limit_ = default_in_flight_limit;
 };
 
 // A Player ⇄ Streamer link.

@@ -52,6 +52,10 @@ class EventBus {
   // The parent must outlive this bus, or be unset first.
   void set_parent(EventBus* parent) { parent_ = parent; }
 
+  // The most live subscribers one bus takes: every tool subscribes a few, so more is a leak (a
+  // subscription made per event or per connection and never dropped). One more throws
+  // std::length_error naming the limit.
+  static constexpr std::size_t max_subscribers = 4096;
   [[nodiscard]] Subscription subscribe(Handler handler);
 
   // True when a publish would reach anybody (here or up the parent chain).

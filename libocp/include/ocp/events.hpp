@@ -94,7 +94,8 @@ enum class LinkMessageKind : std::uint8_t { operator_control, feedback, video_fr
 // count copies by this event, never by the time between two deliveries: in real time the two
 // copies' timers fire microseconds apart.
 enum class LinkOutcome : std::uint8_t { sent, delivered, dropped, duplicated };
-enum class DropReason : std::uint8_t { none, random_loss, burst_loss, outage, queue_full, recorded_loss };
+// in_flight_limit: the direction already held LinkDirection::in_flight_limit() messages.
+enum class DropReason : std::uint8_t { none, random_loss, burst_loss, outage, queue_full, recorded_loss, in_flight_limit };
 struct LinkEvent {
   LinkRoute route = LinkRoute::to_streamer;
   LinkOutcome outcome = LinkOutcome::sent;

@@ -27,11 +27,19 @@ class VirtualExecutor final : public Executor {
   std::size_t drive_bounded(std::size_t max_steps);
 
   std::size_t pending() const;
+
+  // The most events pending at once. One more is a runaway schedule (a timer rescheduling
+  // itself more than once per run, a link with a huge rate or delay): call_at throws
+  // std::length_error naming the limit, before memory runs out. The default holds a fleet of
+  // 10 000 vehicles with long links many times over.
+  static constexpr std::size_t default_pending_limit = std::size_t{1} << 24;
+  void set_pending_limit(std::size_t limit) { pending_limit_ = limit; }
   std::uint64_t events_run() const { return events_run_; }
   // Deadline of the next pending event, or nullopt-like SimTime::max() when idle.
   SimTime next_deadline() const;
 
  private:
+  std::size_t pending_limit_ = default_pending_limit;
   // Tasks live in a slot vector indexed by the low half of the TimerId; the high half is the
   // slot's generation, so a stale id (already run or cancelled) never matches a reused slot.
   struct Slot {
