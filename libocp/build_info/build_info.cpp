@@ -30,7 +30,7 @@ std::string version_line() { return std::string(version()) + " (git " + std::str
 std::vector<std::pair<std::string, std::string>> libraries() {
   return {
       {"Boost", boost_version()},
-      {"OpenSSL", OpenSSL_version(OPENSSL_VERSION)},
+      {"OpenSSL", OpenSSL_version(OPENSSL_VERSION_STRING)},   // the linked library, e.g. "3.0.19"
       {"RapidJSON", RAPIDJSON_VERSION_STRING},
       {"yaml-cpp", OCP_YAML_CPP_VERSION},
       {"spdlog", std::to_string(SPDLOG_VER_MAJOR) + "." + std::to_string(SPDLOG_VER_MINOR) + "." +

@@ -43,7 +43,8 @@ if [ "${1:-}" != --inside ]; then
     [ -f "$prefix/share/doc/ocp-sim/$licence" ] || fail "share/doc/ocp-sim/$licence is not installed"
   done
   [ ! -e "$prefix/share/ocp-sim/web/tests" ] && [ ! -e "$prefix/share/ocp-sim/web/node_modules" ] || fail "web tests or node_modules installed"
-  ! ls "$prefix/bin" | grep -q -e _tests -e _bench || fail "a test or benchmark binary is installed: $(ls "$prefix/bin")"
+  extra=$(ls "$prefix/bin" | grep -vxF "$(printf '%s\n' "${programs[@]}")")
+  [ -z "$extra" ] || fail "bin/ holds more than the programs (a test or a benchmark binary?): $extra"
   echo "ok: the data, the licences; no tests, no benchmark binaries"
 
   cp "$0" "$work/install_test_inside.sh"
@@ -80,10 +81,19 @@ done
 version=$(ocp_scenario --version | head -n 1 | awk '{print $3}')
 echo "ok: --version on every program ($version)"
 
-ocp_conformance vehicle -j 2 --out "$work/conformance" --junit "$work/conformance.xml" -- vehicle_client 127.0.0.1:{port} \
-  >"$work/conformance.log" 2>&1 || { tail -n 30 "$work/conformance.log"; fail "ocp_conformance vehicle against vehicle_client"; }
+# One case at a time, and a second run when the first fails: the subject here is that the
+# installed programs run; the verdicts' timing is proven by conformance_tests, and a 2-core
+# machine shared with builds can starve a real-time run. A second failure is a failure.
+conformance() {
+  ocp_conformance vehicle --out "$work/conformance" --junit "$work/conformance.xml" -- vehicle_client 127.0.0.1:{port} \
+    >"$work/conformance.log" 2>&1
+}
+if ! conformance; then
+  echo "note: ocp_conformance failed once ($(grep -E '^[0-9]+ cases in' "$work/conformance.log")); running it again"
+  conformance || { grep -v '^\[     OK' "$work/conformance.log" | tail -n 40; fail "ocp_conformance vehicle against vehicle_client"; }
+fi
 grep -q "\"ocp_sim_version\":\"$version " "$work/conformance/index.json" || fail "index.json does not record the version"
-grep -q "ocp_conformance $version" "$work/conformance/index.html" || fail "the HTML report does not record the version"
+grep -q "ocp_conformance $version" "$work/conformance/report.html" || fail "the HTML report does not record the version"
 grep -q "name=\"ocp_sim_version\" value=\"$version " "$work/conformance.xml" || fail "the JUnit file does not record the version"
 echo "ok: ocp_conformance vehicle -- vehicle_client (reports record $version)"
 
@@ -123,7 +133,7 @@ grep -q "200 OK" <<<"$chart" || fail "the dashboard's chart library: $(head -n 5
 grep -q "files from $prefix/share/ocp-sim/web" "$work/player.log" || fail "player_sim serves from elsewhere: $(grep 'web view' "$work/player.log")"
 echo "ok: player_sim serves the dashboard from share/ocp-sim/web (port $port)"
 
-streamer_sim --plugin-param tcp_port 0 --duration-s 1 --log-level error --no-status >"$work/streamer.log" 2>&1 ||
+streamer_sim --plugin-param tcp_port 0 --duration-s 1 --log-level error >"$work/streamer.log" 2>&1 ||
   { cat "$work/streamer.log"; fail "streamer_sim --duration-s 1"; }
 echo "ok: streamer_sim"
 if [ -x "$prefix/bin/ocp_bench" ]; then
