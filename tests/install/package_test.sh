@@ -19,8 +19,8 @@ command -v debootstrap >/dev/null || { echo "package test: needs debootstrap (sc
 
 # The machine's registry: the first Debian URI apt uses (deb822 or one-line sources).
 registry() {   # WHAT: debian | debian-security
-  cat /etc/apt/sources.list.d/*.sources /etc/apt/sources.list 2>/dev/null |
-    grep -oE "https?://[^ ]+/$1/?( |$)" | tr -d ' ' | sed 's|/$||' | head -n 1
+  { cat /etc/apt/sources.list.d/*.sources /etc/apt/sources.list 2>/dev/null || true; } |
+    grep -oE "https?://[^ ]+/$1/?( |$)" | tr -d ' ' | sed 's|/$||' | head -n 1 || true
 }
 mirror=${OCP_DEBIAN_MIRROR:-$(registry debian)}
 mirror=${mirror:-http://deb.debian.org/debian}
