@@ -81,11 +81,14 @@ done
 version=$(ocp_scenario --version | head -n 1 | awk '{print $3}')
 echo "ok: --version on every program ($version)"
 
-# One case at a time, and a second run when the first fails: the subject here is that the
-# installed programs run; the verdicts' timing is proven by conformance_tests, and a 2-core
-# machine shared with builds can starve a real-time run. A second failure is a failure.
+# One case at a time, ahead of the machine's other work when allowed (root: nice -10), and a
+# second run when the first fails: the subject here is that the installed programs run; the
+# verdicts' timing is proven by conformance_tests, and a 2-core machine shared with builds can
+# starve a real-time run. A second failure is a failure.
+ahead=()
+! nice -n -10 true 2>/dev/null || ahead=(nice -n -10)
 conformance() {
-  ocp_conformance vehicle --out "$work/conformance" --junit "$work/conformance.xml" -- vehicle_client 127.0.0.1:{port} \
+  ${ahead[@]+"${ahead[@]}"} ocp_conformance vehicle --out "$work/conformance" --junit "$work/conformance.xml" -- vehicle_client 127.0.0.1:{port} \
     >"$work/conformance.log" 2>&1
 }
 if ! conformance; then
