@@ -9,11 +9,21 @@
 #      library, player_sim's dashboard fetched over HTTP, missing data as exit 2.
 # Everything runs in a private mount namespace, so the root's /proc and /dev go with it.
 # Needs root and debootstrap (scripts/setup --all). Prints each step's time.
-# Usage: package_test.sh PACKAGE.deb   (OCP_DEBIAN_MIRROR overrides the registry's address)
+# Usage: package_test.sh [--root DIR] PACKAGE.deb   (OCP_DEBIAN_MIRROR overrides the registry's address)
+#        package_test.sh --make-root DIR   only step 1, into DIR (made anew), for a later --root DIR:
+#        scripts/test runs it beside the release tests, so the download is off CI's critical path.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
-[ $# -eq 1 ] && [ -f "$1" ] || { echo "usage: package_test.sh PACKAGE.deb" >&2; exit 2; }
-package=$(realpath "$1")
+usage() { echo "usage: package_test.sh [--root DIR] PACKAGE.deb | --make-root DIR" >&2; exit 2; }
+make_root= given_root=
+case "${1:-}" in
+  --make-root) [ $# -eq 2 ] || usage; make_root=$2 ;;
+  --root) [ $# -eq 3 ] || usage; given_root=$2; shift 2 ;;
+esac
+if [ -z "$make_root" ]; then
+  [ $# -eq 1 ] && [ -f "$1" ] || usage
+  package=$(realpath "$1")
+fi
 [ "$(id -u)" -eq 0 ] || { echo "package test: needs root (debootstrap, chroot)" >&2; exit 2; }
 command -v debootstrap >/dev/null || { echo "package test: needs debootstrap (scripts/setup --all)" >&2; exit 2; }
 
@@ -27,18 +37,38 @@ mirror=${mirror:-http://deb.debian.org/debian}
 security=$(registry debian-security)
 security=${security:-${mirror%/debian}/debian-security}
 
-work=$(mktemp -d /var/tmp/ocp_package_test.XXXXXX)
-trap 'rm -rf --one-file-system "$work"' EXIT
-root=$work/root
 started=$(date +%s)
 step() { echo "== package test: $* ($(( $(date +%s) - started )) s)"; }
+# make_bare_root WORK: step 1 into WORK/root, in a private mount namespace (debootstrap mounts
+# /proc and /sys in the root while it configures); WORK/ready says it finished.
+make_bare_root() {
+  unshare --mount --propagation private debootstrap --variant=minbase bookworm "$1/root" "$mirror" >"$1/debootstrap.log" 2>&1 ||
+    { tail -n 20 "$1/debootstrap.log"; echo "package test: debootstrap failed"; return 1; }
+  touch "$1/ready"
+}
+
+if [ -n "$make_root" ]; then
+  rm -rf --one-file-system "$make_root" && mkdir -p "$make_root"
+  make_bare_root "$make_root"
+  step "debootstrap --variant=minbase bookworm from $mirror, into $make_root"
+  exit 0
+fi
+if [ -n "$given_root" ] && [ -f "$given_root/ready" ]; then
+  work=$given_root
+  step "the bare root made beforehand ($work)"
+else
+  [ -z "$given_root" ] || echo "package test: $given_root holds no finished root; making one"
+  work=$(mktemp -d /var/tmp/ocp_package_test.XXXXXX)
+  trap 'rm -rf --one-file-system "$work"' EXIT
+  make_bare_root "$work"
+  step "debootstrap --variant=minbase bookworm from $mirror"
+fi
+trap 'rm -rf --one-file-system "$work"' EXIT
+root=$work/root
 
 export root mirror security package here work
 unshare --mount --propagation private bash -euo pipefail -c '
 step() { echo "== package test: $* ($(( $(date +%s) - $0 )) s)"; }
-debootstrap --variant=minbase bookworm "$root" "$mirror" >"$work/debootstrap.log" 2>&1 ||
-  { tail -n 20 "$work/debootstrap.log"; echo "package test: debootstrap failed"; exit 1; }
-step "debootstrap --variant=minbase bookworm from $mirror"
 
 mkdir -p "$root/usr/local/share/ca-certificates" "$root/etc/ssl/certs"
 cp -a /usr/local/share/ca-certificates/. "$root/usr/local/share/ca-certificates/" 2>/dev/null || true
