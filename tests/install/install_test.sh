@@ -48,7 +48,7 @@ if [ "${1:-}" != --inside ]; then
   echo "ok: the data, the licences; no tests, no benchmark binaries"
 
   cp "$0" "$work/install_test_inside.sh"
-  cd "$work"
+  cd "$work" || fail "cd $work"
   if [ "$(id -u)" -eq 0 ] && unshare --mount true 2>/dev/null; then
     # The trees vanish for everything below: only the moved prefix is left.
     unshare --mount bash -c '
@@ -68,7 +68,7 @@ fi
 prefix=$2 work=$3
 export PATH="$prefix/bin:/usr/bin:/bin"
 unset OCP_SIM_DATA
-cd "$work"
+cd "$work" || fail "cd $work"
 
 programs=(streamer_sim player_sim vehicle_client ocp_conformance ocp_scenario ocp_campaign)
 [ ! -x "$prefix/bin/ocp_bench" ] || programs+=(ocp_bench)
