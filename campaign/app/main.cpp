@@ -26,6 +26,7 @@
 #include "campaign/slurm.hpp"
 #include "campaign/world_check.hpp"
 #include "ocp/cli_checks.hpp"
+#include "ocp/cli_parse.hpp"
 #include "sim_app/client_process.hpp"
 #include "ocp/exit_codes.hpp"
 #include "ocp/interrupt.hpp"
@@ -333,8 +334,9 @@ int merge_command(const std::vector<std::string>& inputs, const std::string& out
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"ocp_campaign: seeded random worlds against an independent oracle (docs/campaigns.md)"};
+  CLI::App app{"ocp_campaign: seeded random worlds against an independent oracle (docs/campaigns.md)", "ocp_campaign"};
   app.require_subcommand(1);
+  ocp::cli::add_version_flag(app);
   RunCommand run;
   CLI::App* run_app = app.add_subcommand("run", "run a campaign (or one shard of it)");
   run_app->add_option("--seed", run.seed, "campaign seed")->check(ocp::cli::whole())->capture_default_str();

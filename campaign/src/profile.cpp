@@ -11,11 +11,8 @@
 
 #include "scenario/parse.hpp"
 #include "scenario/write.hpp"
+#include "sim_app/data_dir.hpp"
 #include "world/seeds.hpp"
-
-#ifndef OCP_CAMPAIGN_PROFILES_DIR
-#define OCP_CAMPAIGN_PROFILES_DIR "campaign/profiles"
-#endif
 
 namespace ocp::campaign {
 
@@ -38,8 +35,13 @@ std::string_view action_kind_name(ActionKind kind) {
   return "?";
 }
 
+// The shipped profiles are data (sim_app/data_dir.hpp): share/ocp-sim/campaign/profiles.
 std::string shipped_profile_path(const std::string& name) {
-  return std::string(OCP_CAMPAIGN_PROFILES_DIR) + "/" + name + ".yaml";
+  try {
+    return (sim_app::find_data("campaign/profiles") / (name + ".yaml")).string();
+  } catch (const sim_app::DataNotFound& missing) {
+    throw ProfileError(std::string("profile '") + name + "': " + missing.what());
+  }
 }
 
 namespace {

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "campaign/results.hpp"
+#include "ocp/build_info.hpp"
 
 namespace ocp::campaign {
 
@@ -43,6 +44,8 @@ std::string junit_xml(const Summary& s) {
   std::ostringstream out;
   out << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites>\n  <testsuite name=\"campaign-" << s.seed << "-"
       << escape_xml(s.profile) << "\" tests=\"" << s.records.size() << "\" failures=\"" << failures(s) << "\">\n";
+  out << "    <properties><property name=\"ocp_sim_version\" value=\"" << escape_xml(build_info::version_line())
+      << "\"/></properties>\n";
   for (const WorldRecord& r : s.records) {
     out << "    <testcase classname=\"campaign\" name=\"world-" << r.index << "\" time=\"0\"";
     if (!r.failed()) {

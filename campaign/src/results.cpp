@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "campaign/results.hpp"
+#include "ocp/build_info.hpp"
 #include "sim_app/report_text.hpp"
 
 namespace ocp::campaign {
@@ -76,7 +77,8 @@ std::string summary_json(const Summary& s) {
     if (!r.error.empty()) checks.insert("world_refused_to_start");
     for (const std::string& check : checks) ++by_check[check];
   }
-  out << "{\n  \"campaign_seed\": " << s.seed << ",\n  \"profile\": " << json_string(s.profile)
+  out << "{\n  \"campaign_seed\": " << s.seed << ",\n  \"ocp_sim_version\": " << json_string(build_info::version_line())
+      << ",\n  \"profile\": " << json_string(s.profile)
       << ",\n  \"profile_digest\": " << s.profile_digest << ",\n  \"worlds\": " << s.worlds
       << ",\n  \"shard\": {\"index\": " << s.shard.index << ", \"count\": " << s.shard.count << "}"
       << ",\n  \"interrupted\": " << (s.interrupted ? "true" : "false")

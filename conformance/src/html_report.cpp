@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "conformance/reports.hpp"
+#include "ocp/build_info.hpp"
 #include "sim_app/report_text.hpp"
 
 namespace ocp::conformance {
@@ -63,9 +64,9 @@ std::string html_report(const ReportContext& report) {
   const RunSummary& summary = *report.summary;
   std::string html = fmt::format("<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>OCP conformance: {}</title><style>{}</style></head><body>\n",
                                  report.suite, style);
-  html += fmt::format("<h1>OCP conformance — {} side</h1>\n<p>Client: <code>{}</code><br>{}; exit code {}</p>\n",
+  html += fmt::format("<h1>OCP conformance — {} side</h1>\n<p>Client: <code>{}</code><br>{}; exit code {}<br>ocp_conformance {}</p>\n",
                       report.suite, markup_escape(report.client), markup_escape(verdict_counts(summary)),
-                      run_exit_code(summary, nullptr));
+                      run_exit_code(summary, nullptr), markup_escape(build_info::version_line()));
   for (const NamedCause& cause : named_causes(summary)) {
     std::string ids;
     for (const std::string& id : cause.case_ids) ids += (ids.empty() ? "" : ", ") + id;

@@ -1,6 +1,7 @@
 #include <fmt/format.h>
 
 #include "conformance/reports.hpp"
+#include "ocp/build_info.hpp"
 #include "sim_app/report_text.hpp"
 
 namespace ocp::conformance {
@@ -25,8 +26,8 @@ std::string entry_json(const WireLogEntry& e, std::int64_t origin_us) {
 
 std::string index_json(const ReportContext& report) {
   const RunSummary& summary = *report.summary;
-  std::string out = fmt::format(R"({{"suite":"{}","client":"{}","duration_ms":{:.1f},"exit_code":{},"harness_error":"{}","interrupted":{},"cases":[)",
-                                report.suite, json_escape(report.client), summary.duration_ms,
+  std::string out = fmt::format(R"({{"suite":"{}","ocp_sim_version":"{}","client":"{}","duration_ms":{:.1f},"exit_code":{},"harness_error":"{}","interrupted":{},"cases":[)",
+                                report.suite, json_escape(build_info::version_line()), json_escape(report.client), summary.duration_ms,
                                 run_exit_code(summary, nullptr), json_escape(summary.harness_error), summary.interrupted);
   bool first = true;
   for (const CaseResult& result : summary.results) {

@@ -1,6 +1,7 @@
 #include <fmt/format.h>
 
 #include "conformance/reports.hpp"
+#include "ocp/build_info.hpp"
 #include "sim_app/report_text.hpp"
 
 namespace ocp::conformance {
@@ -11,6 +12,8 @@ std::string junit_xml(const ReportContext& report) {
   for (const CaseResult& result : summary.results) failures += result.verdict == Verdict::failed;
   std::string xml = fmt::format("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites><testsuite name=\"ocp_conformance.{}\" tests=\"{}\" failures=\"{}\" errors=\"{}\" time=\"{:.3f}\">\n",
                                 report.suite, summary.results.size(), failures, int(!summary.harness_error.empty()) + int(summary.interrupted), summary.duration_ms / 1000.0);
+  xml += fmt::format("  <properties><property name=\"ocp_sim_version\" value=\"{}\"/></properties>\n",
+                     report::markup_escape(build_info::version_line()));
   for (const CaseResult& result : summary.results) {
     xml += fmt::format("  <testcase classname=\"{}.{}\" name=\"{}\" time=\"{:.3f}\">\n", report.suite, tier_name(result.info.tier),
                        report::markup_escape(result.info.id), result.duration_ms / 1000.0);

@@ -1,4 +1,5 @@
 // JUnit XML (reports.hpp): one testsuite per run, one testcase per expectation.
+#include "ocp/build_info.hpp"
 #include "scenario/reports.hpp"
 #include "sim_app/report_text.hpp"
 
@@ -25,7 +26,8 @@ std::string junit_xml(const std::vector<RunReport>& reports, bool interrupted) {
            std::to_string(report.verdicts.size()) + "\" failures=\"" + std::to_string(failures) + "\" skipped=\"" +
            std::to_string(skipped) + "\" time=\"" +
            std::to_string(report.run->wall_seconds) + "\">\n";
-    out += "    <properties><property name=\"seed\" value=\"" + std::to_string(report.run->seed) +
+    out += "    <properties><property name=\"ocp_sim_version\" value=\"" + xml(build_info::version_line()) +
+           "\"/><property name=\"seed\" value=\"" + std::to_string(report.run->seed) +
            "\"/><property name=\"reproduce\" value=\"" + xml(report.reproduce) + "\"/>" +
            (report.run->interrupted ? "<property name=\"interrupted\" value=\"true\"/>" : "") + "</properties>\n";
     for (const Verdict& verdict : report.verdicts) {

@@ -3,6 +3,7 @@
 #include <rapidjson/prettywriter.h>
 #include <rapidjson/stringbuffer.h>
 
+#include "ocp/build_info.hpp"
 #include "scenario/metrics.hpp"
 #include "scenario/reports.hpp"
 
@@ -150,6 +151,7 @@ std::string summary_json(const RunReport& report) {
   json.StartObject();
   text(json, "scenario", scenario.name);
   text(json, "file", scenario.path);
+  text(json, "ocp_sim_version", build_info::version_line());   // the tool that gave the verdicts
   key(json, "seed"); json.Uint64(run.seed);
   key(json, "duration_s"); json.Double(seconds(run.duration));
   text(json, "reproduce", report.reproduce);

@@ -7,6 +7,7 @@
 #include "player_app/vehicle_tcp_option.hpp"
 #include "player_app/webview_server.hpp"
 #include "ocp/exit_codes.hpp"
+#include "sim_app/data_dir.hpp"
 
 namespace ocp {
 
@@ -42,10 +43,10 @@ void add_player_options(CLI::App& app, PlayerCli& cli) {
                  "NAME=PORT: that vehicle's Streamer serves the vehicle TCP API on 127.0.0.1:PORT for an external "
                  "vehicle client instead of the in-process one (repeatable; PORT 0 = a free port)")
       ->group("Player");
-  cli.webview_root = OCP_WEBVIEW_DEFAULT_ROOT;
   app.add_option("--webview-port", cli.webview_port, "web view HTTP + WebSocket port (0 = a free port, logged)")
       ->capture_default_str()->check(CLI::Range(0, 65535))->group("Web view");
-  app.add_option("--webview-root", cli.webview_root, "folder of the web view's static files (default: the built-in dashboard)")
+  app.add_option("--webview-root", cli.webview_root, "folder of the web view's static files (default: the dashboard in the data folder, share/ocp-sim/web; "
+                 "OCP_SIM_DATA overrides)")
       ->capture_default_str()->check(CLI::ExistingDirectory)->group("Web view");
   app.add_flag("--no-webview", cli.no_webview, "do not serve the web view")->group("Web view");
   app.add_option("--webview-allow-origin", cli.webview_allowed_origins,
@@ -111,6 +112,19 @@ std::optional<int> complete_vehicles(PlayerCli& cli) {
   return std::nullopt;
 }
 
+// Without --webview-root, the dashboard of the data folder (sim_app/data_dir.hpp): an exit 2
+// that says where it looked when it is missing, never an empty page.
+std::optional<int> complete_webview_root(PlayerCli& cli) {
+  if (cli.no_webview || !cli.webview_root.empty()) return std::nullopt;
+  try {
+    cli.webview_root = sim_app::find_data("web/index.html").parent_path().string();
+  } catch (const sim_app::DataNotFound& missing) {
+    std::cerr << "player_sim: the web view's files: " << missing.what() << " (or give --webview-root, or --no-webview)\n";
+    return cli::exit_usage_error;
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 std::optional<int> parse_player_cli(int argc, const char* const* argv, PlayerCli& cli) {
@@ -121,7 +135,8 @@ std::optional<int> parse_player_cli(int argc, const char* const* argv, PlayerCli
       "player_sim"};
   add_player_options(app, cli);
   if (auto exit_code = sim_app::parse_command_line(app, argc, argv, cli.common)) return exit_code;
-  return complete_vehicles(cli);
+  if (auto exit_code = complete_vehicles(cli)) return exit_code;
+  return complete_webview_root(cli);
 }
 
 }  // namespace ocp

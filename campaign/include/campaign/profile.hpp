@@ -85,7 +85,8 @@ struct Profile {
 Profile load_profile(const std::string& path);
 Profile parse_profile(const std::string& text, const std::string& path);
 
-// The profile shipped in campaign/profiles (the directory is compiled in for the tool).
+// The path of a shipped profile: share/ocp-sim/campaign/profiles/NAME.yaml, found at run time
+// (sim_app/data_dir.hpp). Throws ProfileError, naming where it looked, when the data is missing.
 std::string shipped_profile_path(const std::string& name);
 
 }  // namespace ocp::campaign

@@ -21,7 +21,7 @@ struct PlayerCli {
   std::vector<std::string> vehicle_tcp_texts;       // NAME=PORT, checked into vehicle_tcp_ports
   std::map<std::string, std::uint16_t> vehicle_tcp_ports;
   int webview_port = 4002;
-  std::string webview_root;                         // default: the built-in dashboard
+  std::string webview_root;                         // default: share/ocp-sim/web (sim_app/data_dir.hpp)
   bool no_webview = false;
   std::vector<std::string> webview_allowed_origins;   // --webview-allow-origin, normalised
   sim_app::ComOptions com;
