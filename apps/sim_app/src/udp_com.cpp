@@ -7,8 +7,12 @@
 #include <boost/asio/ip/udp.hpp>
 #include <fmt/format.h>
 
+#include "ocp/bounded_file.hpp"
+
+#include <sys/stat.h>
+
 #include <charconv>
-#include <fstream>
+#include <iostream>
 #include <iterator>
 #include <system_error>
 
@@ -29,6 +33,16 @@ std::uint64_t random_session() {
   std::uint64_t session = 0;
   if (RAND_bytes(reinterpret_cast<unsigned char*>(&session), sizeof session) != 1) session = 1;
   return session;
+}
+
+// As ssh does for its keys: a key others can read is no secret, but refusing it would break
+// setups that keep the file on a shared mount; so a warning, once, at start.
+void warn_if_others_can_read(const std::string& path) {
+  struct stat status {};
+  if (::stat(path.c_str(), &status) != 0 || (status.st_mode & 077) == 0) return;
+  std::cerr << fmt::format("warning: --com-key {}: the key file is readable by others (mode {:04o}); "
+                           "chmod 600 {} so that only its owner can read it\n",
+                           path, status.st_mode & 07777, path);
 }
 
 }  // namespace
@@ -88,19 +102,17 @@ Status check_com_options(ComOptions& options, const udp::endpoint& endpoint, boo
     return usage("the UDP com channel needs --com-key FILE (the same file on both hosts; make one with "
                  "`head -c 32 /dev/urandom > FILE`), or --com-insecure on loopback");
   }
-  std::ifstream file(options.key_file, std::ios::binary);
-  if (!file) return usage("--com-key " + options.key_file + ": cannot read the file");
-  com::ComKey key;
-  char byte = 0;
-  while (key.size() <= com::max_key_bytes && file.get(byte)) key.push_back(static_cast<std::uint8_t>(byte));
-  if (file.bad()) return usage("--com-key " + options.key_file + ": cannot read the file");
-  if (key.size() < com::min_key_bytes || key.size() > com::max_key_bytes) {
-    return usage(fmt::format("--com-key {}: a key is {}..{} bytes, this file has {}{} (make one with "
+  // Bounded and non-blocking (a FIFO or /dev/zero is refused, not waited on), with the
+  // system's reason (missing, permission denied, a folder).
+  const auto text = read_bounded_file(options.key_file, file_kinds::key);
+  if (!text) return usage("--com-key " + text.error().detail);
+  if (text->size() < com::min_key_bytes || text->size() > com::max_key_bytes) {
+    return usage(fmt::format("--com-key {}: a key is {}..{} bytes, this file has {} (make one with "
                              "`head -c 32 /dev/urandom > FILE`)",
-                             options.key_file, com::min_key_bytes, com::max_key_bytes,
-                             key.size() > com::max_key_bytes ? "more" : "", key.size()));
+                             options.key_file, com::min_key_bytes, com::max_key_bytes, text->size()));
   }
-  options.key = std::move(key);
+  warn_if_others_can_read(options.key_file);
+  options.key.assign(text->begin(), text->end());
   return Ok{};
 }
 
