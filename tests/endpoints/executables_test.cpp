@@ -200,6 +200,21 @@ TEST(Executables, SigtermShutsDownCleanlyWithExitZero) {
   EXPECT_NE(output.find("vehicle connected: 127.0.0.1:"), std::string::npos) << output;
 }
 
+// SIGHUP (a closed SSH session, a CI runner's cancel) ends a simulator as SIGTERM does, not with
+// 129 and no goodbye.
+TEST(Executables, SighupShutsDownCleanlyLikeSigterm) {
+  const std::uint16_t port = free_port();
+  Process process = Process::spawn({streamer_sim, "--plugin-param", "tcp_port", std::to_string(port)});
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (!can_connect(port) && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ASSERT_TRUE(can_connect(port)) << process.output();
+  kill(process.pid, SIGHUP);
+  EXPECT_EQ(process.wait(), 0) << process.output();
+  EXPECT_NE(process.output().find("shutting down: SIGHUP received"), std::string::npos) << process.output();
+}
+
 TEST(Executables, DurationRunsPrintsStatusLinesAndExitsZero) {
   const ProcessRun result = run({player_sim, "--plugin-param", "ocp_player_tcp_port", "0", "--webview-port", "0", "--vehicle", "truck-1",
                           "--vehicle", "truck-2", "--duration-s", "2.2"});
