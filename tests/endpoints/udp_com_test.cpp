@@ -146,7 +146,8 @@ TEST_F(UdpComChannel, TwoPlayersWithTheSameKeyDoNotFloodTheLog) {
   start_streamer();
   start_player(the_key);
   ASSERT_TRUE(run_until(io_, [&] { return loop_closed(); }));
-  // A second Player with the same key: each datagram moves the Streamer's peer back and forth.
+  // A second Player with the same key: each completed handshake moves the Streamer's peer (the
+  // one left without answers starts a new session after 1 s), back and forth.
   PlayerSimOptions options;
   options.plugin_params.ocp_player_tcp_port = 0;
   options.udp_vehicles["vehicle"] = udp::endpoint(boost::asio::ip::address_v4::loopback(), streamer_->com()->local_port());
@@ -154,7 +155,7 @@ TEST_F(UdpComChannel, TwoPlayersWithTheSameKeyDoNotFloodTheLog) {
   CapturedLog second_log;
   PlayerSimulation second(executor_, options, second_log.sink());
   ASSERT_TRUE(second.start().ok());
-  ASSERT_TRUE(run_until(io_, [&] { return streamer_->com()->counters().peer_changes > 50; }));
+  ASSERT_TRUE(run_until(io_, [&] { return streamer_->com()->counters().peer_changes > 3; }));
   std::size_t said = 0;
   for (const auto& line : streamer_log_.lines()) said += line.message.find("the Player is at") != std::string::npos;
   EXPECT_LE(said, 2u);   // the first Player, then the first move of the episode
