@@ -120,7 +120,7 @@ TEST_F(UdpComChannel, AFloodOfJunkLeavesItRunning) {
   for (int sent = 0; sent < 100'000; ++sent) {
     const std::size_t length = random() % junk.size();
     for (std::size_t i = 0; i < length; i += 8) junk[i] = static_cast<char>(random());
-    if (sent % 3 == 0 && length >= 4) junk[0] = 'O', junk[1] = 'C', junk[2] = 1, junk[3] = 1;   // looks like ours
+    if (sent % 3 == 0 && length >= 4) junk[0] = 'O', junk[1] = 'C', junk[2] = 2, junk[3] = 1;   // looks like ours
     boost::system::error_code ignored;
     attacker.send_to(boost::asio::buffer(junk.data(), length), target, 0, ignored);
     if (sent % 500 == 0) io_.poll();   // let the pipeline run meanwhile

@@ -5,8 +5,8 @@
 //
 // One datagram (at most 1 200 bytes, all integers little-endian):
 //
-//   0  magic "OC"        2  version (1)        3  kind (LinkKind)
-//   4  session  u64      the sender's random id for this run: a restarted peer starts a new one
+//   0  magic "OC"        2  version (2)        3  kind (LinkKind; 6 and 7: the handshake, com_session.hpp)
+//   4  session  u64      the Player's random id for this session (com_session.hpp): a new one per handshake
 //   12 sequence u64      per session, from 1, one per datagram: checked against a replay window
 //   20 message  u32      per session, from 1, one per LinkMessage: groups its fragments
 //   24 fragment u16      index of this piece        26 fragments u16  pieces of the message
