@@ -203,40 +203,27 @@ expect:
 }
 
 // Virtual time with --repeat: SIGTERM during the second seed or later keeps the seeds finished
-// so far, summarised.
-TEST_F(ToolTest, SigtermDuringRepeatKeepsTheFinishedSeeds) {
+// so far, summarised. SIGHUP (a closed SSH session, a CI runner's cancel) does the same: exit
+// 130, the JUnit written, no line cut short.
+TEST_F(ToolTest, SigtermOrSighupDuringRepeatKeepsTheFinishedSeeds) {
   const std::string file = write("long.yaml", R"(duration: 5min
 world: {gamepad: drive, vehicles: [{name: truck-1}]}
 expect:
   thresholds: {latency_ms: ["count > 0"]}
 )");
-  Child tool({OCP_SCENARIO_PATH, "run", file, "--repeat", "1000", "--no-trace", "--out", (dir_ / "out").string(), "--junit",
-              (dir_ / "junit.xml").string()});
-  ASSERT_TRUE(tool.wait_for("✓ " + file, std::chrono::seconds(120))) << tool.output();
-  tool.signal(SIGTERM);
-  ASSERT_EQ(tool.wait_exit(std::chrono::seconds(120)), 130) << tool.output();
-  EXPECT_NE(tool.output().find("long.yaml: "), std::string::npos) << tool.output();
-  EXPECT_NE(tool.output().find("\n  ✓ latency_ms: count > 0: passed "), std::string::npos) << tool.output();
-  EXPECT_NE(tool.output().find("\ninterrupted: "), std::string::npos) << tool.output();
-  EXPECT_NE(read_text(dir_ / "junit.xml").find("<testsuites interrupted=\"true\">"), std::string::npos);
-}
-
-// SIGHUP (a closed SSH session) is SIGTERM: the seeds so far are summarised, the JUnit written,
-// exit 130 and no line cut short.
-TEST_F(ToolTest, SighupDuringRepeatIsLikeSigterm) {
-  const std::string file = write("long.yaml", R"(duration: 5min
-world: {gamepad: drive, vehicles: [{name: truck-1}]}
-expect:
-  thresholds: {latency_ms: ["count > 0"]}
-)");
-  Child tool({OCP_SCENARIO_PATH, "run", file, "--repeat", "1000", "--no-trace", "--out", (dir_ / "out").string(), "--junit",
-              (dir_ / "junit.xml").string()});
-  ASSERT_TRUE(tool.wait_for("✓ " + file, std::chrono::seconds(120))) << tool.output();
-  tool.signal(SIGHUP);
-  ASSERT_EQ(tool.wait_exit(std::chrono::seconds(120)), 130) << tool.output();
-  EXPECT_NE(tool.output().find("\ninterrupted: "), std::string::npos) << tool.output();
-  EXPECT_EQ(tool.output().back(), '\n') << tool.output();
-  EXPECT_NE(read_text(dir_ / "junit.xml").find("<testsuites interrupted=\"true\">"), std::string::npos);
+  for (const int signal_number : {SIGTERM, SIGHUP}) {
+    SCOPED_TRACE(signal_number == SIGTERM ? "SIGTERM" : "SIGHUP");
+    Child tool({OCP_SCENARIO_PATH, "run", file, "--repeat", "1000", "--no-trace", "--out", (dir_ / "out").string(),
+                "--junit", (dir_ / "junit.xml").string()});
+    ASSERT_TRUE(tool.wait_for("✓ " + file, std::chrono::seconds(120))) << tool.output();
+    tool.signal(signal_number);
+    ASSERT_EQ(tool.wait_exit(std::chrono::seconds(120)), 130) << tool.output();
+    EXPECT_NE(tool.output().find("long.yaml: "), std::string::npos) << tool.output();
+    EXPECT_NE(tool.output().find("\n  ✓ latency_ms: count > 0: passed "), std::string::npos) << tool.output();
+    EXPECT_NE(tool.output().find("\ninterrupted: "), std::string::npos) << tool.output();
+    EXPECT_EQ(tool.output().back(), '\n') << tool.output();
+    EXPECT_NE(read_text(dir_ / "junit.xml").find("<testsuites interrupted=\"true\">"), std::string::npos);
+  }
 }
 
 // `ocp_scenario run … | head -c1`: a closed stdout loses no report. Every file still runs and
