@@ -76,7 +76,7 @@ TEST_P(ToolRefuses, WithExitCode2AndAClearMessage) {
 INSTANTIATE_TEST_SUITE_P(
     Table, ToolRefuses,
     ::testing::Values(
-        BadCall{"missing file", "/nonexistent/foo.yaml", "error: cannot open /nonexistent/foo.yaml: No such file or directory"},
+        BadCall{"missing file", "/nonexistent/foo.yaml", "error: /nonexistent/foo.yaml: cannot open the scenario file: No such file or directory"},
         BadCall{"negative seed", "FILE --seed -1", "--seed: expected a whole number in 0..18446744073709551615, got '-1'"},
         BadCall{"fractional seed", "FILE --seed 1.5", "got '1.5'"},
         BadCall{"seed past 2^64-1", "FILE --seed 18446744073709551616", "got '18446744073709551616'"},
