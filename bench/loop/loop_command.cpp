@@ -173,7 +173,7 @@ class LoopRun {
   // Ctrl-C ends the measurement early: the figures so far are reported, marked interrupted,
   // and the run exits 130.
   void stop_on_signal() {
-    signals_.emplace(io_, SIGINT, SIGTERM);
+    signals_.emplace(io_, SIGINT, SIGTERM, SIGHUP);
     signals_->async_wait([this](const boost::system::error_code& error, int) {
       if (error) return;
       interrupted_ = true;

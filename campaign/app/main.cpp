@@ -22,9 +22,11 @@
 #include "campaign/failure_files.hpp"
 #include "campaign/generator.hpp"
 #include "campaign/results.hpp"
+#include "campaign/script_names.hpp"
 #include "campaign/shell_words.hpp"
 #include "campaign/slurm.hpp"
 #include "campaign/world_check.hpp"
+#include "ocp/bounded_file.hpp"
 #include "ocp/cli_checks.hpp"
 #include "ocp/cli_parse.hpp"
 #include "sim_app/client_process.hpp"
@@ -48,11 +50,9 @@ void write_text(const fs::path& path, const std::string& text) {
 }
 
 std::string read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot read " + path.string());
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+  auto text = ocp::read_bounded_file(path.string(), ocp::file_kinds::summary);
+  if (!text) throw std::runtime_error(text.error().detail);
+  return std::move(*text);
 }
 
 // A profile argument is a shipped profile's name ("default", "calm") or a file.
@@ -341,10 +341,11 @@ int main(int argc, char** argv) {
   CLI::App* run_app = app.add_subcommand("run", "run a campaign (or one shard of it)");
   run_app->add_option("--seed", run.seed, "campaign seed")->check(ocp::cli::whole())->capture_default_str();
   run_app->add_option("--worlds", run.worlds, "worlds in the campaign")->check(ocp::cli::whole(1, 10'000'000))->capture_default_str();
-  run_app->add_option("--profile", run.profile, "generator profile: default, calm, or a YAML file")->capture_default_str();
+  run_app->add_option("--profile", run.profile, "generator profile: default, calm, or a YAML file")
+      ->check(script_name())->capture_default_str();
   run_app->add_option("-j,--jobs", run.jobs, "worker threads")->check(CLI::Range(1, 256))->capture_default_str();
   run_app->add_option("--shard", run.shard, "run shard I of N (worlds i with i % N == I); default from SLURM_ARRAY_TASK_ID/COUNT");
-  run_app->add_option("--out", run.out, "results folder")->capture_default_str();
+  run_app->add_option("--out", run.out, "results folder")->check(script_name())->capture_default_str();
   run_app->add_option("--world", run.world, "run only this world (a repro) and print its violations");
   run_app->add_flag("--no-shrink", run.no_shrink, "do not shrink failing worlds");
   run_app->add_option("--shrink-runs", run.shrink_runs, "world runs allowed per shrink")->check(CLI::Range(1, 100'000))->capture_default_str();
@@ -367,6 +368,13 @@ int main(int argc, char** argv) {
   merge_app->add_option("shards", merge_inputs, "shard result folders (or their summary.json)")->required();
   merge_app->add_option("--out", merge_out, "merged results folder")->capture_default_str();
 
+  // Every profile, scenario and summary file is read under a size cap (ocp/bounded_file.hpp).
+  double max_file_mb = 0;
+  for (CLI::App* command : {run_app, check_app, merge_app}) {
+    command->add_option("--max-file-mb", max_file_mb, "raise the size cap of input files (profile, scenario: 1 MB)")
+        ->check(ocp::cli::real(1, 65'536));
+  }
+
   SlurmOptions slurm;
   CLI::App* slurm_app = app.add_subcommand("slurm", "run the campaign as an sbatch job array, wait, and merge");
   add_slurm_options(*slurm_app, slurm);
@@ -377,6 +385,7 @@ int main(int argc, char** argv) {
     const int code = app.exit(error);
     return code == 0 ? 0 : exit_usage;
   }
+  if (max_file_mb > 0) ocp::raise_file_caps(static_cast<std::uint64_t>(max_file_mb * 1024 * 1024));
   if (run_app->parsed()) return run_command(run);
   if (check_app->parsed()) return check_command(check_file);
   if (merge_app->parsed()) return merge_command(merge_inputs, merge_out);

@@ -36,7 +36,7 @@ scenario::Scenario with_placeholder_expectation(scenario::Scenario world) {
 
 std::string replay_command(std::uint64_t index, const FailureFilesOptions& options) {
   std::string command = "ocp_campaign run --seed " + std::to_string(options.campaign_seed) + " --worlds " +
-                        std::to_string(options.worlds) + " --profile " + options.profile_argument + " --world " +
+                        std::to_string(options.worlds) + " --profile " + shell_quoted(options.profile_argument) + " --world " +
                         std::to_string(index);
   if (options.client) {
     command += " --client " + shell_quoted(options.client->command);
@@ -65,13 +65,13 @@ FailureFiles write_failure_files(const Profile& profile, std::uint64_t index, co
   const WorldOutcome outcome = check_world(world, {true});
   if (outcome.violations.empty() || !options.shrink) return made;
   const ShrinkResult shrunk = shrink(world, ShrinkTarget::of(outcome.violations.front()), options.shrink_runs);
-  const std::string shrunk_path = (dir / "shrunk.yaml").string();
-  write_text(dir / "shrunk.yaml", regression_yaml(shrunk, "ocp_campaign check " + shrunk_path));
+  const std::string check_command = "ocp_campaign check " + shell_quoted((dir / "shrunk.yaml").string());
+  write_text(dir / "shrunk.yaml", regression_yaml(shrunk, check_command));
   made.files.push_back("shrunk.yaml");
   // The scenario runner's own report of the shrunk world, as for any scenario.
   scenario::Scenario report_world = with_placeholder_expectation(shrunk.scenario);
   const scenario::RunResult run = run_for_report(report_world);
-  scenario::RunReport report{&report_world, &run, scenario::evaluate(report_world, run), "ocp_campaign check " + shrunk_path};
+  scenario::RunReport report{&report_world, &run, scenario::evaluate(report_world, run), check_command};
   write_text(dir / "report.html", scenario::report_html(report, scenario::summary_json(report)));
   made.files.push_back("report.html");
   made.shrunk_events = static_cast<int>(shrunk.scenario.timeline.size());

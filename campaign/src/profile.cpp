@@ -1,6 +1,8 @@
 // Profile files (profile.hpp): YAML → Profile, every key and range checked with its position.
 #include "campaign/profile.hpp"
+#include "ocp/bounded_file.hpp"
 
+#include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/yaml.h>
 
 #include <filesystem>
@@ -192,6 +194,9 @@ YAML::Node load_yaml(const std::string& text, const std::string& path) {
   YAML::Node root;
   try {
     root = YAML::Load(text);
+  } catch (const YAML::DeepRecursion& error) {
+    throw ProfileError(path + ":" + std::to_string(error.mark.line + 1) + ":" + std::to_string(error.mark.column + 1) +
+                       ": nested deeper than " + std::to_string(error.depth() - 1) + " levels of lists or mappings");
   } catch (const YAML::ParserException& error) {
     throw ProfileError(path + ":" + std::to_string(error.mark.line + 1) + ":" + std::to_string(error.mark.column + 1) +
                        ": " + error.msg);
@@ -227,11 +232,9 @@ Profile parse_profile(const std::string& text, const std::string& path) {
 }
 
 Profile load_profile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ProfileError(path + ":0:0: cannot read the file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_profile(text.str(), path);
+  auto text = read_bounded_file(path, file_kinds::profile);
+  if (!text) throw ProfileError(path + ":0:0: " + text.error().detail.substr(path.size() + 2));
+  return parse_profile(*text, path);
 }
 
 }  // namespace ocp::campaign

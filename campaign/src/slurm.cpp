@@ -1,5 +1,6 @@
 // `ocp_campaign slurm` (slurm.hpp).
 #include "campaign/slurm.hpp"
+#include "campaign/script_names.hpp"
 #include "campaign/shell_words.hpp"
 
 #include <sys/wait.h>
@@ -13,6 +14,7 @@
 #include <fstream>
 #include <iostream>
 #include <optional>
+#include <stdexcept>
 #include <thread>
 
 #include "campaign/profile.hpp"
@@ -49,11 +51,13 @@ std::string self_executable() {
 void add_slurm_options(CLI::App& app, SlurmOptions& options) {
   app.add_option("--seed", options.seed, "campaign seed")->check(cli::whole())->capture_default_str();
   app.add_option("--worlds", options.worlds, "worlds in the campaign")->check(cli::whole(1, 10'000'000))->capture_default_str();
-  app.add_option("--profile", options.profile, "generator profile: default, calm, or a YAML file")->capture_default_str();
+  app.add_option("--profile", options.profile, "generator profile: default, calm, or a YAML file")
+      ->check(script_name())->capture_default_str();
   app.add_option("--tasks", options.tasks, "array tasks (shards)")->check(CLI::Range(1, 10'000))->capture_default_str();
   app.add_option("-j,--jobs", options.jobs, "worker threads per task (--cpus-per-task)")->check(CLI::Range(1, 256))->capture_default_str();
-  app.add_option("--out", options.out, "results folder (shards in shard-<i>/, merged at the top)")->capture_default_str();
-  app.add_option("--partition", options.partition, "Slurm partition (default: the cluster's)");
+  app.add_option("--out", options.out, "results folder (shards in shard-<i>/, merged at the top)")
+      ->check(script_name())->capture_default_str();
+  app.add_option("--partition", options.partition, "Slurm partition (default: the cluster's)")->check(script_name());
   app.add_option("--poll", options.poll_seconds, "seconds between squeue polls")->check(cli::real(0.05, 600))->capture_default_str();
   app.add_option("--timeout", options.timeout_seconds, "give up waiting after this many seconds")
       ->check(cli::real(1, 7 * 86400))->capture_default_str();
@@ -70,17 +74,22 @@ std::string slurm_profile_argument(const std::string& profile) {
 
 }  // namespace
 
+// Every name in it is quoted (and a name with a control character refused before: a newline would
+// end its #SBATCH or comment line and start a command).
 std::string sbatch_script(const SlurmOptions& o, const std::string& executable) {
+  for (const std::string* name : {&o.out, &o.partition, &o.profile, &executable}) {
+    if (auto problem = script_name_problem(*name)) throw std::invalid_argument("'" + *name + "': " + *problem);
+  }
   const std::string out = std::filesystem::absolute(o.out).lexically_normal().string();
   const std::string tasks = std::to_string(o.tasks);
   std::string script = "#!/bin/bash\n";
   script += "#SBATCH --job-name=ocp-campaign-" + std::to_string(o.seed) + "\n";
   script += "#SBATCH --array=0-" + std::to_string(o.tasks - 1) + "\n";
   script += "#SBATCH --cpus-per-task=" + std::to_string(o.jobs) + "\n";
-  script += "#SBATCH --output=" + out + "/shard-%a.log\n";
-  if (!o.partition.empty()) script += "#SBATCH --partition=" + o.partition + "\n";
-  script += "# Task i runs shard i/" + tasks + " into " + out + "/shard-i (a folder every node sees);\n";
-  script += "# `ocp_campaign merge` joins them. Exit 1 of a task means a world failed, not the task.\n";
+  script += "#SBATCH --output=" + shell_quoted(slurm_pattern_literal(out) + "/shard-%a.log") + "\n";
+  if (!o.partition.empty()) script += "#SBATCH --partition=" + shell_quoted(sbatch_literal(o.partition)) + "\n";
+  script += "# Task i runs shard i/" + tasks + " into the folder --out names below, in shard-i (a folder every\n";
+  script += "# node sees); `ocp_campaign merge` joins them. Exit 1 of a task means a world failed, not the task.\n";
   script += ": \"${SLURM_ARRAY_TASK_ID:?run this as a Slurm array task (sbatch)}\"\n";
   script += "exec " + shell_quoted(executable) + " run --seed " + std::to_string(o.seed) + " --worlds " +
             std::to_string(o.worlds) + " --profile " + shell_quoted(slurm_profile_argument(o.profile)) + " -j " +
@@ -205,7 +214,13 @@ int merge_shards(const SlurmOptions& o, const std::string& executable, const std
 
 int run_slurm(const SlurmOptions& o) {
   const std::string executable = self_executable();
-  const std::string script = sbatch_script(o, executable);
+  std::string script;
+  try {
+    script = sbatch_script(o, executable);
+  } catch (const std::invalid_argument& error) {
+    std::cerr << "ocp_campaign slurm: " << error.what() << "\n";
+    return exit_usage;
+  }
   if (o.print_only) {
     std::cout << script;
     return 0;

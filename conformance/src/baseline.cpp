@@ -3,13 +3,15 @@
 #include <fstream>
 #include <sstream>
 
+#include "ocp/bounded_file.hpp"
 #include "ocp/interrupt.hpp"
 
 namespace ocp::conformance {
 
 Result<Baseline> load_baseline(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) return Error{std::make_error_code(std::errc::no_such_file_or_directory), "cannot read baseline " + path};
+  const auto text = read_bounded_file(path, file_kinds::baseline);
+  if (!text) return Error{text.error().code, "cannot read baseline " + text.error().detail};
+  std::istringstream in(*text);
   Baseline baseline;
   std::string line;
   while (std::getline(in, line)) {

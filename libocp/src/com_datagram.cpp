@@ -28,9 +28,13 @@ std::uint64_t get(std::span<const std::uint8_t> in, std::size_t at, std::size_t 
   return value;
 }
 
+bool known_kind(std::uint8_t kind) { return kind >= 1 && kind <= static_cast<std::uint8_t>(LinkKind::pong); }
+
+}  // namespace
+
 using Tag = std::array<std::uint8_t, tag_bytes>;
 
-Tag compute_tag(const ComKey& key, const std::uint8_t* data, std::size_t length) {
+Tag datagram_tag(const ComKey& key, const std::uint8_t* data, std::size_t length) {
   Tag tag{};
   unsigned int tag_length = 0;
   static const std::uint8_t empty_key = 0;   // HMAC() wants a non-null key even when empty
@@ -42,9 +46,40 @@ Tag compute_tag(const ComKey& key, const std::uint8_t* data, std::size_t length)
   return tag;
 }
 
-bool known_kind(std::uint8_t kind) { return kind >= 1 && kind <= static_cast<std::uint8_t>(LinkKind::pong); }
+std::uint64_t datagram_field(std::span<const std::uint8_t> datagram, std::size_t at, std::size_t bytes) {
+  return get(datagram, at, bytes);
+}
 
-}  // namespace
+std::string datagram_header(std::uint8_t kind, std::uint64_t session, std::uint64_t sequence, std::uint32_t message,
+                            std::size_t fragment, std::size_t fragments, std::size_t body_length) {
+  std::string header(header_bytes, '\0');
+  header[0] = static_cast<char>(magic0);
+  header[1] = static_cast<char>(magic1);
+  header[2] = static_cast<char>(protocol_version);
+  header[3] = static_cast<char>(kind);
+  put(header, 4, session, 8);
+  put(header, 12, sequence, 8);
+  put(header, 20, message, 4);
+  put(header, 24, fragment, 2);
+  put(header, 26, fragments, 2);
+  put(header, 28, body_length, 2);
+  return header;
+}
+
+OpenerCounters& OpenerCounters::operator+=(const OpenerCounters& other) {
+  accepted += other.accepted;
+  messages += other.messages;
+  truncated += other.truncated;
+  oversized += other.oversized;
+  bad_header += other.bad_header;
+  bad_mac += other.bad_mac;
+  replayed += other.replayed;
+  wrong_direction += other.wrong_direction;
+  malformed += other.malformed;
+  messages_lost += other.messages_lost;
+  sessions += other.sessions;
+  return *this;
+}
 
 std::string_view drop_name(Drop drop) {
   switch (drop) {
@@ -72,19 +107,10 @@ bool DatagramSealer::seal(const LinkMessage& message, std::vector<std::string>& 
   for (std::size_t index = 0; index < fragments; ++index) {
     const std::size_t offset = index * max_body_bytes;
     const std::size_t length = std::min(max_body_bytes, body.size() - offset);
-    std::string datagram(header_bytes, '\0');
-    datagram[0] = static_cast<char>(magic0);
-    datagram[1] = static_cast<char>(magic1);
-    datagram[2] = static_cast<char>(protocol_version);
-    datagram[3] = static_cast<char>(kind_of(message));
-    put(datagram, 4, session_, 8);
-    put(datagram, 12, next_sequence_++, 8);
-    put(datagram, 20, message_number, 4);
-    put(datagram, 24, index, 2);
-    put(datagram, 26, fragments, 2);
-    put(datagram, 28, length, 2);
+    std::string datagram = datagram_header(static_cast<std::uint8_t>(kind_of(message)), session_, next_sequence_++,
+                                           message_number, index, fragments, length);
     datagram.append(body, offset, length);
-    const Tag tag = compute_tag(key_, reinterpret_cast<const std::uint8_t*>(datagram.data()), datagram.size());
+    const Tag tag = datagram_tag(key_, reinterpret_cast<const std::uint8_t*>(datagram.data()), datagram.size());
     datagram.append(reinterpret_cast<const char*>(tag.data()), tag.size());
     out.push_back(std::move(datagram));
   }
@@ -169,7 +195,7 @@ DatagramOpener::Opened DatagramOpener::open(std::span<const std::uint8_t> datagr
       body_length > max_body_bytes || (index + 1 < fragments && body_length != max_body_bytes)) {
     return reject(Drop::bad_header);
   }
-  const Tag expected = compute_tag(key_, datagram.data(), header_bytes + body_length);
+  const Tag expected = datagram_tag(key_, datagram.data(), header_bytes + body_length);
   if (CRYPTO_memcmp(expected.data(), datagram.data() + header_bytes + body_length, tag_bytes) != 0) {
     return reject(Drop::bad_mac);
   }

@@ -1,4 +1,5 @@
 #include "ocp/delivery_trace.hpp"
+#include "ocp/bounded_file.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -40,11 +41,11 @@ Result<DeliveryTrace> DeliveryTrace::parse(std::string_view text, const std::str
     const auto [rest, status] = std::from_chars(line.data(), line.data() + line.size(), value);
     if (status == std::errc::result_out_of_range || (status == std::errc{} && rest == line.data() + line.size() &&
                                                      value > max_timestamp_ms)) {
-      return trace_error(where + "timestamp '" + std::string(line) + "' is beyond " +
+      return trace_error(where + "timestamp '" + escaped_excerpt(line) + "' is beyond " +
                          std::to_string(max_timestamp_ms) + " ms");
     }
     if (status != std::errc{} || rest != line.data() + line.size() || value < 0) {
-      return trace_error(where + "expected a whole number of milliseconds, got '" + std::string(line) + "'");
+      return trace_error(where + "expected a whole number of milliseconds, got '" + escaped_excerpt(line) + "'");
     }
     if (!millis.empty() && value < millis.back()) {
       return trace_error(where + "timestamp " + std::to_string(value) + " goes backwards (previous line says " +
@@ -66,13 +67,9 @@ Result<DeliveryTrace> DeliveryTrace::parse(std::string_view text, const std::str
 }
 
 Result<DeliveryTrace> DeliveryTrace::load(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) {
-    return trace_error(path + ": cannot open delivery trace: " + std::strerror(errno));
-  }
-  std::ostringstream text;
-  text << file.rdbuf();
-  return parse(text.str(), path);
+  auto text = read_bounded_file(path, file_kinds::delivery_trace);
+  if (!text) return trace_error(text.error().detail);
+  return parse(*text, path);
 }
 
 Micros DeliveryTrace::time_of(std::uint64_t index) const {

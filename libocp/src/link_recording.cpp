@@ -1,5 +1,6 @@
 // The link recording's text form (docs/link-recording.md), read and written in one place.
 #include "ocp/link_recording.hpp"
+#include "ocp/bounded_file.hpp"
 
 #include <cerrno>
 #include <charconv>
@@ -56,7 +57,7 @@ class RecordingReader {
     if (!header_seen_) return header(words);
     if (words[0] == "clock") return clock(words);
     const auto route = recording_route(words[0]);
-    if (!route) return "expected to_streamer, to_player or clock, got '" + std::string(words[0]) + "'";
+    if (!route) return "expected to_streamer, to_player or clock, got '" + escaped_excerpt(words[0]) + "'";
     return message(*route, words);
   }
   bool header_seen() const { return header_seen_; }
@@ -80,20 +81,20 @@ class RecordingReader {
     if (!route) return "expected 'clock to_streamer|to_player measured|rtt_half'";
     if (words[2] == "measured") recording_.set_clock(*route, LinkRecording::Clock::measured);
     else if (words[2] == "rtt_half") recording_.set_clock(*route, LinkRecording::Clock::rtt_half);
-    else return "unknown clock '" + std::string(words[2]) + "' (measured or rtt_half)";
+    else return "unknown clock '" + escaped_excerpt(words[2]) + "' (measured or rtt_half)";
     return {};
   }
 
   std::string message(LinkRoute route, const std::vector<std::string_view>& words) {
     if (words.size() != 3) return "expected 'ROUTE SENT_US DELAY_US' or 'ROUTE SENT_US lost'";
     const auto sent = recording_micros(words[1]);
-    if (!sent) return "expected a send time in whole microseconds, got '" + std::string(words[1]) + "'";
+    if (!sent) return "expected a send time in whole microseconds, got '" + escaped_excerpt(words[1]) + "'";
     RecordedMessage recorded{Micros{*sent}, Micros{0}, words[2] == "lost"};
     if (!recorded.lost) {
       const auto delay = recording_micros(words[2]);
       if (!delay || *delay > LinkRecording::max_delay_us) {
         return "expected a delay in whole microseconds up to " + std::to_string(LinkRecording::max_delay_us) +
-               ", or 'lost', got '" + std::string(words[2]) + "'";
+               ", or 'lost', got '" + escaped_excerpt(words[2]) + "'";
       }
       recorded.delay = Micros{*delay};
     }
@@ -142,11 +143,9 @@ Result<LinkRecording> LinkRecording::parse(std::string_view text, const std::str
 }
 
 Result<LinkRecording> LinkRecording::load(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) return recording_error(path + ": cannot open link recording: " + std::strerror(errno));
-  std::ostringstream text;
-  text << file.rdbuf();
-  return parse(text.str(), path);
+  auto text = read_bounded_file(path, file_kinds::link_recording);
+  if (!text) return recording_error(text.error().detail);
+  return parse(*text, path);
 }
 
 std::string LinkRecording::format(const std::vector<std::string>& comments) const {

@@ -1,5 +1,6 @@
 // Scriptable gamepad: idle, constant, waveform and recorded playback (see gamepad.hpp).
 #include "player/gamepad.hpp"
+#include "ocp/bounded_file.hpp"
 
 #include <algorithm>
 #include <array>
@@ -46,7 +47,7 @@ Error recording_error(std::size_t line_number, const std::string& what) {
 // Applies one "name=value" field to `controller`; returns an error text or "".
 std::string apply_field(std::string_view field, Controller& controller) {
   const auto equals = field.find('=');
-  if (equals == std::string_view::npos) return "expected name=value, got '" + std::string(field) + "'";
+  if (equals == std::string_view::npos) return "expected name=value, got '" + escaped_excerpt(field) + "'";
   const std::string_view name = field.substr(0, equals);
   const std::string value_text(field.substr(equals + 1));
   for (GamepadAxis axis : all_axes) {
@@ -56,7 +57,7 @@ std::string apply_field(std::string_view field, Controller& controller) {
     const double value = std::strtod(value_text.c_str(), &end);
     if (value_text.empty() || end != value_text.c_str() + value_text.size() || !std::isfinite(value) ||
         value < -1.0 || value > 1.0) {
-      return "axis '" + std::string(name) + "' needs a number in [-1, 1], got '" + value_text + "'";
+      return "axis '" + escaped_excerpt(name) + "' needs a number in [-1, 1], got '" + escaped_excerpt(value_text) + "'";
     }
     axis_value(controller.axes, axis) = value;
     return "";
@@ -64,12 +65,12 @@ std::string apply_field(std::string_view field, Controller& controller) {
   for (const ButtonField& button : button_fields) {
     if (button.name != name) continue;
     if (value_text != "0" && value_text != "1") {
-      return "button '" + std::string(name) + "' needs 0 or 1, got '" + value_text + "'";
+      return "button '" + escaped_excerpt(name) + "' needs 0 or 1, got '" + escaped_excerpt(value_text) + "'";
     }
     controller.buttons.*button.member = value_text == "1";
     return "";
   }
-  return "unknown field '" + std::string(name) + "'";
+  return "unknown field '" + escaped_excerpt(name) + "'";
 }
 
 }  // namespace
@@ -127,7 +128,7 @@ Result<Recording> parse_recording(std::string_view text) {
         std::from_chars(time_text.data(), time_text.data() + time_text.size(), time_ms);
     if (error != std::errc{} || end != time_text.data() + time_text.size() ||
         time_ms > 1'000'000'000'000ULL) {
-      return recording_error(line_number, "expected a time in ms, got '" + time_text + "'");
+      return recording_error(line_number, "expected a time in ms, got '" + escaped_excerpt(time_text) + "'");
     }
     RecordedState state;
     state.time = Micros{static_cast<std::int64_t>(time_ms) * 1000};
@@ -146,14 +147,9 @@ Result<Recording> parse_recording(std::string_view text) {
 }
 
 Result<Recording> load_recording_file(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) {
-    return Error{std::make_error_code(std::errc::no_such_file_or_directory),
-                 "cannot open gamepad recording '" + path + "'"};
-  }
-  std::ostringstream content;
-  content << file.rdbuf();
-  return parse_recording(content.str());
+  auto content = read_bounded_file(path, file_kinds::gamepad_script);
+  if (!content) return content.error();
+  return parse_recording(*content);
 }
 
 std::string format_recording(const Recording& recording) {

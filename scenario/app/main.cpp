@@ -18,6 +18,7 @@
 #include "scenario/reports.hpp"
 #include "scenario/runner.hpp"
 #include "scenario/verdicts.hpp"
+#include "ocp/bounded_file.hpp"
 #include "ocp/cli_checks.hpp"
 #include "ocp/cli_parse.hpp"
 #include "ocp/interrupt.hpp"
@@ -63,7 +64,24 @@ struct ToolOptions {
   std::string junit, out_dir = "scenario-results";
   bool list = false, no_trace = false, trace_payloads = false, realtime = false;
   std::uint16_t tcp_port = 4000;
+  double max_file_mb = 0, max_simulated_h = 0;   // 0: the defaults (ocp/bounded_file.hpp, ParseLimits)
 };
+
+// --max-file-mb: raises the cap of every scenario, trace and recording file (the defaults are
+// in docs/usage.md, "Input files").
+void add_max_file_option(CLI::App& command, double& megabytes) {
+  command.add_option("--max-file-mb", megabytes, "raise the size cap of input files (scenario 1, traces 64 MB)")
+      ->check(ocp::cli::real(1, 65'536));
+}
+
+void apply_input_limits(const ToolOptions& options) {
+  if (options.max_file_mb > 0) ocp::raise_file_caps(static_cast<std::uint64_t>(options.max_file_mb * 1024 * 1024));
+  if (options.max_simulated_h > 0) {
+    ParseLimits limits = parse_limits();
+    limits.max_run_duration = ocp::Micros{static_cast<std::int64_t>(options.max_simulated_h * 3600e6)};
+    set_parse_limits(limits);
+  }
+}
 
 void add_run_command(CLI::App& app, ToolOptions& options) {
   CLI::App* run = app.add_subcommand("run", "run scenario files (or every *.yaml in a folder)");
@@ -81,16 +99,20 @@ void add_run_command(CLI::App& app, ToolOptions& options) {
                 "external vehicle clients over TCP");
   run->add_option("--tcp-port", options.tcp_port, "--realtime: port of the first external vehicle (the next +1, …; 0: any)")
       ->capture_default_str();
+  add_max_file_option(*run, options.max_file_mb);
+  run->add_option("--max-simulated-h", options.max_simulated_h, "raise the ceiling of one run's duration (default 24 h)")
+      ->check(ocp::cli::real(1, 1'000'000));
 }
 
 // A run's trace → a link recording on stdout (docs/link-recording.md).
-CLI::App* add_extract_link_command(CLI::App& app, ExtractLinkOptions& options) {
+CLI::App* add_extract_link_command(CLI::App& app, ExtractLinkOptions& options, ToolOptions& limits) {
   CLI::App* extract = app.add_subcommand("extract-link", "write a link recording (for link: {replay: FILE}) of one "
                                                          "vehicle from a run's trace.jsonl, to stdout");
   extract->add_option("trace", options.trace_path, "a run's trace.jsonl")->required();
   extract->add_option("--vehicle", options.vehicle, "the vehicle whose link to record (needed when the trace has several)");
   extract->add_flag("--rtt-half", options.rtt_half,
                     "the two ends' clocks differ (a two-host run): every delay is the Streamer's RTT/2");
+  add_max_file_option(*extract, limits.max_file_mb);
   return extract;
 }
 
@@ -260,9 +282,10 @@ int run_tool(int argc, char** argv) {
   ToolOptions options;
   add_run_command(app, options);
   ExtractLinkOptions extract;
-  const CLI::App* extract_command = add_extract_link_command(app, extract);
+  const CLI::App* extract_command = add_extract_link_command(app, extract, options);
   // --help is exit 0; a bad command line is a harness error like a bad file: 2.
   if (auto exit_code = ocp::cli::parse_or_exit_code(app, argc, argv)) return *exit_code;
+  apply_input_limits(options);
   if (extract_command->parsed()) return extract_link_command(extract, std::cout, std::cerr);
   const std::vector<Scenario> scenarios = load_every_scenario(expand(options.inputs));
   if (scenarios.empty()) return exit_error;

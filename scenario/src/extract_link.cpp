@@ -13,6 +13,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "ocp/bounded_file.hpp"
 #include "ocp/exit_codes.hpp"
 #include "world/trace.hpp"
 
@@ -107,7 +108,7 @@ class LinkExtractor {
     if (found == route.by_id.end()) return;          // sent before the trace began
     ExtractedMessage& message = route.messages[found->second];
     if (message.settled) return;                     // a duplicate: the first delivery counts
-    if (outcome != "delivered" && outcome != "dropped") fail(number, "unknown link outcome '" + std::string(outcome) + "'");
+    if (outcome != "delivered" && outcome != "dropped") fail(number, "unknown link outcome '" + escaped_excerpt(outcome) + "'");
     message.settled = route.any_settled = true;
     message.lost = outcome == "dropped";
     message.delay_us = t - message.sent_us;
@@ -212,15 +213,13 @@ ExtractedLink extract_link(std::string_view trace_jsonl, const ExtractLinkOption
 }
 
 int extract_link_command(const ExtractLinkOptions& options, std::ostream& out, std::ostream& err) {
-  std::ifstream file(options.trace_path, std::ios::binary);
-  if (!file) {
-    err << "error: " << options.trace_path << ": cannot open the trace\n";
+  const auto text = read_bounded_file(options.trace_path, file_kinds::trace_jsonl);
+  if (!text) {
+    err << "error: " << text.error().detail << "\n";
     return cli::exit_usage_error;
   }
-  std::ostringstream text;
-  text << file.rdbuf();
   try {
-    const ExtractedLink extracted = extract_link(text.str(), options);
+    const ExtractedLink extracted = extract_link(*text, options);
     out << extracted.recording.format(extracted.comments);
     return cli::exit_ok;
   } catch (const ExtractLinkError& error) {

@@ -3,6 +3,7 @@
 // The sections are read in parse_world.cpp, parse_timeline.cpp and parse_expect.cpp.
 #include "scenario/parse.hpp"
 
+#include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/yaml.h>
 
 #include <cerrno>
@@ -12,6 +13,7 @@
 #include <sstream>
 
 #include "parser.hpp"
+#include "ocp/bounded_file.hpp"
 #include "yaml_syntax.hpp"
 
 namespace ocp::scenario {
@@ -27,6 +29,10 @@ Scenario Parser::parse(const std::string& text) {
   YAML::Node root;
   try {
     root = YAML::Load(text);
+  } catch (const YAML::DeepRecursion& error) {
+    throw ScenarioError(read_.file(), error.mark.line + 1, error.mark.column + 1,
+                        "nested deeper than " + std::to_string(error.depth() - 1) +
+                            " levels of lists or mappings (YAML refuses more)");
   } catch (const YAML::ParserException& error) {
     throw ScenarioError(read_.file(), error.mark.line + 1, error.mark.column + 1,
                         explain_yaml_syntax_error(error.msg, text, error.mark.line + 1));
@@ -38,6 +44,10 @@ Scenario Parser::parse(const std::string& text) {
   if (root["seed"]) scenario_.seed = read_.integer(root["seed"]);
   scenario_.duration = read_.duration(read_.require(root, "duration", "scenario"));
   if (scenario_.duration <= Micros{0}) read_.fail(root["duration"], "duration must be > 0");
+  if (scenario_.duration > parse_limits().max_run_duration) {
+    read_.fail(root["duration"], "duration " + format_time(scenario_.duration) + " is over the ceiling of one run, " +
+                                     format_time(parse_limits().max_run_duration) + " simulated (raise it with --max-simulated-h)");
+  }
   if (const YAML::Node expect = root["expect"]; expect && expect.IsMap()) expects_refusal_ = static_cast<bool>(expect["refuses_to_start"]);
   world(read_.require(root, "world", "scenario"));
   if (root["timeline"]) timeline(root["timeline"]);
@@ -56,14 +66,11 @@ Scenario parse_scenario(const std::string& text, const std::string& path) {
 }
 
 Scenario load_scenario(const std::string& path) {
-  // The system's reason (no such file, permission denied, a folder), as `cat` would give it.
-  errno = 0;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ScenarioError(path, "cannot open " + path + ": " + std::strerror(errno != 0 ? errno : EIO));
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw ScenarioError(path, "cannot read " + path + ": " + std::strerror(errno != 0 ? errno : EIO));
-  return parse_scenario(text.str(), path);
+  // The system's reason (no such file, permission denied), or why the file is refused (not a
+  // regular file, over the cap): ocp/bounded_file.hpp.
+  auto text = read_bounded_file(path, file_kinds::scenario);
+  if (!text) throw ScenarioError(path, text.error().detail);
+  return parse_scenario(*text, path);
 }
 
 }  // namespace ocp::scenario

@@ -279,7 +279,13 @@ ClientDataAction Parser::client_data(const YAML::Node& n, TimelineEvent& event) 
       data.vehicles[name] = out;
     }
   }
-  if (n["every"]) data.every = read_.duration(n["every"]);
+  if (n["every"]) {
+    data.every = read_.duration(n["every"]);
+    if (data.every > Micros{0} && data.every < parse_limits().min_every) {
+      read_.fail(n["every"], "every " + format_time(data.every) + " is faster than the floor, " +
+                                 format_time(parse_limits().min_every) + " (at most 1 000 client data events a second)");
+    }
+  }
   if (n["until"]) {
     if (data.every <= Micros{0}) read_.fail(n["until"], "until needs every");
     data.until = read_.duration(n["until"]);

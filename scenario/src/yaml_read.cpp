@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "did_you_mean.hpp"
+#include "ocp/bounded_file.hpp"
 
 namespace ocp::scenario {
 
@@ -63,7 +64,7 @@ bool YamlReader::boolean(const YAML::Node& node) const {
   const std::string value = node.IsScalar() ? node.Scalar() : "";
   if (value == "true") return true;
   if (value == "false") return false;
-  fail(node, "expected true or false, got '" + value + "'");
+  fail(node, "expected true or false, got '" + escaped_excerpt(value) + "'");
 }
 
 double YamlReader::number(const YAML::Node& node, double min, double max) const {
@@ -72,7 +73,7 @@ double YamlReader::number(const YAML::Node& node, double min, double max) const 
   errno = 0;
   const double parsed = std::strtod(value.c_str(), &end);
   if (value.empty() || *end != '\0' || errno != 0 || !std::isfinite(parsed)) {
-    fail(node, "expected a number, got '" + value + "'");
+    fail(node, "expected a number, got '" + escaped_excerpt(value) + "'");
   }
   if (parsed < min || parsed > max) {
     fail(node, "value " + value + " out of range [" + std::to_string(min) + ", " +
@@ -87,7 +88,7 @@ std::uint64_t YamlReader::integer(const YAML::Node& node) const {
   errno = 0;
   const unsigned long long parsed = std::strtoull(value.c_str(), &end, 10);
   if (value.empty() || value[0] == '-' || *end != '\0' || errno != 0) {
-    fail(node, "expected a non-negative integer, got '" + value + "'");
+    fail(node, "expected a non-negative integer, got '" + escaped_excerpt(value) + "'");
   }
   return parsed;
 }
@@ -100,7 +101,13 @@ Micros parse_duration_text(const std::string& text) {
   }
   const std::string digits = text.substr(0, split);
   const std::string unit = text.substr(split);
-  if (digits.empty()) throw std::invalid_argument("expected a duration like 350ms or 12.5s, got '" + text + "'");
+  if (digits.empty()) {
+    throw std::invalid_argument("expected a duration like 350ms or 12.5s, got '" + escaped_excerpt(text) + "'");
+  }
+  if (!unit.empty() && (unit[0] == 'e' || unit[0] == 'E')) {
+    throw std::invalid_argument("duration '" + escaped_excerpt(text) +
+                                "': write it without an exponent, as a number and a unit (us, ms, s, min or h)");
+  }
   char* end = nullptr;
   const double value = std::strtod(digits.c_str(), &end);
   if (*end != '\0') throw std::invalid_argument("bad number in duration '" + text + "'");
@@ -111,9 +118,22 @@ Micros parse_duration_text(const std::string& text) {
   else if (unit == "min") scale = 60e6;
   else if (unit == "h") scale = 3600e6;
   else if (unit.empty() && value == 0) scale = 0;
-  else throw std::invalid_argument("duration '" + text + "' needs a unit: us, ms, s, min or h");
+  else throw std::invalid_argument("duration '" + escaped_excerpt(text) + "' needs a unit: us, ms, s, min or h");
+  // Beyond 2^62 us (about 146 000 years) the sums of times (a deadline plus a delay) would
+  // overflow 64 bits; 2^62 us itself is the largest, and acts as "never".
+  if (!(value * scale <= static_cast<double>(max_duration_us))) {
+    throw std::invalid_argument("duration '" + escaped_excerpt(text) + "' is beyond the largest, " +
+                                std::to_string(max_duration_us) + "us (2^62 us, about 146 000 years)");
+  }
   return Micros{static_cast<std::int64_t>(std::llround(value * scale))};
 }
+
+namespace {
+ParseLimits current_limits;
+}  // namespace
+
+const ParseLimits& parse_limits() { return current_limits; }
+void set_parse_limits(const ParseLimits& limits) { current_limits = limits; }
 
 Micros YamlReader::duration(const YAML::Node& node) const {
   if (!node.IsScalar()) fail(node, "expected a duration like 350ms or 12.5s");
@@ -151,20 +171,25 @@ bool json_number_text(std::string_view text) {
   return i == text.size();
 }
 
-void write_json(const YAML::Node& node, JsonWriter& json) {
+// yaml-cpp shares an alias's node instead of copying it, so a file of a few lines can stand for
+// billions of nodes ("billion laughs"): they are counted as they are written, and refused past
+// the limit before they cost memory.
+void write_json(const YAML::Node& node, JsonWriter& json, std::size_t& nodes_left) {
+  if (nodes_left == 0) throw std::length_error("expanded node count");
+  --nodes_left;
   switch (node.Type()) {
     case YAML::NodeType::Map:
       json.StartObject();
       for (const auto& item : node) {
         const std::string key = item.first.as<std::string>();
         json.Key(key.c_str(), static_cast<rapidjson::SizeType>(key.size()));
-        write_json(item.second, json);
+        write_json(item.second, json, nodes_left);
       }
       json.EndObject();
       return;
     case YAML::NodeType::Sequence:
       json.StartArray();
-      for (const auto& item : node) write_json(item, json);
+      for (const auto& item : node) write_json(item, json, nodes_left);
       json.EndArray();
       return;
     case YAML::NodeType::Scalar: {
@@ -195,7 +220,13 @@ void write_json(const YAML::Node& node, JsonWriter& json) {
 std::string YamlReader::json(const YAML::Node& node) const {
   rapidjson::StringBuffer buffer;
   JsonWriter json(buffer);
-  write_json(node, json);
+  std::size_t nodes_left = parse_limits().max_value_nodes;
+  try {
+    write_json(node, json, nodes_left);
+  } catch (const std::length_error&) {
+    fail(node, "this value expands to more than " + std::to_string(parse_limits().max_value_nodes) +
+                   " nodes (YAML aliases are expanded); make it smaller");
+  }
   return std::string(buffer.GetString(), buffer.GetSize());
 }
 

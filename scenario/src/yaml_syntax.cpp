@@ -2,6 +2,8 @@
 #include "yaml_syntax.hpp"
 
 #include <sstream>
+
+#include "ocp/bounded_file.hpp"
 #include <string_view>
 
 namespace ocp::scenario {
@@ -49,7 +51,8 @@ std::string explain_yaml_syntax_error(const std::string& message, const std::str
     }
   }
   const std::string quoted = line_text(text, line);
-  if (!quoted.empty()) reason += "; line " + std::to_string(line) + " is \"" + quoted + "\"";
+  // An excerpt: the line may be 200 KB of brackets, or a file that is no scenario at all.
+  if (!quoted.empty()) reason += "; line " + std::to_string(line) + " is \"" + escaped_excerpt(quoted) + "\"";
   return reason;
 }
 

@@ -377,7 +377,10 @@ end
 ---------------------------------------------------------------------------------------------
 -- The com channel over UDP: header, tag, reassembly, and the body of every LinkMessage.
 
-local kind_names = { [1] = "OperatorControl", [2] = "StreamerFeedback", [3] = "VideoFrame", [4] = "Ping", [5] = "Pong" }
+-- 6 and 7: the session handshake (libocp/include/ocp/com_session.hpp): a Hello with the Player's
+-- nonce, a Welcome with both; the session's keys come from them and the key file (HKDF).
+local kind_names = { [1] = "OperatorControl", [2] = "StreamerFeedback", [3] = "VideoFrame", [4] = "Ping", [5] = "Pong",
+                     [6] = "Hello (handshake)", [7] = "Welcome (handshake)" }
 local cf = {
   magic = ProtoField.string("ocp_com.magic", "Magic"),
   version = ProtoField.uint8("ocp_com.version", "Version"),
@@ -413,6 +416,8 @@ local cf = {
   size_bytes = ProtoField.uint32("ocp_com.size_bytes", "Frame size (bytes)"),
   ping_id = ProtoField.uint64("ocp_com.ping_id", "Ping id"),
   sent_at = ProtoField.int64("ocp_com.sent_at_us", "Ping sent at (µs, sender's clock)"),
+  player_nonce = ProtoField.bytes("ocp_com.player_nonce", "Player's nonce"),
+  streamer_nonce = ProtoField.bytes("ocp_com.streamer_nonce", "Streamer's nonce"),
 }
 local com_field_list = {}
 for _, field in pairs(cf) do com_field_list[#com_field_list + 1] = field end
@@ -540,12 +545,20 @@ local function body_ping(r, tree, name)
   return name .. " " .. tostring(id:le_uint64())
 end
 
+local function body_handshake(r, tree, name)
+  tree:add(cf.player_nonce, r.take(32))
+  if name == "Welcome" then tree:add(cf.streamer_nonce, r.take(32)) end
+  return name .. " (session handshake)"
+end
+
 local body_readers = {
   [1] = body_operator_control,
   [2] = body_streamer_feedback,
   [3] = body_video_frame,
   [4] = function(r, tree) return body_ping(r, tree, "Ping") end,
   [5] = function(r, tree) return body_ping(r, tree, "Pong") end,
+  [6] = function(r, tree) return body_handshake(r, tree, "Hello") end,
+  [7] = function(r, tree) return body_handshake(r, tree, "Welcome") end,
 }
 
 local function dissect_body(kind, body_tvb, tree)
@@ -608,10 +621,10 @@ end
 local function com_looks_valid(tvb)
   local length = tvb:len()
   if length < COM_HEADER + COM_TAG or length > COM_MAX then return false end
-  if tvb:raw(0, 2) ~= "OC" or tvb(2, 1):uint() ~= 1 then return false end
+  if tvb:raw(0, 2) ~= "OC" or tvb(2, 1):uint() ~= 2 then return false end
   local kind = tvb(3, 1):uint()
   local fragment, fragments = tvb(24, 2):le_uint(), tvb(26, 2):le_uint()
-  return kind >= 1 and kind <= 5 and fragments >= 1 and fragments <= COM_MAX_FRAGMENTS and fragment < fragments
+  return kind >= 1 and kind <= 7 and fragments >= 1 and fragments <= COM_MAX_FRAGMENTS and fragment < fragments
     and tvb(30, 2):le_uint() == 0 and COM_HEADER + tvb(28, 2):le_uint() + COM_TAG == length
 end
 

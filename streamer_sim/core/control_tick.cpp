@@ -22,6 +22,17 @@ void StreamerCore::Impl::on_control_tick(SimTime deadline) {
   }
   publish_latency_sample(deadline, now);
   summarise_user_data_drops(now);
+  summarise_pair_rejections(now);
+}
+
+// A client that alternates a good and a made-up pair (or a replay beside a live session) opens
+// an InvalidMac episode every other message: each is told once, then summarised.
+void StreamerCore::Impl::summarise_pair_rejections(SimTime now) {
+  if (!pair_rejections.in_episode()) return;
+  if (const auto summary = pair_rejections.summary(now)) {
+    logger.warn("latency loop not closed (InvalidMac) again: {}{}", summary->text("more episodes"),
+                summary->episode_ended ? " (none since)" : "");
+  }
 }
 
 void StreamerCore::Impl::summarise_user_data_drops(SimTime now) {

@@ -71,7 +71,10 @@ void StreamerCore::Impl::report_rejected_pair(const AckPair& rejected) {
   pair_rejection_reported = true;
   const PairJudgement judgement = latency_loop.judge_rejected(rejected);
   const std::string hint = describe_rejected_pair(rejected, judgement);
-  logger.warn("latency loop not closed (InvalidMac): {} (logged once until a valid pair is returned)", hint);
+  if (pair_rejections.occurred(executor.now())) {
+    logger.warn("latency loop not closed (InvalidMac): {} (logged once; more episodes are summarised every {})", hint,
+                format_span(pair_rejections.period()));
+  }
   if (events.active()) events.publish(Event{executor.now(), component(), PairRejected{rejected, judgement, hint}});
 }
 

@@ -48,6 +48,7 @@ struct StreamerCore::Impl {
   void build_control_message(SimTime now);
   void send_control_message();
   void summarise_user_data_drops(SimTime now);
+  void summarise_pair_rejections(SimTime now);
 
   // feedback.cpp
   void on_frame_iteration(Micros took);
@@ -105,6 +106,7 @@ struct StreamerCore::Impl {
   std::optional<Controller> last_sent_controller;
   std::vector<std::string> missing_cameras;      // as of the last evaluation
   RepeatedWarning user_data_drops;               // control messages sent without oversized user data
+  RepeatedWarning pair_rejections;               // InvalidMac episodes: the first told, the rest summarised
 
   std::uint64_t feedback_sequence = 0;
 };

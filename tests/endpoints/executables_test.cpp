@@ -185,19 +185,24 @@ TEST(Executables, BusyWebviewOrVehicleTcpPortNamesItsOwnOption) {
   EXPECT_NE(result.output.find("pick another port with --vehicle-tcp vehicle=PORT"), std::string::npos) << result.output;
 }
 
-TEST(Executables, SigtermShutsDownCleanlyWithExitZero) {
-  const std::uint16_t port = free_port();
-  Process process = Process::spawn({streamer_sim, "--plugin-param", "tcp_port", std::to_string(port)});
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-  while (!can_connect(port) && std::chrono::steady_clock::now() < deadline) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+// SIGTERM, and SIGHUP (a closed SSH session, a CI runner's cancel) the same way: a clean
+// shutdown with exit 0, not 129 and no goodbye.
+TEST(Executables, SigtermOrSighupShutsDownCleanlyWithExitZero) {
+  for (const auto& [signal_number, name] : {std::pair{SIGTERM, "SIGTERM"}, std::pair{SIGHUP, "SIGHUP"}}) {
+    SCOPED_TRACE(name);
+    const std::uint16_t port = free_port();
+    Process process = Process::spawn({streamer_sim, "--plugin-param", "tcp_port", std::to_string(port)});
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    while (!can_connect(port) && std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    ASSERT_TRUE(can_connect(port)) << process.output();
+    kill(process.pid, signal_number);
+    EXPECT_EQ(process.wait(), 0) << process.output();
+    const std::string output = process.output();
+    EXPECT_NE(output.find(std::string("shutting down: ") + name + " received"), std::string::npos) << output;
+    EXPECT_NE(output.find("vehicle connected: 127.0.0.1:"), std::string::npos) << output;
   }
-  ASSERT_TRUE(can_connect(port)) << process.output();
-  kill(process.pid, SIGTERM);
-  EXPECT_EQ(process.wait(), 0) << process.output();
-  const std::string output = process.output();
-  EXPECT_NE(output.find("shutting down: SIGTERM received"), std::string::npos) << output;
-  EXPECT_NE(output.find("vehicle connected: 127.0.0.1:"), std::string::npos) << output;
 }
 
 TEST(Executables, DurationRunsPrintsStatusLinesAndExitsZero) {

@@ -1,4 +1,5 @@
-// libFuzzer target: the com channel's datagram codec (ocp/com_datagram.hpp). The first byte
+// libFuzzer target: the com channel's datagram codec (ocp/com_datagram.hpp) and its session
+// ends (ocp/com_session.hpp). The first byte
 // picks the body kind; the input is opened as a datagram by both sides' openers (with the
 // fuzzer's key and with the insecure empty one, so sealed inputs reach reassembly and the body
 // decoder) and decoded as a body. Properties: no crash; a decoded body re-encodes to a body
@@ -9,6 +10,7 @@
 #include <string_view>
 
 #include "ocp/com_datagram.hpp"
+#include "ocp/com_session.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace ocp::com;
@@ -21,6 +23,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   (void)keyed_player.open(input);
   (void)insecure_streamer.open(input);
   (void)insecure_player.open(input);
+  // Both ends of a session (issue #36): hellos, welcomes and data of unknown sessions.
+  static const auto counting = [](std::uint8_t* bytes, std::size_t count) {
+    static std::uint8_t next = 0;
+    for (std::size_t i = 0; i < count; ++i) bytes[i] = next++;
+  };
+  static ComSessionEnd insecure_streamer_end(ComKey{}, true, counting);
+  static ComSessionEnd insecure_player_end(ComKey{}, false, counting);
+  (void)insecure_streamer_end.receive(input);
+  (void)insecure_player_end.receive(input);
   if (size == 0) return 0;
   const auto kind = static_cast<LinkKind>(1 + data[0] % 5);
   const std::string_view body(reinterpret_cast<const char*>(data) + 1, size - 1);

@@ -93,7 +93,7 @@ TEST(DeliveryTrace, LoadsFilesAndNamesAMissingOne) {
   std::filesystem::remove(path);
   const auto missing = DeliveryTrace::load("/nonexistent/drive.trace");
   ASSERT_FALSE(missing.ok());
-  EXPECT_EQ(missing.error().detail, "/nonexistent/drive.trace: cannot open delivery trace: No such file or directory");
+  EXPECT_EQ(missing.error().detail, "/nonexistent/drive.trace: cannot open the delivery trace: No such file or directory");
 }
 
 }  // namespace

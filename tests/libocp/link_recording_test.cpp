@@ -101,7 +101,7 @@ TEST(LinkRecording, BadInputNamesTheFileAndLine) {
             "bad.link:2: expected 'ROUTE SENT_US DELAY_US' or 'ROUTE SENT_US lost'");
   const auto missing = LinkRecording::load("/nonexistent/drive.link");
   ASSERT_FALSE(missing.ok());
-  EXPECT_EQ(missing.error().detail, "/nonexistent/drive.link: cannot open link recording: No such file or directory");
+  EXPECT_EQ(missing.error().detail, "/nonexistent/drive.link: cannot open the link recording: No such file or directory");
 }
 
 }  // namespace

@@ -65,7 +65,7 @@ TEST_F(ScenarioLinkTrace, AMissingTraceIsAClearError) {
     load_scenario(path("story.yaml"));
     FAIL() << "no error";
   } catch (const ScenarioError& error) {
-    EXPECT_NE(std::string(error.what()).find("nowhere.trace: cannot open delivery trace: No such file"), std::string::npos)
+    EXPECT_NE(std::string(error.what()).find("nowhere.trace: cannot open the delivery trace: No such file"), std::string::npos)
         << error.what();
   }
 }

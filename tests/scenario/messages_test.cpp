@@ -98,7 +98,7 @@ TEST(ScenarioFileMessages, AMissingFileGivesTheSystemError) {
     load_scenario("/nonexistent/foo.yaml");
     FAIL() << "no error";
   } catch (const ScenarioError& error) {
-    EXPECT_STREQ(error.what(), "cannot open /nonexistent/foo.yaml: No such file or directory");
+    EXPECT_STREQ(error.what(), "/nonexistent/foo.yaml: cannot open the scenario file: No such file or directory");
   }
 }
 

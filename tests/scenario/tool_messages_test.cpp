@@ -76,7 +76,7 @@ TEST_P(ToolRefuses, WithExitCode2AndAClearMessage) {
 INSTANTIATE_TEST_SUITE_P(
     Table, ToolRefuses,
     ::testing::Values(
-        BadCall{"missing file", "/nonexistent/foo.yaml", "error: cannot open /nonexistent/foo.yaml: No such file or directory"},
+        BadCall{"missing file", "/nonexistent/foo.yaml", "error: /nonexistent/foo.yaml: cannot open the scenario file: No such file or directory"},
         BadCall{"negative seed", "FILE --seed -1", "--seed: expected a whole number in 0..18446744073709551615, got '-1'"},
         BadCall{"fractional seed", "FILE --seed 1.5", "got '1.5'"},
         BadCall{"seed past 2^64-1", "FILE --seed 18446744073709551616", "got '18446744073709551616'"},
@@ -203,22 +203,50 @@ expect:
 }
 
 // Virtual time with --repeat: SIGTERM during the second seed or later keeps the seeds finished
-// so far, summarised.
-TEST_F(ToolTest, SigtermDuringRepeatKeepsTheFinishedSeeds) {
+// so far, summarised. SIGHUP (a closed SSH session, a CI runner's cancel) does the same: exit
+// 130, the JUnit written, no line cut short.
+TEST_F(ToolTest, SigtermOrSighupDuringRepeatKeepsTheFinishedSeeds) {
   const std::string file = write("long.yaml", R"(duration: 5min
 world: {gamepad: drive, vehicles: [{name: truck-1}]}
 expect:
   thresholds: {latency_ms: ["count > 0"]}
 )");
-  Child tool({OCP_SCENARIO_PATH, "run", file, "--repeat", "1000", "--no-trace", "--out", (dir_ / "out").string(), "--junit",
-              (dir_ / "junit.xml").string()});
-  ASSERT_TRUE(tool.wait_for("✓ " + file, std::chrono::seconds(120))) << tool.output();
-  tool.signal(SIGTERM);
-  ASSERT_EQ(tool.wait_exit(std::chrono::seconds(120)), 130) << tool.output();
-  EXPECT_NE(tool.output().find("long.yaml: "), std::string::npos) << tool.output();
-  EXPECT_NE(tool.output().find("\n  ✓ latency_ms: count > 0: passed "), std::string::npos) << tool.output();
-  EXPECT_NE(tool.output().find("\ninterrupted: "), std::string::npos) << tool.output();
-  EXPECT_NE(read_text(dir_ / "junit.xml").find("<testsuites interrupted=\"true\">"), std::string::npos);
+  for (const int signal_number : {SIGTERM, SIGHUP}) {
+    SCOPED_TRACE(signal_number == SIGTERM ? "SIGTERM" : "SIGHUP");
+    Child tool({OCP_SCENARIO_PATH, "run", file, "--repeat", "1000", "--no-trace", "--out", (dir_ / "out").string(),
+                "--junit", (dir_ / "junit.xml").string()});
+    ASSERT_TRUE(tool.wait_for("✓ " + file, std::chrono::seconds(120))) << tool.output();
+    tool.signal(signal_number);
+    ASSERT_EQ(tool.wait_exit(std::chrono::seconds(120)), 130) << tool.output();
+    EXPECT_NE(tool.output().find("long.yaml: "), std::string::npos) << tool.output();
+    EXPECT_NE(tool.output().find("\n  ✓ latency_ms: count > 0: passed "), std::string::npos) << tool.output();
+    EXPECT_NE(tool.output().find("\ninterrupted: "), std::string::npos) << tool.output();
+    EXPECT_EQ(tool.output().back(), '\n') << tool.output();
+    EXPECT_NE(read_text(dir_ / "junit.xml").find("<testsuites interrupted=\"true\">"), std::string::npos);
+  }
+}
+
+// `ocp_scenario run … | head -c1`: a closed stdout loses no report. Every file still runs and
+// writes its summary, and the tool exits with its verdict (not 141, SIGPIPE).
+TEST_F(ToolTest, AClosedStdoutLosesNoReport) {
+  std::vector<std::string> files;
+  for (int i = 0; i < 4; ++i) {
+    files.push_back(write("short" + std::to_string(i) + ".yaml", R"(duration: 2s
+world: {gamepad: drive, vehicles: [{name: truck-1}]}
+expect:
+  thresholds: {latency_ms: ["count > 0"]}
+)"));
+  }
+  std::string command = std::string(OCP_SCENARIO_PATH) + " run --no-trace --out " + (dir_ / "out").string();
+  for (const std::string& file : files) command += " " + file;
+  command += " | head -c1 >/dev/null; exit ${PIPESTATUS[0]}";
+  const int status = std::system(("bash -c '" + command + "'").c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0);
+  for (int i = 0; i < 4; ++i) {
+    const std::string summary = read_text(dir_ / "out" / ("short" + std::to_string(i)) / "summary.json");
+    EXPECT_NE(summary.find("\"interrupted\": false"), std::string::npos) << i << summary;
+  }
 }
 
 }  // namespace

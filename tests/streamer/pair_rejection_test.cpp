@@ -78,12 +78,35 @@ TEST(StreamerPairRejection, OffByOneIsToldOnceAnEpisodeWithTheIssuedPairAndTheHi
       << first.hint;
   EXPECT_NE(first.hint.find("rounded through a double?"), std::string::npos) << first.hint;
 
-  // The log says the same, once an episode, not once a rejected pair.
-  EXPECT_EQ(warnings_containing(harness.log, "latency loop not closed (InvalidMac)"), 2u);
+  // The log says the first episode in full, once, not once a rejected pair; the second, within
+  // the summary period, is only counted (the log must not flood: see the next test).
+  EXPECT_EQ(warnings_containing(harness.log, "latency loop not closed (InvalidMac)"), 1u);
   EXPECT_TRUE(harness.log.contains(LogLevel::warn, first.hint));
   // The fault itself follows every pair, as before.
   EXPECT_EQ(harness.observer.changes(FaultId::InvalidMac, true), (std::vector<SimTime>{ms(205), ms(605)}));
   EXPECT_EQ(harness.observer.changes(FaultId::InvalidMac, false), (std::vector<SimTime>{ms(405), ms(705)}));
+}
+
+// A client alternating a good and a made-up pair opens an episode every other message (100 a
+// second at the 100 Hz control rate, as does a replay beside a live session): the first is told
+// in full, the rest summarised every 5 s (before this rule: 3 000 lines in this minute).
+TEST(StreamerPairRejection, AlternatingGoodAndBadPairsDoNotFloodTheLog) {
+  StreamerHarness harness;
+  RejectionRecorder recorder(harness.core.events());
+  harness.connect_vehicle();
+  harness.core.start();
+  bool bad = false;
+  harness.schedule_controls(ms(5), ms(60'000), Micros{10'000}, [&](SimTime now) {
+    AckPair pair = harness.pair_issued_at(now - ms(5));
+    if ((bad = !bad)) pair.ack_time_mac ^= 1u;
+    return harness.control_returning(pair);
+  });
+  harness.executor.run_until(ms(70'000));
+  EXPECT_EQ(recorder.seen.size(), 3000u);   // the event stream still sees every episode
+  EXPECT_EQ(warnings_containing(harness.log, "latency loop not closed (InvalidMac): "), 1u);
+  const std::size_t summaries = warnings_containing(harness.log, "latency loop not closed (InvalidMac) again: ");
+  EXPECT_GE(summaries, 12u);
+  EXPECT_LE(summaries, 13u);   // 60 s / 5 s, and one for the last few
 }
 
 TEST(StreamerPairRejection, MissingPairsAreNotJudgedAndDoNotEndAnEpisode) {

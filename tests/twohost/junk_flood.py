@@ -4,7 +4,7 @@
     junk_flood.py HOST PORT COUNT
 
 Random lengths 0..1299 (some above the 1 200-byte limit) and random bytes; every third one
-starts like a com datagram (magic "OC", version 1, a valid kind) so it gets past the first
+starts like a com datagram (magic "OC", version 2, a valid kind) so it gets past the first
 checks and is refused by the tag. Bounded: COUNT datagrams, at most 60 s.
 """
 import random
@@ -22,7 +22,7 @@ def main():
     while sent < count and time.monotonic() < deadline:
         junk = bytearray(generator.randbytes(generator.randrange(1300)))
         if sent % 3 == 0 and len(junk) >= 4:
-            junk[0:4] = b"OC\x01" + bytes([generator.randrange(1, 6)])
+            junk[0:4] = b"OC\x02" + bytes([generator.randrange(1, 6)])
         try:
             sock.sendto(junk, (host, port))
         except OSError:

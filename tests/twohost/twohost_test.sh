@@ -9,7 +9,12 @@
 #      printed) and nothing it sent gets in;
 #   4. a restarted Player (a new process, a new port) is answered at its new address;
 #   5. 100 000 junk datagrams at the com port leave the loop running, the Streamer's memory flat
-#      (VmRSS growth < 8 MiB) and the log quiet (one line per episode).
+#      (VmRSS growth < 8 MiB) and the log quiet (one line per episode);
+#   6. the first Player's datagrams, captured on the vehicle network (dumpcap) and replayed from
+#      the attacker's own socket, get nothing in (issue #36): after a Player restart, as a flood
+#      during a live session (message rate and latency within 10 % of a control period just
+#      before), after 10 newer sessions, and after a Streamer restart with the same key file.
+#      Each: no session established by them, no peer move, every one counted as dropped.
 # Where namespaces are not permitted (`ip netns add` fails: not root, no CAP_SYS_ADMIN) the same
 # steps run over loopback and the test says so on its first line; the outage is then made by
 # stopping each process for 3 s (SIGSTOP), since a loopback link cannot be taken down.
@@ -125,12 +130,20 @@ start_player() {   # start_player LOG: a player_sim with the good key, and an op
     "$work/events" "$work/status" 2>>"$work/operator.log" &
   operator_pid=$!; pids+=("$operator_pid")
 }
+# The attacker's recording of the first Player's datagrams (hello and data) to the Streamer.
+capture_if=lo
+[ "$mode" = netns ] && capture_if=$veth_b
+(on "$ns_b" dumpcap -i "$capture_if" -f "udp dst port $com_port" -P -w "$work/player1.pcap" -a duration:30 \
+  >"$work/dumpcap.log" 2>&1) &
+capture_pid=$!; pids+=("$capture_pid")
+wait_for "dumpcap captures the com channel" grep -q "Capturing on" "$work/dumpcap.log"
 start_player player.log
 
 # 1. The latency loop closes across the network.
 wait_for "the latency loop closes (operator client: message_latency_roundtrip, no faults)" loop_closed
 wait_for "the Streamer measures the latency, no faults" grep -q "latency min/avg/max .* | faults none" "$work/streamer.log"
 grep -q "com channel: the Player is at " "$work/streamer.log" || fail "the Streamer never learnt the Player's address"
+sleep 1; kill -INT "$capture_pid" 2>/dev/null   # the recording: the first Player's handshake and 1 s+ of its session
 
 # 2. The network is gone for 3 s: faults on both sides, cleared after.
 no_control_before=$(count "$work/streamer.log" "fault raised: No Control Message")
@@ -210,4 +223,74 @@ echo "the flood in the Streamer's log: $((junk_lines + auth_lines)) line(s) in f
   "$(grep "com channel: invalid datagrams: " "$work/streamer.log" | tail -n 1 | sed 's/.*com channel: //')"
 kill -0 "$streamer_pid" 2>/dev/null || fail "streamer_sim died"
 
-echo "twohost ($mode): 5 passed, 0 failed"
+# 6. Replays of the first Player's recorded session (issue #36).
+wait "$capture_pid" 2>/dev/null
+established() { count "$work/streamer.log" "established with the Player"; }
+moved() { count "$work/streamer.log" "com channel: the Player is at "; }
+# dropped_so_far: the Streamer's latest status line's count of bad-MAC datagrams.
+dropped_so_far() { grep -o "dropped: [0-9]* bad MAC" "$work/streamer.log" | tail -n 1 | grep -o "[0-9][0-9]*"; }
+# measure SECONDS: "messages_per_s mean_latency_ms" the operator client saw over SECONDS.
+measure() {
+  local start_messages end_messages samples=() i
+  start_messages=$(operator_messages)
+  for ((i = 0; i < $1 * 4; i++)); do
+    samples+=("$(sed -n 's/.*latency_ms=\([0-9.]*\).*/\1/p' "$work/status")")
+    sleep 0.25
+  done
+  end_messages=$(operator_messages)
+  printf '%s\n' "${samples[@]}" | awk -v n="$((end_messages - start_messages))" -v s="$1" \
+    '$1 != "" { sum += $1; k++ } END { printf "%.1f %.1f\n", n / s, k ? sum / k : 0 }'
+}
+# replay_once LABEL: one pass of the recording, paced; nothing may get in.
+replay_once() {
+  local before_established before_moved before_dropped after_dropped
+  before_established=$(established) before_moved=$(moved) before_dropped=$(dropped_so_far)
+  (on "$ns_b" python3 "$here/replay_attack.py" "$work/player1.pcap" "$com_port" "$host_a" "$com_port") >"$work/replay.out" ||
+    fail "$1: the replay did not run: $(cat "$work/replay.out")"
+  sleep 2.5   # two status lines: the drops are counted in them
+  after_dropped=$(dropped_so_far)
+  [ "$(established)" = "$before_established" ] || fail "$1: the replay established a session"
+  [ "$(moved)" = "$before_moved" ] || fail "$1: the replay moved the Streamer's peer"
+  loop_closed || fail "$1: the loop broke: $(last_state)"
+  echo "ok: $1: $(cat "$work/replay.out" | sed 's/replay_attack: //'); 0 accepted (no session, no peer move)," \
+       "bad-MAC drops $before_dropped -> $after_dropped"
+}
+[ -s "$work/player1.pcap" ] || fail "dumpcap recorded nothing"
+replay_once "replay after a Player restart"
+
+control=$(measure 5)
+before_established=$(established) before_moved=$(moved)
+(on "$ns_b" python3 "$here/replay_attack.py" "$work/player1.pcap" "$com_port" "$host_a" "$com_port" --seconds 6 --rate 5500) \
+  >"$work/flood.out" 2>&1 &
+flood_pid=$!; pids+=("$flood_pid")
+sleep 0.5
+during=$(measure 5)
+wait "$flood_pid" || fail "the replay flood did not run: $(cat "$work/flood.out")"
+echo "operator client, messages/s and mean latency ms: control $control, during the replay flood $during ($(cat "$work/flood.out"))"
+[ "$(established)" = "$before_established" ] && [ "$(moved)" = "$before_moved" ] ||
+  fail "the replay flood established a session or moved the peer"
+awk -v c="$control" -v d="$during" 'BEGIN { split(c, a, " "); split(d, b, " ");
+  exit !(b[1] >= 0.9 * a[1] && b[2] <= 1.1 * a[2] + 2) }' ||
+  fail "the replay flood harmed the loop: control $control, during $during (messages/s, latency ms; 10 % allowed)"
+echo "ok: a replay flood during a live session: nothing got in, the loop within 10 % of the control period"
+
+sessions_before=$(established)
+for ((i = 1; i <= 10; i++)); do   # ten newer sessions: the Player re-handshakes after 1 s of silence
+  kill -STOP "$streamer_pid"; sleep 1.5; kill -CONT "$streamer_pid"
+  wait_for "session $((sessions_before + i)) is established" count_above "$work/streamer.log" "established with the Player" \
+    "$((sessions_before + i - 1))"
+done
+wait_for "the loop closes after ten new sessions" loop_closed
+replay_once "replay after 10 newer sessions"
+
+kill "$streamer_pid"; wait "$streamer_pid" 2>/dev/null
+mv "$work/streamer.log" "$work/streamer1.log"
+on "$ns_a" "$streamer_sim" --vehicle truck --com-listen "$host_a:$com_port" --com-allow-remote --com-key "$work/key" \
+  --plugin-param tcp_port "$vehicle_port" >"$work/streamer.log" 2>&1 &
+streamer_pid=$!; pids+=("$streamer_pid")
+wait_for "the restarted streamer_sim listens" has_port "$work/streamer.log" 'com channel: listening on UDP'
+wait_for "the Player starts a session with the restarted Streamer" grep -q "established with the Player" "$work/streamer.log"
+wait_for "the loop closes with the restarted Streamer" loop_closed
+replay_once "replay after a Streamer restart with the same key"
+
+echo "twohost ($mode): 6 passed, 0 failed"

@@ -214,6 +214,15 @@ def check_com(com, streamer_frames, player_frames, label):
     if len(from_client) < 10 or not sent_back <= returned | sei:
         fail(f"{label}: {len(sent_back)} returned pairs, {len(from_client)} sent by the operator client, "
              f"{len(sent_back - returned - sei)} from nowhere")
+    # The session handshake (issue #36): the Player's hello and the Streamer's welcome, each with
+    # its nonces, before the messages.
+    hellos = [item for item in com if item.get("ocp_com.kind") == "6" and "ocp_com.player_nonce" in item]
+    welcomes = [item for item in com if item.get("ocp_com.kind") == "7" and "ocp_com.streamer_nonce" in item]
+    if not hellos or not welcomes:
+        fail(f"{label}: the dissector shows {len(hellos)} hellos and {len(welcomes)} welcomes (expected the handshake)")
+    if {w["ocp_com.player_nonce"] for w in welcomes}.isdisjoint({h["ocp_com.player_nonce"] for h in hellos}):
+        fail(f"{label}: no welcome answers a hello's nonce")
+    print(f"ok: {label}: com channel: handshake shown ({len(hellos)} hello, {len(welcomes)} welcome)")
     print(f"ok: {label}: com channel: {len(reassembled)} video frames reassembled to their size, {len(sei)} SEI pairs "
           f"echoed by the vehicle, {len(from_client)} returned pairs sent by the operator client")
 

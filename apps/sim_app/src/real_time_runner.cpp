@@ -9,16 +9,27 @@
 
 namespace ocp::sim_app {
 
+const char* signal_name(int signal_number) {
+  switch (signal_number) {
+    case SIGINT: return "SIGINT";
+    case SIGTERM: return "SIGTERM";
+    case SIGHUP: return "SIGHUP";
+    default: return "a signal";
+  }
+}
+
 RealTimeRunner::RealTimeRunner(Signals signals) : executor_(io_), signals_(io_) {
   // Linux lets timers of this thread fire up to 50 µs late by default (timer slack) to batch
   // wake-ups; that would show up directly as lateness of the 10 ms control tick.
   prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
-  // Catch SIGINT/SIGTERM from construction on: a signal that arrives while the program is
-  // still starting (its port may already accept connections) is queued, not fatal.
+  // A closed stdout (the console log piped into `head`) must not end the simulation.
+  std::signal(SIGPIPE, SIG_IGN);
+  // Catch SIGINT/SIGTERM/SIGHUP from construction on: a signal that arrives while the program is
+  // still starting (its port may already accept connections) is queued, not fatal. SIGHUP (a
+  // closed SSH session, a CI runner's cancel) ends a run as SIGTERM does.
   if (signals == Signals::leave_to_caller) return;
   boost::system::error_code ignored;
-  signals_.add(SIGINT, ignored);
-  signals_.add(SIGTERM, ignored);
+  for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) signals_.add(signal_number, ignored);
 }
 
 RealTimeRunner::~RealTimeRunner() {
@@ -47,7 +58,7 @@ void RealTimeRunner::request_stop(const std::string& reason, int exit_code) {
 int RealTimeRunner::run(std::optional<Micros> duration) {
   signals_.async_wait([this](const boost::system::error_code& wait_error, int signal_number) {
     if (wait_error) return;
-    request_stop(signal_number == SIGINT ? "SIGINT received" : "SIGTERM received");
+    request_stop(fmt::format("{} received", signal_name(signal_number)));
   });
   if (duration) {
     duration_timer_ = executor_.call_after(*duration, [this, duration] {

@@ -7,8 +7,14 @@
 #include <boost/asio/ip/udp.hpp>
 #include <fmt/format.h>
 
+#include "ocp/bounded_file.hpp"
+
+#include <sys/stat.h>
+
 #include <charconv>
-#include <fstream>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
 #include <iterator>
 #include <system_error>
 
@@ -25,10 +31,23 @@ std::string endpoint_text(const udp::endpoint& endpoint) {
          std::to_string(endpoint.port());
 }
 
-std::uint64_t random_session() {
-  std::uint64_t session = 0;
-  if (RAND_bytes(reinterpret_cast<unsigned char*>(&session), sizeof session) != 1) session = 1;
-  return session;
+// Fresh randomness for the handshake's nonces and session ids (a CSPRNG: they are what makes
+// every session's keys new).
+void random_bytes(std::uint8_t* bytes, std::size_t count) {
+  if (RAND_bytes(bytes, static_cast<int>(count)) != 1) {
+    std::fprintf(stderr, "fatal: OpenSSL RAND_bytes failed\n");
+    std::abort();
+  }
+}
+
+// As ssh does for its keys: a key others can read is no secret, but refusing it would break
+// setups that keep the file on a shared mount; so a warning, once, at start.
+void warn_if_others_can_read(const std::string& path) {
+  struct stat status {};
+  if (::stat(path.c_str(), &status) != 0 || (status.st_mode & 077) == 0) return;
+  std::cerr << fmt::format("warning: --com-key {}: the key file is readable by others (mode {:04o}); "
+                           "chmod 600 {} so that only its owner can read it\n",
+                           path, status.st_mode & 07777, path);
 }
 
 }  // namespace
@@ -88,19 +107,17 @@ Status check_com_options(ComOptions& options, const udp::endpoint& endpoint, boo
     return usage("the UDP com channel needs --com-key FILE (the same file on both hosts; make one with "
                  "`head -c 32 /dev/urandom > FILE`), or --com-insecure on loopback");
   }
-  std::ifstream file(options.key_file, std::ios::binary);
-  if (!file) return usage("--com-key " + options.key_file + ": cannot read the file");
-  com::ComKey key;
-  char byte = 0;
-  while (key.size() <= com::max_key_bytes && file.get(byte)) key.push_back(static_cast<std::uint8_t>(byte));
-  if (file.bad()) return usage("--com-key " + options.key_file + ": cannot read the file");
-  if (key.size() < com::min_key_bytes || key.size() > com::max_key_bytes) {
-    return usage(fmt::format("--com-key {}: a key is {}..{} bytes, this file has {}{} (make one with "
+  // Bounded and non-blocking (a FIFO or /dev/zero is refused, not waited on), with the
+  // system's reason (missing, permission denied, a folder).
+  const auto text = read_bounded_file(options.key_file, file_kinds::key);
+  if (!text) return usage("--com-key " + text.error().detail);
+  if (text->size() < com::min_key_bytes || text->size() > com::max_key_bytes) {
+    return usage(fmt::format("--com-key {}: a key is {}..{} bytes, this file has {} (make one with "
                              "`head -c 32 /dev/urandom > FILE`)",
-                             options.key_file, com::min_key_bytes, com::max_key_bytes,
-                             key.size() > com::max_key_bytes ? "more" : "", key.size()));
+                             options.key_file, com::min_key_bytes, com::max_key_bytes, text->size()));
   }
-  options.key = std::move(key);
+  warn_if_others_can_read(options.key_file);
+  options.key.assign(text->begin(), text->end());
   return Ok{};
 }
 
@@ -109,9 +126,9 @@ UdpComEndpoint::UdpComEndpoint(AsioExecutor& executor, bool streamer_side, com::
       streamer_side_(streamer_side),
       logger_(std::move(logger)),
       socket_(executor.io()),
-      sealer_(key, random_session()),
-      opener_(std::move(key), streamer_side),
-      summary_timer_(executor, RepeatedWarning::default_period, [this](SimTime) { summarise(); }) {}
+      session_(std::move(key), streamer_side, random_bytes),
+      summary_timer_(executor, RepeatedWarning::default_period, [this](SimTime) { summarise(); }),
+      hello_timer_(executor, hello_period, [this](SimTime now) { on_hello_timer(now); }) {}
 
 UdpComEndpoint::~UdpComEndpoint() {
   *alive_ = false;
@@ -145,11 +162,33 @@ Status UdpComEndpoint::connect(const udp::endpoint& peer) {
   logger_.info("com channel: UDP to the Streamer at {} from port {}", endpoint_text(peer), socket_.local_endpoint().port());
   receive();
   summary_timer_.start(executor_.now() + summary_timer_.period());
+  on_hello_timer(executor_.now());
+  hello_timer_.start(executor_.now() + hello_period);
   return Ok{};
+}
+
+void UdpComEndpoint::on_hello_timer(SimTime now) {
+  if (!peer_ || !socket_.is_open()) return;
+  bool fresh = false;
+  if (session_.established() && !session_.handshake_pending()) {
+    if (now - last_authentic_ < silence_before_rehandshake) return;
+    fresh = true;   // heard nothing authentic for a while: a new session (the old one goes on meanwhile)
+    logger_.info("com channel: nothing from the Streamer for {}; starting a new session", format_span(now - last_authentic_));
+  }
+  send_raw(session_.hello(fresh), *peer_);
+  ++counters_.hellos_sent;
+}
+
+void UdpComEndpoint::send_raw(const std::string& datagram, const udp::endpoint& to) {
+  boost::system::error_code failed;
+  socket_.send_to(boost::asio::buffer(datagram), to, 0, failed);
+  // A full socket buffer or an unreachable peer loses the datagram, as the network would.
+  if (failed) ++counters_.send_errors; else ++counters_.datagrams_sent;
 }
 
 void UdpComEndpoint::stop() {
   summary_timer_.stop();
+  hello_timer_.stop();
   if (socket_.is_open()) {
     boost::system::error_code ignored;
     socket_.close(ignored);
@@ -165,16 +204,15 @@ std::uint16_t UdpComEndpoint::local_port() const {
 void UdpComEndpoint::send(const LinkMessage& message) {
   if (!peer_ || !socket_.is_open()) return;
   outgoing_.clear();
-  if (!sealer_.seal(message, outgoing_)) {
+  if (!session_.established()) {
+    ++counters_.messages_before_session;   // as lost as on a link that is not up yet
+    return;
+  }
+  if (!session_.seal(message, outgoing_)) {
     ++counters_.messages_not_sent;
     return;
   }
-  for (const auto& datagram : outgoing_) {
-    boost::system::error_code failed;
-    socket_.send_to(boost::asio::buffer(datagram), *peer_, 0, failed);
-    // A full socket buffer or an unreachable peer loses the datagram, as the network would.
-    if (failed) ++counters_.send_errors; else ++counters_.datagrams_sent;
-  }
+  for (const auto& datagram : outgoing_) send_raw(datagram, *peer_);
 }
 
 void UdpComEndpoint::receive() {
@@ -198,13 +236,22 @@ void UdpComEndpoint::on_datagram(std::size_t size) {
     }
     return;
   }
-  auto opened = opener_.open({buffer_.data(), size});
-  if (opened.drop != com::Drop::none) {
-    warn_drop(opened.drop);
+  auto received = session_.receive({buffer_.data(), size});
+  if (received.reply) send_raw(*received.reply, sender_);   // a welcome: it moves nothing
+  if (received.drop != com::Drop::none) {
+    warn_drop(received.drop);
     return;
   }
-  if (streamer_side_ && (!peer_ || *peer_ != sender_)) {
-    // The first Player, a restarted one, or the same one behind a NAT that rebound its port.
+  last_authentic_ = now;
+  if (received.established) {
+    logger_.info("com channel: session {:016x} established with the {} (handshake completed){}", session_.session(),
+                 streamer_side_ ? "Player" : "Streamer",
+                 session_.session_counters().handshakes > 1 ? ", replacing the previous session" : "");
+  }
+  // Only a completed handshake moves the Streamer's peer: the sender knew the key and answered
+  // this run's fresh nonce, which no recording of an earlier session can.
+  if (streamer_side_ && received.established && (!peer_ || *peer_ != sender_)) {
+    // The first Player, a restarted one, or the same one from a new port (a NAT that rebound).
     if (peer_) ++counters_.peer_changes;
     if (!peer_ || peer_moves_.occurred(now)) {
       logger_.info("com channel: the Player is at {}{}", endpoint_text(sender_),
@@ -212,10 +259,7 @@ void UdpComEndpoint::on_datagram(std::size_t size) {
     }
     peer_ = sender_;
   }
-  if (opened.new_session && opener_.counters().sessions > 1) {
-    logger_.info("com channel: the {} restarted (new session)", streamer_side_ ? "Player" : "Streamer");
-  }
-  if (opened.message && receiver_) receiver_(std::move(*opened.message));
+  if (received.message && receiver_) receiver_(std::move(*received.message));
 }
 
 void UdpComEndpoint::warn_drop(com::Drop drop) {
@@ -253,7 +297,7 @@ void UdpComEndpoint::summarise() {
 }
 
 std::string UdpComEndpoint::describe() const {
-  const auto& in = opener_.counters();
+  const auto in = session_.counters();
   return fmt::format("com udp :{} ⇄ {} | in {} msgs | out {} datagrams | dropped: {} bad MAC, {} replayed, {} other, "
                      "{} unknown peer, {} frames lost",
                      local_port(), peer_ ? endpoint_text(*peer_) : std::string("no peer yet"), in.messages,

@@ -47,7 +47,8 @@ int main(int argc, char** argv) {
   const ocp::Logger logger(executor, "vehicle-client", sink);
   ocp::VehicleClient client(executor, options.client, logger);
   ocp::TcpRunner runner(executor, client, options.runner, logger.child("tcp"));
-  boost::asio::signal_set signals(io, SIGINT, SIGTERM);
+  boost::asio::signal_set signals(io, SIGINT, SIGTERM, SIGHUP);   // SIGHUP: a closed SSH session
+  std::signal(SIGPIPE, SIG_IGN);   // a closed stdout is no reason to stop driving
 
   int exit_code = 0;
   bool stopping = false;
@@ -78,7 +79,7 @@ int main(int argc, char** argv) {
   };
 
   signals.async_wait([&](const boost::system::error_code& error, int signal_number) {
-    if (!error) shutdown(0, signal_number == SIGINT ? "SIGINT" : "SIGTERM");
+    if (!error) shutdown(0, signal_number == SIGINT ? "SIGINT" : signal_number == SIGHUP ? "SIGHUP" : "SIGTERM");
   });
   if (options.duration_s) {
     executor.call_after(ocp::Micros{static_cast<std::int64_t>(*options.duration_s * 1e6)},

@@ -5,8 +5,8 @@
 //
 // One datagram (at most 1 200 bytes, all integers little-endian):
 //
-//   0  magic "OC"        2  version (1)        3  kind (LinkKind)
-//   4  session  u64      the sender's random id for this run: a restarted peer starts a new one
+//   0  magic "OC"        2  version (2)        3  kind (LinkKind; 6 and 7: the handshake, com_session.hpp)
+//   4  session  u64      the Player's random id for this session (com_session.hpp): a new one per handshake
 //   12 sequence u64      per session, from 1, one per datagram: checked against a replay window
 //   20 message  u32      per session, from 1, one per LinkMessage: groups its fragments
 //   24 fragment u16      index of this piece        26 fragments u16  pieces of the message
@@ -44,7 +44,8 @@ inline constexpr std::size_t max_fragments = 256;
 inline constexpr std::size_t max_message_bytes = max_fragments * max_body_bytes;             // ~290 kB
 inline constexpr std::size_t max_partial_messages = 8;
 inline constexpr std::size_t replay_window = 1024;
-inline constexpr std::uint8_t protocol_version = 1;
+// 2: sessions with keys of their own, from a handshake (com_session.hpp, issue #36).
+inline constexpr std::uint8_t protocol_version = 2;
 // A key file's bytes are the key (apps/sim_app/src/com_key_file.cpp checks this range).
 inline constexpr std::size_t min_key_bytes = 16;
 inline constexpr std::size_t max_key_bytes = 1024;
@@ -101,7 +102,16 @@ struct OpenerCounters {
   std::uint64_t dropped() const {
     return truncated + oversized + bad_header + bad_mac + replayed + wrong_direction + malformed;
   }
+  OpenerCounters& operator+=(const OpenerCounters& other);
 };
+
+// The 32-byte header of a datagram, and the HMAC-SHA256 tag of `length` bytes under `key`
+// (the handshake's datagrams, com_session.cpp, use the same layout).
+std::string datagram_header(std::uint8_t kind, std::uint64_t session, std::uint64_t sequence, std::uint32_t message,
+                            std::size_t fragment, std::size_t fragments, std::size_t body_length);
+// A little-endian field of `bytes` bytes at `at` (the caller checked the length).
+std::uint64_t datagram_field(std::span<const std::uint8_t> datagram, std::size_t at, std::size_t bytes);
+std::array<std::uint8_t, tag_bytes> datagram_tag(const ComKey& key, const std::uint8_t* data, std::size_t length);
 
 // A sliding window over sequence numbers (RFC 4303 §3.4.3 style): a number is new once.
 class ReplayWindow {

@@ -29,7 +29,20 @@ class ScenarioError : public std::runtime_error {
 Scenario parse_scenario(const std::string& text, const std::string& path);
 Scenario load_scenario(const std::string& path);   // reads the file, then parse_scenario
 
-// "12.5s", "350ms", "250us", "2min" → µs. Throws std::invalid_argument with the reason.
+// "12.5s", "350ms", "250us", "2min" → µs. Throws std::invalid_argument with the reason, also
+// for a duration beyond max_duration_us (the sums of times would overflow beyond it).
 Micros parse_duration_text(const std::string& text);
+inline constexpr std::int64_t max_duration_us = std::int64_t{1} << 62;
+
+// The ceilings of one run (docs/usage.md, "Input files"): a longer `duration`, a faster
+// `client_data every`, or a YAML value (user data, expected user data) that expands to more
+// nodes is refused with exit 2. The tools' --max-simulated-h raises the first.
+struct ParseLimits {
+  Micros max_run_duration{24LL * 3600 * 1'000'000};   // simulated time per run
+  Micros min_every{1'000};                             // at most 1 000 client_data events a second
+  std::size_t max_value_nodes = 100'000;               // nodes of one user-data value, aliases expanded
+};
+const ParseLimits& parse_limits();
+void set_parse_limits(const ParseLimits& limits);
 
 }  // namespace ocp::scenario

@@ -1,6 +1,6 @@
 #pragma once
 // The real-time run loop of a simulator executable: one io_context on the calling thread,
-// an AsioExecutor on it, SIGINT/SIGTERM handling and an optional run duration.
+// an AsioExecutor on it, SIGINT/SIGTERM/SIGHUP handling and an optional run duration.
 //
 //   sim_app::RealTimeRunner runner;                        // declare first: destroyed last
 //   … build the world on runner.executor(), servers on runner.io() …
@@ -20,6 +20,9 @@
 #include "ocp/log.hpp"
 
 namespace ocp::sim_app {
+
+// "SIGINT", "SIGTERM", "SIGHUP": the reason a run stopped, as the log says it.
+const char* signal_name(int signal_number);
 
 class RealTimeRunner {
  public:

@@ -22,6 +22,7 @@
 
 #include "ocp/asio_executor.hpp"
 #include "ocp/com_datagram.hpp"
+#include "ocp/com_session.hpp"
 #include "ocp/error.hpp"
 #include "ocp/executor.hpp"
 #include "ocp/log.hpp"
@@ -56,7 +57,9 @@ struct UdpComCounters {
   std::uint64_t send_errors = 0;       // the socket refused a datagram (buffer full, no route)
   std::uint64_t messages_not_sent = 0; // larger than com::max_message_bytes
   std::uint64_t unknown_peer = 0;      // Player's end: from an address other than the Streamer's
-  std::uint64_t peer_changes = 0;      // Streamer's end: authenticated from a new address
+  std::uint64_t peer_changes = 0;      // Streamer's end: a completed handshake from a new address
+  std::uint64_t messages_before_session = 0;   // not sent: no session established yet
+  std::uint64_t hellos_sent = 0;
 };
 
 class UdpComEndpoint {
@@ -78,7 +81,8 @@ class UdpComEndpoint {
   void stop();
 
   std::uint16_t local_port() const;
-  const com::OpenerCounters& opener_counters() const { return opener_.counters(); }
+  com::OpenerCounters opener_counters() const { return session_.counters(); }
+  const com::SessionCounters& session_counters() const { return session_.session_counters(); }
   const UdpComCounters& counters() const { return counters_; }
   // "com udp 127.0.0.1:5000 ⇄ 127.0.0.1:40000 | in … | out … | dropped …", for the status line.
   std::string describe() const;
@@ -93,8 +97,7 @@ class UdpComEndpoint {
   bool streamer_side_;
   Logger logger_;
   boost::asio::ip::udp::socket socket_;
-  com::DatagramSealer sealer_;
-  com::DatagramOpener opener_;
+  com::ComSessionEnd session_;   // the handshake and the current session's keys (com_session.hpp)
   Receiver receiver_;
   std::optional<boost::asio::ip::udp::endpoint> peer_;
   boost::asio::ip::udp::endpoint sender_;
@@ -107,6 +110,14 @@ class UdpComEndpoint {
   // key (each datagram moves the peer back and forth) cannot flood the log.
   RepeatedWarning peer_moves_;
   PeriodicTimer summary_timer_;
+  // Player's end: a hello every `hello_period` until a welcome answers, and a new handshake
+  // after `silence_before_rehandshake` without an authentic datagram (the Streamer restarted).
+  PeriodicTimer hello_timer_;
+  SimTime last_authentic_{0};
+  static constexpr Micros hello_period{250'000};
+  static constexpr Micros silence_before_rehandshake{1'000'000};
+  void on_hello_timer(SimTime now);
+  void send_raw(const std::string& datagram, const boost::asio::ip::udp::endpoint& to);
   UdpComCounters counters_;
   std::shared_ptr<bool> alive_ = std::make_shared<bool>(true);
 };

@@ -1,6 +1,6 @@
 #pragma once
-// Ctrl-C, the same in every tool (docs/usage.md, "Exit codes"): the first SIGINT or SIGTERM
-// asks the run to stop. The tool then finishes what it can report, prints "interrupted",
+// Ctrl-C, the same in every tool (docs/usage.md, "Exit codes"): the first SIGINT, SIGTERM or
+// SIGHUP (a closed SSH session, a CI runner's cancel) asks the run to stop. The tool then finishes what it can report, prints "interrupted",
 // marks its reports `"interrupted": true` and exits 130. A second signal (a second later or
 // more) ends the process at once (still 130), after an optional async-signal-safe cleanup such
 // as killing launched clients.
@@ -43,7 +43,7 @@ extern "C" inline void on_interrupt_signal(int) {
 }  // namespace detail
 
 // `cleanup` runs only on the second signal, just before _exit: it must be async-signal-safe.
-// Call again after something else handled the signals (an Asio signal_set puts the default
+// SIGPIPE is ignored from then on. Call again after something else handled the signals (an Asio signal_set puts the default
 // action back when it ends); the count of signals so far is kept.
 inline void install_interrupt_handlers(void (*cleanup)() = nullptr) {
   static_assert(std::atomic<int>::is_always_lock_free && std::atomic<long long>::is_always_lock_free);
@@ -52,8 +52,9 @@ inline void install_interrupt_handlers(void (*cleanup)() = nullptr) {
   action.sa_handler = detail::on_interrupt_signal;
   action.sa_flags = SA_RESTART;   // the reports being written are not cut short by the signal
   sigemptyset(&action.sa_mask);
-  sigaction(SIGINT, &action, nullptr);
-  sigaction(SIGTERM, &action, nullptr);
+  for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) sigaction(signal_number, &action, nullptr);
+  // A closed stdout (`| head`) is a failed write, not the end: the reports still get written.
+  signal(SIGPIPE, SIG_IGN);
 }
 
 inline bool interrupt_requested() { return detail::interrupt_signals.load() > 0; }
