@@ -218,6 +218,12 @@ void PlayerCore::Impl::on_client_closed(const CloseReason& reason) {
   last_client_close_reason = reason;
   client_too_large.reset();   // nothing is sent without a client
   client.reset();  // the connection keeps itself alive until its callback returns
+  if (source_lock.locked() == ClientSource::tcp) {
+    // SPEC §4.3 Decision: the locked tcp client left, so no pair is returned until a new tcp
+    // client sends one. Its last pair would only age on the Streamer (HighLatency), hiding
+    // that the loop is not closed (InvalidMac).
+    for (auto& [name, link] : vehicles) link.client.returned_pair.reset();
+  }
   // Said with its disconnect line, so a storm of clients that each take over and leave stays
   // within the connection log budget; one the budget left out says it at the next told leave.
   if (told && source_lock.locked() == ClientSource::tcp && !source_lock.stopped() && !tcp_lock_without_client_logged) {
