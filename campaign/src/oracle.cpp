@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "oracle_source_lock.hpp"
 #include "oracle_state.hpp"
 #include "world/world.hpp"
 
@@ -104,6 +105,9 @@ Oracle::~Oracle() = default;
 void Oracle::attach(World& world) {
   world_ = &world;
   origin_ = world.executor().now();
+  source_lock_watch_ = std::make_unique<SourceLockWatch>(scenario_, [this](SimTime now, const std::string& vehicle, std::string detail) {
+    report(Check::operator_port, now, vehicle, std::move(detail));
+  });
   subscriptions_.push_back(world.events().subscribe([this](const Event& event) { on_event(event); }));
 }
 
@@ -129,6 +133,7 @@ void Oracle::report(Check check, SimTime now, const std::string& vehicle, std::s
 
 void Oracle::on_event(const Event& event) {
   ++events_;
+  if (source_lock_watch_) source_lock_watch_->on_event(event, event.time - origin_);
   std::visit(
       [&](const auto& body) {
         using T = std::decay_t<decltype(body)>;

@@ -204,6 +204,7 @@ void Oracle::on_operator_frame(SimTime now, const WireFrame& frame) {
     } else if (!reading.keep_alive) {
       port.client_data_sent = true;
     }
+    if (port.lock_to_judge) judge_tcp_lock(*port.lock_to_judge);
     return;
   }
   if (frame.kind != WireMessageKind::vehicle_ocp_shared) return;
@@ -238,7 +239,12 @@ void Oracle::check_operator_port(SimTime now) {
 }
 
 void Oracle::on_source_locked(SimTime now, const SourceLocked& locked) {
-  if (locked.source != ClientSource::tcp || operator_->client_data_sent) return;
+  if (locked.source == ClientSource::tcp) operator_->lock_to_judge = now;
+}
+
+void Oracle::judge_tcp_lock(SimTime now) {
+  operator_->lock_to_judge.reset();
+  if (operator_->client_data_sent) return;
   scenario::EventExpectation no_lock;
   no_lock.kind = scenario::NotableKind::source_locked;
   no_lock.never = true;

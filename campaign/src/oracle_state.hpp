@@ -112,6 +112,9 @@ struct Oracle::OperatorPort {
   std::optional<PendingClose> pending;
   bool silence_reported = false;
   bool client_data_sent = false;       // a frame that is not a keep-alive (§4.2 Decision)
+  // The Player publishes a lock while it reads the frame that caused it, before that frame's
+  // WireFrame: judged when the frame is seen (or at once, if the next frame is not it).
+  std::optional<SimTime> lock_to_judge;
   bool misbehaving_at_end = false;     // the timeline leaves a misbehaviour on
   bool liveness_done = false;
   std::uint64_t shared_frames = 0;

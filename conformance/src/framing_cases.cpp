@@ -145,26 +145,42 @@ Outcome responds_while_paused(CaseContext& context) {
   const std::size_t closes_before = Observations::from(context.entries()).closed_us.size();
   context.streamer().set_control_output_paused(true);
   const std::int64_t paused_at = context.now_us();
-  context.note("control output paused for 1.8 s");
-  context.run_for(milliseconds(1800));
+  context.note("control output paused for 2.3 s");
+  context.run_for(milliseconds(2300));
   const std::int64_t resumed_at = context.now_us();
   context.streamer().set_control_output_paused(false);
   context.run_for(milliseconds(200));
   const Observations observed = Observations::from(context.entries());
+  // The first close during the pause ends it: a client may keep a read timeout of its own, as
+  // the product does (2 s without a byte), and close a connection whose server fell silent.
+  std::int64_t end = resumed_at;
+  std::string close_code;
+  if (observed.closed_us.size() > closes_before) {
+    end = std::min(end, observed.closed_us[closes_before]);
+    close_code = observed.close_codes[closes_before];
+  }
   std::int64_t last = paused_at, max_gap = 0;
   std::size_t during = 0;
   for (const Response& response : observed.all_responses) {   // any response keeps the connection alive
-    if (response.time_us < paused_at || response.time_us > resumed_at) continue;
+    if (response.time_us < paused_at || response.time_us > end) continue;
     ++during;
     max_gap = std::max(max_gap, response.time_us - last);
     last = response.time_us;
   }
-  max_gap = std::max(max_gap, resumed_at - last);
-  const std::string counts = fmt::format("{} responses during a 1.8 s pause of control; longest silence {:.0f} ms", during,
-                                         static_cast<double>(max_gap) / 1000.0);
-  if (observed.closed_us.size() > closes_before) return failed(counts + "; the connection closed: " + last_close(observed));
-  if (max_gap >= 1'000'000) return failed(counts + " (≥ 1 s: half the Streamer's 2 s read timeout is gone; a longer pause closes the connection)");
-  return ok(counts);
+  max_gap = std::max(max_gap, end - last);
+  std::string counts = fmt::format("{} responses during a 2.3 s pause of control; longest silence {:.0f} ms", during,
+                                   static_cast<double>(max_gap) / 1000.0);
+  if (!close_code.empty()) {
+    // Its timer runs from the last control frame it got (10 ms of slack for its own timer).
+    const std::int64_t last_control = observed.latest_sent_before(paused_at) >= 0
+                                          ? observed.sent[static_cast<std::size_t>(observed.latest_sent_before(paused_at))].time_us
+                                          : paused_at;
+    const bool own_timeout = close_code == "peer.closed_by_peer" && end - last_control >= product_read_timeout_us - 10'000;
+    if (!own_timeout) return failed(counts + "; the connection closed: " + close_code);
+    counts += fmt::format("; the client closed the connection {:.0f} ms after the last control frame (a read timeout of its "
+                          "own, as the product's 2 s: allowed)", static_cast<double>(end - last_control) / 1000.0);
+  }
+  return grade_longest_silence(counts, max_gap);
 }
 
 // vehicle/2/1 as a standing rule: every response of every case is a decodable frame ≤ 16 KiB.
@@ -213,8 +229,9 @@ void add_framing_cases(std::vector<VehicleCase>& cases) {
                      "SPEC §2, seed 000 (Connect from the vehicle process)",
                      "\"Keep the socket open and respond continuously.\" — \"If OCP waits about 2 seconds for response bytes while reading a frame, it closes the connection\"",
                      Tier::must, milliseconds(12'000),
-                     {"OK: responses keep coming during a 1.8 s pause of control output (no silence ≥ 1 s, half the 2 s read timeout), connection kept"},
-                     "broken_client.py echo-only (or vehicle_client --misbehave-silent)"},
+                     {"OK: responses keep coming during a 2.3 s pause of control output (no silence over 1 s), connection kept",
+                      "NON-STRICT: its longest silence is over 1 s but under the product's 2 000 ms line (the margin is named)"},
+                     "broken_client.py echo-only (or vehicle_client --misbehave-silent); broken_client.py slow-keepalive (NON-STRICT)"},
                     responds_while_paused},
                    {}});
 }

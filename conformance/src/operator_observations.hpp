@@ -96,6 +96,9 @@ std::string shared_frame(CaseContext& context, const AckPair& pair, const std::f
                          bool unknown_fields);
 // Connected, settled, and the Player's own output paused; false (and `outcome` set) if not.
 bool ready_for_crafted(CaseContext& context, Outcome& outcome);
+// Hand-made frames listing the vehicles in another order every other frame: each control
+// vehicle's own pair must come back under its name (operator_key_order.cpp).
+Outcome grade_reordered_vehicles(CaseContext& context);
 // Connection kept since `start_us`, every pair in `required` returned, none never published.
 Outcome grade_crafted_shared(CaseContext& context, std::int64_t start_us, const std::vector<AckPair>& sent,
                              const std::vector<AckPair>& required, const std::string& what);

@@ -5,6 +5,8 @@
 // of SPEC §7 hold too: absent, or the one linked vehicle.
 #include "case_helpers.hpp"
 #include "conformance/vehicle_cases.hpp"
+#include "ocp/frame.hpp"
+#include "ocp/json_codec.hpp"
 #include "operator_observations.hpp"
 
 namespace ocp::conformance {
@@ -31,6 +33,23 @@ const std::vector<SharedForm>& product_shared_forms() {
       {"\"last_input\": null (SPEC §4.1: `{controller} | null`)", [](VehicleOcpShared& s) { s.last_input.reset(); }},
       {"unknown extra fields at top level and in the vehicle's entry (SPEC §2: \"Unknown extra fields are ignored … on every message\")",
        {}, true},
+      {"\"last_remote_input\": null for a control vehicle (SPEC §4.1: `{controller} | null`)",
+       [](VehicleOcpShared& s) { hosted_feedback(s).last_remote_input.reset(); }},
+      {"non-ASCII text: UTF-8 in vehicle_data (SPEC §2: the length prefix counts UTF-8 bytes, not characters)",
+       [](VehicleOcpShared& s) {
+         hosted_feedback(s).vehicle_data = VehicleUserData{std::nullopt, RawJson{R"({"driver":"Åsa Öberg","route":"Göteborg → Malmö","名前":"トラック"})"}};
+       }},
+      {"a frame of about 16 KiB: a large vehicle_data (SPEC §2: frames up to 16 384 bytes; a fleet's vehicle_data is as "
+       "large as its vehicles send)",
+       [](VehicleOcpShared& s) {
+         VehicleFeedback& f = hosted_feedback(s);
+         f.vehicle_data = VehicleUserData{std::nullopt, RawJson{R"({"blob":""})"}};
+         std::string json;
+         encode_vehicle_ocp_shared(s, json);
+         // A little under the limit: the pair's digits are already in, nothing else changes.
+         const std::size_t rest = max_payload_bytes - json.size() - 16;
+         f.vehicle_data->user_data = RawJson{R"({"blob":")" + std::string(rest, 'x') + R"("})"};
+       }},
   };
   return forms;
 }
@@ -95,11 +114,14 @@ void add_operator_product_shape_cases(std::vector<VehicleCase>& cases) {
   cases.push_back({{{"operator/4.1/1", "handles every VehicleOcpShared shape the product sends", "SPEC §4.1, §2 Decision, §2",
                      "\"a third-party client is graded MUST only on what the real product can send it\" — SPEC §4.1: "
                      "\"message_latency_roundtrip\": 80 | null, \"missing_cameras\": [\"rear\"] | null, \"vehicle_data\": {…} | null, "
-                     "\"last_input\": {controller} | null — §2: \"Unknown extra fields are ignored (forward compatibility), on every message.\"",
+                     "\"last_input\": {controller} | null, \"last_remote_input\": {controller} | null — §2: \"Unknown extra fields are "
+                     "ignored (forward compatibility), on every message.\", frames of UTF-8 up to 16 384 bytes",
                      Tier::must, milliseconds(10'000),
-                     {"OK: 20 frames in the product's other shapes (vehicle_data null; a camera lost; message_latency_roundtrip "
-                      "null; last_input null; unknown fields) are read and the last pair of each shape returned; connection kept"},
-                     "broken_client.py op-need-vehicle-data (or op-no-lost-camera, op-need-latency, op-need-last-input, op-strict-schema)"},
+                     {"OK: 32 frames in the product's other shapes (vehicle_data null; a camera lost; message_latency_roundtrip "
+                      "null; last_input null; unknown fields; last_remote_input null; non-ASCII text; a frame of about 16 KiB) are "
+                      "read and the last pair of each shape returned; connection kept"},
+                     "broken_client.py op-need-vehicle-data (or op-no-lost-camera, op-need-latency, op-need-last-input, op-strict-schema, "
+                     "op-need-remote-input, op-char-length, op-small-limit)"},
                     product_shared_shapes},
                    operator_setup()});
   cases.push_back({{{"operator/7/2", "with one vehicle, active_vehicle is omitted or names it", "SPEC §7",

@@ -4,7 +4,9 @@
 // case sends each form the product can send, each cited where it is allowed, interleaved,
 // and names the form of the first frame whose pair never came back.
 #include "case_helpers.hpp"
+#include "conformance/control_frames.hpp"
 #include "conformance/vehicle_cases.hpp"
+#include "ocp/frame.hpp"
 
 namespace ocp::conformance {
 namespace {
@@ -36,6 +38,22 @@ const std::vector<ControlForm>& product_control_forms() {
          c.controller = CraftedController::absent;
          c.client_user_data = "null";
          c.missing_cameras.clear();
+       }},
+      {"a control-path fault with \"controller\": null (SPEC §3.2: with ocp_disable_gamepad the controller \"stays null\" "
+       "during a fault)",
+       [](CraftedControl& c) {
+         c.controller = CraftedController::null;
+         c.fault = true;
+         c.fault_reason = "High Latency, Latency Loop Not Closed";
+       }},
+      // Last of the forms, so the last frame of the case is one: a client whose frame limit is
+      // below 16 KiB skips it and never echoes the last pair.
+      {"a frame of exactly 16 384 bytes: a large client_user_data (SPEC §2: the limit is 16 384; the operator's "
+       "user data is passed through)",
+       [](CraftedControl& c) {
+         c.client_user_data = R"({"blob":""})";
+         const std::size_t rest = max_payload_bytes - control_payload(c).size();
+         c.client_user_data = R"({"blob":")" + std::string(rest, 'x') + R"("})";
        }},
   };
   return forms;
@@ -71,11 +89,14 @@ void add_product_shape_cases(std::vector<VehicleCase>& cases) {
                      "SPEC §3.2, §2 Decision, seed 001 (control message schema)",
                      "\"a third-party client is graded MUST only on what the real product can send it\" — the product may omit "
                      "\"controller\" and \"missing_cameras\" (seed 001 schema), send \"client_user_data\": null (SPEC §3.2) and a "
-                     "non-empty \"missing_cameras\" when a camera is lost (SPEC §3.2, §6)",
+                     "non-empty \"missing_cameras\" when a camera is lost (SPEC §3.2, §6), a fault with a null controller "
+                     "(SPEC §3.2) and frames up to the 16 384-byte limit (SPEC §2)",
                      Tier::must, milliseconds(10'000),
-                     {"OK: 30 frames in the product's other shapes (no controller key; client_user_data null; no missing_cameras; "
-                      "a camera lost; all at once) are accepted; the last pair echoed; connection kept"},
-                     "broken_client.py need-controller-key (or need-user-data-object, need-missing-cameras, no-lost-camera)"},
+                     {"OK: 42 frames in the product's other shapes (no controller key; client_user_data null; no missing_cameras; "
+                      "a camera lost; all at once; a fault with controller null; a 16 384-byte frame) are accepted; the last "
+                      "pair echoed; connection kept"},
+                     "broken_client.py need-controller-key (or need-user-data-object, need-missing-cameras, no-lost-camera, "
+                     "fault-needs-controller, small-limit)"},
                     product_control_shapes},
                    {}});
 }

@@ -24,7 +24,7 @@ std::string remembering_no_more(const WarnedNames& names) {
 
 void PlayerCore::Impl::on_client_data(ClientSource source, const ClientOcpShared& data) {
   ++stats.client_messages_received;
-  bool keep_alive = is_keep_alive(data);
+  bool keep_alive = is_keep_alive(source, data);
 #ifdef OCP_MUTANTS
   if (mutant_active(Mutant::keep_alive_locks_source)) keep_alive = false;
 #endif
@@ -218,6 +218,16 @@ void PlayerCore::Impl::on_client_closed(const CloseReason& reason) {
   last_client_close_reason = reason;
   client_too_large.reset();   // nothing is sent without a client
   client.reset();  // the connection keeps itself alive until its callback returns
+  bool forget_pairs = source_lock.locked() == ClientSource::tcp;
+#ifdef OCP_MUTANTS
+  if (mutant_active(Mutant::locked_client_pair_kept)) forget_pairs = false;
+#endif
+  if (forget_pairs) {
+    // SPEC §4.3 Decision: the locked tcp client left, so no pair is returned until a new tcp
+    // client sends one. Its last pair would only age on the Streamer (HighLatency), hiding
+    // that the loop is not closed (InvalidMac).
+    for (auto& [name, link] : vehicles) link.client.returned_pair.reset();
+  }
   // Said with its disconnect line, so a storm of clients that each take over and leave stays
   // within the connection log budget; one the budget left out says it at the next told leave.
   if (told && source_lock.locked() == ClientSource::tcp && !source_lock.stopped() && !tcp_lock_without_client_logged) {

@@ -11,6 +11,11 @@ bool is_keep_alive(const ClientOcpShared& data) {
   return true;
 }
 
+bool is_keep_alive(ClientSource source, const ClientOcpShared& data) {
+  if (source != ClientSource::webview) return is_keep_alive(data);
+  return !data.active_vehicle && data.client_user_data.empty();
+}
+
 bool SourceLock::admit(ClientSource source, const Logger& logger) {
   conflict_just_happened_ = false;
   if (stopped_) return false;

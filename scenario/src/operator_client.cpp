@@ -1,6 +1,7 @@
 // The operator client stand-in (operator_client.hpp).
 #include "operator_client.hpp"
 
+#include "ocp/json_codec.hpp"
 #include "ocp/pipe.hpp"
 
 namespace ocp::scenario {
@@ -127,6 +128,14 @@ void OperatorClient::open_second_connection() {
   // Nothing to read: the Player refuses it at once (its close is seen by nobody here).
   end->set_handlers(ByteStreamHandlers{.on_bytes = [](std::string_view) {}, .on_closed = [](const std::string&) {}});
   second_connections_.push_back(std::move(end));
+}
+
+bool OperatorClient::send_client_data(const ClientOcpShared& message) {
+  if (!stream_ || !stream_->is_open() || misbehave_.silent) return false;
+  std::string payload;
+  encode_client_ocp_shared(message, payload);
+  stream_->write(operator_frame_of(payload));
+  return true;
 }
 
 }  // namespace ocp::scenario

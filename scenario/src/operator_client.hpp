@@ -14,6 +14,7 @@
 #include "ocp/byte_stream.hpp"
 #include "ocp/executor.hpp"
 #include "ocp/frame.hpp"
+#include "ocp/messages.hpp"
 #include "scenario/model.hpp"
 #include "world/world.hpp"
 
@@ -35,6 +36,10 @@ class OperatorClient {
   // A second :4001 connection beside the client's (SPEC §4.2: refused); its far end is kept
   // open here until the client goes, so only the Player closes it.
   void open_second_connection();
+  // The timeline's `client_data: {source: tcp}` in a world with this client: one
+  // ClientOcpShared frame on its connection, as a TCP client sends it. False (nothing sent)
+  // while it is disconnected or silent: the Player sees no tcp client data then.
+  bool send_client_data(const ClientOcpShared& message);
 
   std::uint64_t frames_read() const { return frames_read_; }
   std::uint64_t connections() const { return connections_; }

@@ -180,20 +180,25 @@ void Parser::fault_edge_expectations(const YAML::Node& node, FaultId fault, std:
 
 // `within`: [min, max], or just a maximum; returns the window as the title shows it.
 std::string Parser::edge_window(const YAML::Node& within, FaultEdgeExpectation& expectation) {
+  return within_window(within, expectation.min, expectation.max);
+}
+
+// The same `within` for any expectation with an anchor (faults, events).
+std::string Parser::within_window(const YAML::Node& within, Micros& min, Micros& max) {
   if (within.IsSequence()) {
     if (within.size() != 2) read_.fail(within, "within: expected [min, max] or one maximum");
-    expectation.min = read_.duration(within[0]);
-    expectation.max = read_.duration(within[1]);
-    if (expectation.max < expectation.min) read_.fail(within, "within: max < min");
+    min = read_.duration(within[0]);
+    max = read_.duration(within[1]);
+    if (max < min) read_.fail(within, "within: max < min");
   } else {
-    expectation.max = read_.duration(within);
+    max = read_.duration(within);
   }
-  if (expectation.min <= Micros{0}) return format_time(expectation.max);
+  if (min <= Micros{0}) return format_time(max);
   // Appended piece by piece: GCC 12 (-O3) reports a false -Wrestrict for "[" + a temporary.
   std::string text = "[";
-  text += format_time(expectation.min);
+  text += format_time(min);
   text += ", ";
-  text += format_time(expectation.max);
+  text += format_time(max);
   text += "]";
   return text;
 }

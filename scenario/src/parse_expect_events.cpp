@@ -31,9 +31,10 @@ void Parser::event_expectation(const YAML::Node& node) {
   } else {
     if (node["from"] || node["until"]) read_.fail(node, "from / until go with never; an event that must happen takes after / within");
     std::tie(e.from, e.from_label) = anchor(read_.require(node, "after", "event expectation"));
-    const Micros within = read_.duration(read_.require(node, "within", "event expectation"));
-    e.until = e.from + within;
-    title += " within " + format_time(within) + " after " + e.from_label;
+    Micros max{0};
+    const std::string window = within_window(read_.require(node, "within", "event expectation"), e.min, max);
+    e.until = e.from + max;
+    title += " within " + window + " after " + e.from_label;
   }
   scenario_.expectations.push_back({title, read_.mark(node), e});
 }

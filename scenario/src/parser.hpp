@@ -85,6 +85,7 @@ class Parser {
   ExpectWindow expect_window(const YAML::Node& node);
   void fault_edge_expectations(const YAML::Node& node, FaultId fault, std::optional<std::string> vehicle);
   std::string edge_window(const YAML::Node& within, FaultEdgeExpectation& expectation);
+  std::string within_window(const YAML::Node& within, Micros& min, Micros& max);
   void fault_state_expectation(const YAML::Node& node, FaultId fault);
   std::vector<std::string> vehicle_names(const YAML::Node& list, std::string_view key);
   void delivery_expectation(const YAML::Node& node);

@@ -112,14 +112,14 @@ class Actions {
   }
   void operator()(const SelectVehicle& select) { world_.player().select_vehicle(select.vehicle); }
   void operator()(const ClientDataAction& data) {
-    send_client_data(world_, data);
+    send_client_data(world_, data, operator_client_);
     if (data.every <= Micros{0}) return;
     const SimTime until = data.until ? origin_ + *data.until : end_;
     // A source that keeps sending (a plugin echoing every frame): reschedules itself.
     auto repeat = std::make_shared<std::function<void()>>();
     World* world = &world_;
-    *repeat = [world, data, until, repeat_weak = std::weak_ptr(repeat)] {
-      send_client_data(*world, data);
+    *repeat = [world, data, until, client = operator_client_, repeat_weak = std::weak_ptr(repeat)] {
+      send_client_data(*world, data, client);
       Executor& executor = world->executor();
       if (executor.now() + data.every <= until) {
         if (auto next = repeat_weak.lock()) executor.call_after(data.every, *next);
@@ -129,7 +129,9 @@ class Actions {
     if (executor_.now() + data.every <= until) executor_.call_after(data.every, *repeat);
   }
 
-  static void send_client_data(World& world, const ClientDataAction& data) {
+  // With an operator client, tcp client data goes through its connection (and stops while it
+  // is disconnected), as the product's :4001 does; without one tcp stays an abstract source.
+  static void send_client_data(World& world, const ClientDataAction& data, OperatorClient* operator_client) {
     PlayerCore& player = world.player();
     ClientOcpShared message;
     message.active_vehicle = data.active_vehicle;
@@ -146,6 +148,10 @@ class Actions {
         }
       }
       message.client_user_data[vehicle] = out;
+    }
+    if (data.source == ClientSource::tcp && operator_client != nullptr) {
+      operator_client->send_client_data(message);
+      return;
     }
     player.handle_client_data(data.source, message);
   }

@@ -32,13 +32,15 @@ std::string describe_notable(const NotableEvent& n) {
 void judge_event(const JudgeContext& context, const EventExpectation& e, Verdict& v) {
   v.kind = "event";
   const SimTime end = e.until.value_or(context.scenario.duration);
+  const SimTime start = e.from + e.min;   // within [min, max]: not before from + min
   v.expected = std::string(e.never ? "no " : "") + std::string(notable_kind_name(e.kind)) + " in [" +
-               format_seconds(e.from) + ", " + format_seconds(end) + "]";
+               format_seconds(start) + ", " + format_seconds(end) + "]";
   std::size_t seen = 0;
   const NotableEvent* first = nullptr;
   const NotableEvent* other = nullptr;   // the same kind of event, not matching: the likely near miss
   for (const NotableEvent& n : context.observations.notable_events) {
-    if (n.time < e.from || n.time > end) continue;
+    if (n.time >= e.from && n.time < start && notable_matches(e, n) && other == nullptr) other = &n;   // too early
+    if (n.time < start || n.time > end) continue;
     if (!notable_matches(e, n)) {
       if (other == nullptr && n.kind == e.kind) other = &n;
       continue;

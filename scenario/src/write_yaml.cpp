@@ -376,7 +376,12 @@ struct ExpectationWriter {
       if (e.until) node["until"] = duration_text(*e.until);
     } else {
       node["after"] = duration_text(e.from);
-      node["within"] = duration_text(*e.until - e.from);
+      if (e.min > Micros{0}) {
+        node["within"].push_back(duration_text(e.min));
+        node["within"].push_back(duration_text(*e.until - e.from));
+      } else {
+        node["within"] = duration_text(*e.until - e.from);
+      }
     }
     expect["events"].push_back(node);
   }

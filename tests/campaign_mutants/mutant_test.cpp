@@ -76,6 +76,24 @@ expect:
   invariants: [default_controller_during_control_fault]
 )";
 
+// The operator client returns the SEI pair (client data, source tcp, through its connection):
+// tcp is the locked source. At 3 s it hangs up inside a frame and is back 1 s later.
+constexpr const char* locked_client_world = R"(
+duration: 6s
+world:
+  gamepad: drive
+  operator_client: {connect: true, keep_alive_period: 100ms, reconnect_backoff: 1s}
+  vehicles:
+    - name: v1
+      link: {delay: 20ms}
+timeline:
+  - {at: 1s, client_data: {source: tcp, vehicles: {v1: {echo: latest}}, every: 10ms}}
+  - {at: 3s, operator_misbehave: {bad_message: eof_mid_frame}}
+  - {at: 3050ms, operator_misbehave: {}}
+expect:
+  invariants: [default_controller_during_control_fault]
+)";
+
 bool caught(const WorldOutcome& outcome, Check check) {
   for (const Violation& v : outcome.violations) {
     if (v.check == check) return true;
@@ -95,7 +113,7 @@ WorldOutcome check(const char* yaml, Mutant mutant) {
 }
 
 TEST(CampaignMutants, CleanWorldsPass) {
-  for (const char* world : {outage_world, reorder_world, operator_world}) {
+  for (const char* world : {outage_world, reorder_world, operator_world, locked_client_world}) {
     const WorldOutcome outcome = check(world, Mutant::none);
     EXPECT_EQ(outcome.violation_count, 0u) << describe(outcome);
   }
@@ -122,6 +140,7 @@ const MutantCase mutant_cases[] = {
     {"bad operator frame kept", operator_world, Mutant::operator_bad_frame_kept, Check::operator_port},
     {"keep-alive locks the source", operator_world, Mutant::keep_alive_locks_source, Check::operator_port},
     {"feedback fault lists stale", operator_world, Mutant::feedback_fault_lists_stale, Check::operator_feedback},
+    {"locked client's pair kept", locked_client_world, Mutant::locked_client_pair_kept, Check::operator_port},
 };
 
 TEST(CampaignMutants, EachIsCaughtByItsCheck) {

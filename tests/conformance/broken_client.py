@@ -37,7 +37,7 @@ BROKEN = {"echo-only", "timer-echo", "naive-recv", "reject-oversized", "require-
           # The product's other control shapes (vehicle/3.2/4): each chokes on one of them.
           "need-controller-key", "need-user-data-object", "need-missing-cameras", "no-lost-camera",
           "second-connection", "reconnect-at-once", "reconnect-slowly", "split-write", "once-oversized",
-          "once-bad-pos"} | SAFETY
+          "once-bad-pos", "slow-keepalive", "fault-needs-controller", "small-limit", "tires"} | SAFETY
 # Operator-side (:4001) clients: op-echo behaves (op-disable too, with the gamepad disabled);
 # the others break one rule.
 OPERATOR = {"op-echo", "op-corrupt", "op-stale", "op-double", "op-oversized", "op-no-keepalive", "op-no-reconnect",
@@ -45,7 +45,9 @@ OPERATOR = {"op-echo", "op-corrupt", "op-stale", "op-double", "op-oversized", "o
             "op-no-active", "op-monitor-active", "op-naive-recv", "op-reject-oversized",
             # The product's other VehicleOcpShared shapes (operator/4.1/1): each chokes on one.
             "op-need-vehicle-data", "op-no-lost-camera", "op-need-latency", "op-need-last-input", "op-strict-schema",
-            "op-fixed-active", "op-once-oversized", "op-reconnect-at-once", "op-reconnect-slowly", "op-malformed"}
+            "op-fixed-active", "op-once-oversized", "op-reconnect-at-once", "op-reconnect-slowly", "op-malformed",
+            "op-need-remote-input", "op-char-length", "op-small-limit", "op-tires", "op-answer-on-change",
+            "op-by-position"}
 HOSTILE = {"garbage", "flood", "huge-prefix", "half-open", "never-read"}
 FAULT_NAMES = {"", "Vehicle No Response", "No Control Message", "Camera Lost", "Streamer Slow", "High Latency",
                "Operator Station Has Error", "Latency Loop Not Closed", "Control Thread Channel Slow"}
@@ -88,7 +90,8 @@ class Deframer:
             if len(self.buf) < 4:
                 return
             (length,) = struct.unpack("<I", self.buf[:4])
-            if length > LIMIT:
+            # small-limit: Bug: a 4 KiB frame limit (the product sends up to 16 KiB): larger frames skipped.
+            if length > (4096 if MODE in ("small-limit", "op-small-limit") else LIMIT):
                 if self.reject_oversized:
                     raise Oversized()
                 self.buf, self.skip = self.buf[4:], length
@@ -97,6 +100,22 @@ class Deframer:
                 return
             payload = self.buf[4:4 + length]
             self.buf = self.buf[4 + length:]
+            yield payload
+
+
+class CharDeframer(Deframer):
+    """Bug (op-char-length): the length prefix read as a count of characters (a JavaScript
+    string's length), not of UTF-8 bytes: the same for ASCII, wrong for any other text."""
+
+    def feed(self, data):
+        self.buf += data
+        while len(self.buf) >= 4:
+            (length,) = struct.unpack("<I", self.buf[:4])
+            text = self.buf[4:].decode("utf-8", errors="ignore")
+            if len(text) < length:
+                return
+            payload = text[:length].encode()
+            self.buf = self.buf[4 + len(payload):]
             yield payload
 
 
@@ -230,6 +249,8 @@ def acceptable(msg):
         return False   # Bug: never tested with a camera lost.
     if MODE == "require-controller" and msg.get("controller") is None:
         return False
+    if MODE == "fault-needs-controller" and telemetry.get("fault") and msg.get("controller") is None:
+        return False   # Bug: on a fault it reads the default controller (SPEC §3.2: or it stays null).
     if MODE == "strict-schema":
         if set(msg) - KNOWN_TOP or set(msg.get("telemetry", {})) - KNOWN_TELEMETRY:
             return False
@@ -274,6 +295,11 @@ def operator_reply(msg, state):
     """The ClientOcpShared answering one VehicleOcpShared (op-echo: every control vehicle's
     latest pair, user data for it, the first control vehicle as active_vehicle)."""
     feedback = msg.get("vehicle_feedback", {})
+    if MODE == "op-by-position":
+        # Bug: vehicles mapped by their position in the first frame (JSON order is not significant).
+        order = state.setdefault("order", list(feedback))
+        if len(order) == len(feedback):
+            feedback = dict(zip(order, feedback.values()))
     operator_shape_bugs(msg, feedback)
     control = sorted(name for name, f in feedback.items() if not f.get("is_monitor"))
     candidates = sorted(feedback) if MODE == "op-monitor-active" else control
@@ -288,6 +314,8 @@ def operator_reply(msg, state):
         state.setdefault("first", {}).setdefault(name, pair)
         if MODE == "op-stale":
             pair = state["first"][name]
+        if MODE == "op-tires" and time.monotonic() - state["opened"] > 3.0:
+            pair = state.setdefault("tired", {}).setdefault(name, pair)   # Bug: frozen 3 s into a connection.
         if MODE == "op-corrupt":
             pair = (pair[0], pair[1] ^ 0xA5A5A5A5)
         if MODE == "op-double":
@@ -324,6 +352,9 @@ def operator_shape_bugs(msg, feedback):
     product may send (SPEC §4.1): it raises, which ends the connection."""
     if MODE == "op-need-last-input":
         msg["last_input"]["axes"]   # Bug: last_input read as always set (SPEC §4.1: or null).
+    for f in feedback.values():
+        if MODE == "op-need-remote-input" and not f.get("is_monitor"):
+            f["last_remote_input"]["axes"]   # Bug: read as always set for a control vehicle (SPEC §4.1: or null).
     if MODE == "op-strict-schema" and set(msg) - KNOWN_SHARED:
         raise ValueError("unknown field")
     for f in feedback.values():
@@ -360,7 +391,7 @@ def operator_session(sock):
                                                  for name, p in last_returned.items()}}))
     sock.settimeout(0.05)
     # Bug (op-reject-oversized): an oversized frame ends the connection.
-    deframer = Deframer(reject_oversized=MODE == "op-reject-oversized")
+    deframer = (CharDeframer if MODE == "op-char-length" else Deframer)(reject_oversized=MODE == "op-reject-oversized")
     state = {"opened": time.monotonic()}
     last_sent = time.monotonic()
     try:
@@ -384,9 +415,17 @@ def operator_session(sock):
                 data = b""
             for payload in deframer.feed(data):
                 msg = json.loads(payload)
-                sock.sendall(operator_frame(operator_reply(msg, state)))
+                reply = operator_reply(msg, state)
+                if MODE == "op-answer-on-change":
+                    # Bug: answers only a changed pair (and has no keep-alive): silent while the video stalls.
+                    pairs = {n: (e.get("ack_time_returned"), e.get("ack_time_mac_returned"))
+                             for n, e in reply.get("client_user_data", {}).items()}
+                    if pairs == state.get("answered"):
+                        continue
+                    state["answered"] = pairs
+                sock.sendall(operator_frame(reply))
                 last_sent = time.monotonic()
-            if MODE != "op-no-keepalive" and time.monotonic() - last_sent >= KEEP_ALIVE_S:
+            if MODE not in ("op-no-keepalive", "op-answer-on-change") and time.monotonic() - last_sent >= KEEP_ALIVE_S:
                 sock.sendall(frame({}))
                 last_sent = time.monotonic()
     finally:
@@ -456,7 +495,9 @@ def session(sock):
                 return
             if MODE == "fault-enum" and msg["telemetry"]["fault"] and msg["telemetry"]["fault_reason"] not in FAULT_NAMES:
                 return   # Bug: fault_reason parsed as one known display string.
-            pair = (msg["ack_time"], msg["ack_time_mac"])
+            # tires: Bug: stops taking the newest pair 3 s into a connection (echoes the old one on).
+            if not (MODE == "tires" and pair and time.monotonic() - late["opened"] > 3.0):
+                pair = (msg["ack_time"], msg["ack_time_mac"])
             safety.on_message(msg)
             if MODE == "float-ack":
                 # Bug: ack_time read through a double (as JavaScript's JSON.parse does).
@@ -476,7 +517,9 @@ def session(sock):
             write(sock, held + response(pair, once_fault(late)))
             held = b""
             last_sent = now
-        elif MODE != "echo-only" and pair and now - last_sent >= 0.01:
+        # slow-keepalive: Not a bug the product punishes, but little room: an idle keep-alive
+        # every 1.5 s stays under the 2 s read timeout by 0.5 s (vehicle/2/7: NON-STRICT).
+        elif MODE != "echo-only" and pair and now - last_sent >= (1.5 if MODE == "slow-keepalive" else 0.01):
             write(sock, response(pair, once_fault(late)))
             last_sent = now
 

@@ -34,6 +34,13 @@ TEST(KeepAlive, OnlyMessagesWithoutClientDataAreKeepAlives) {
   ClientVehicleEntry user_data;
   user_data.user_data = RawJson{"null"};
   EXPECT_FALSE(is_keep_alive(client_entry("no-such-truck", user_data)));
+  // The tcp client and plugins fill the pair themselves: a bare entry is a keep-alive for them,
+  // never for the web view, whose pair the Player injects (SPEC §4.2 Decision).
+  EXPECT_TRUE(is_keep_alive(ClientSource::tcp, client_entry("truck-1", ClientVehicleEntry{})));
+  EXPECT_TRUE(is_keep_alive(ClientSource::plugin, client_entry("truck-1", ClientVehicleEntry{})));
+  EXPECT_FALSE(is_keep_alive(ClientSource::webview, client_entry("truck-1", ClientVehicleEntry{})));
+  EXPECT_TRUE(is_keep_alive(ClientSource::webview, ClientOcpShared{}));
+  EXPECT_FALSE(is_keep_alive(ClientSource::webview, active));
 }
 
 TEST_F(Dashboard, KeepAliveEverySecondForTenSecondsKeepsTheClientAndTheSelfEcho) {

@@ -83,6 +83,37 @@ TEST(Player, WebviewMessagesGetTheLatestPairInjected) {
   EXPECT_EQ(harness.control_at("truck-1", at_ms(30))->client_user_data, RawJson{R"({"from":"js"})"});
 }
 
+// SPEC §4.2 Decision (seeds 003, 004: the pair "is injected into every sendNamedUserMessage
+// call"): a web view call with a bare entry is client data, not a keep-alive. It locks the
+// source and each such call returns the latest pair; before issue #35 the bare entries were
+// keep-alives and the loop stopped turning (HighLatency after about 400 ms).
+TEST(Player, WebviewBareEntriesLockAndReturnTheLatestPair) {
+  PlayerHarness harness;
+  ASSERT_TRUE(harness.add_vehicle("truck-1").ok());
+  harness.player.start();
+  harness.video_at(at_ms(2), "truck-1", first_pair);
+  harness.client_data_at(at_ms(5), ClientSource::webview, client_entry("truck-1", ClientVehicleEntry{}));
+  harness.video_at(at_ms(12), "truck-1", second_pair);
+  harness.client_data_at(at_ms(15), ClientSource::webview, client_entry("truck-1", ClientVehicleEntry{}));
+  harness.run_until(at_ms(20));
+  EXPECT_EQ(harness.player.locked_source(), ClientSource::webview);
+  EXPECT_EQ(harness.control_at("truck-1", at_ms(10))->returned_ack, first_pair);
+  EXPECT_EQ(harness.control_at("truck-1", at_ms(20))->returned_ack, second_pair);
+  EXPECT_EQ(harness.control_at("truck-1", at_ms(20))->client_user_data, std::nullopt);
+}
+
+// A web view call that names nothing ({}) returns no pair and locks nothing: self-echo goes on.
+TEST(Player, WebviewCallNamingNothingLocksNothing) {
+  PlayerHarness harness;
+  ASSERT_TRUE(harness.add_vehicle("truck-1").ok());
+  harness.player.start();
+  harness.video_at(at_ms(2), "truck-1", first_pair);
+  harness.client_data_at(at_ms(5), ClientSource::webview, ClientOcpShared{});
+  harness.run_until(at_ms(10));
+  EXPECT_EQ(harness.player.locked_source(), std::nullopt);
+  EXPECT_EQ(harness.control_at("truck-1", at_ms(10))->returned_ack, first_pair);   // self-echo
+}
+
 TEST(Player, SecondSourceStopsAllClientDataUntilRestart) {
   PlayerHarness harness;
   ASSERT_TRUE(harness.add_vehicle("truck-1").ok());

@@ -117,6 +117,27 @@ TEST_F(PlayerTcpClient, LockedClientLeavingIsToldOnceUntilATcpClientTakesOver) {
   EXPECT_EQ(told(), 2);
 }
 
+// SPEC §4.3 Decision: "source tcp locked, no client connected: no pair is returned". The
+// departed client's last pair must not be returned for it (issue #35: the Streamer would show
+// a growing latency instead of InvalidMac).
+TEST_F(PlayerTcpClient, LockedClientLeavingReturnsNoPairUntilATcpClientTakesOver) {
+  auto first = std::make_unique<TestOperatorClient>(harness, "pipe:first");
+  harness.executor.call_at(at_ms(5), [&] { first->send(echo_message(R"({"tool":"bucket"})")); });
+  harness.run_until(at_ms(20));
+  ASSERT_EQ(harness.control_at("truck-1", at_ms(20))->returned_ack, pair);
+  harness.executor.call_at(at_ms(25), [&] { first->close(); });
+  harness.run_until(at_ms(30));
+  const auto after_leave = harness.control_at("truck-1", at_ms(30));
+  ASSERT_TRUE(after_leave.has_value());
+  EXPECT_FALSE(after_leave->returned_ack.has_value());
+  EXPECT_EQ(harness.player.locked_source(), ClientSource::tcp);
+  // A new tcp client takes over and its pair is returned again.
+  TestOperatorClient second(harness, "pipe:second");
+  harness.executor.call_at(at_ms(35), [&] { second.send(echo_message()); });
+  harness.run_until(at_ms(40));
+  EXPECT_EQ(harness.control_at("truck-1", at_ms(40))->returned_ack, pair);
+}
+
 TEST_F(PlayerTcpClient, SilenceClosesAfterExactlyTheReadTimeout) {
   TestOperatorClient client(harness);
   harness.executor.call_at(at_ms(500), [&] { client.send(echo_message()); });

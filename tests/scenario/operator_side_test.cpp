@@ -248,6 +248,77 @@ expect:
   for (const Verdict& verdict : outcome.verdicts) EXPECT_TRUE(verdict.passed) << verdict.title << ": " << verdict.actual;
 }
 
+// expect.events takes within: [min, max] as expect.faults does (issue #35); an event before
+// min is the near miss the verdict names.
+TEST(OperatorSide, EventsWithinAWindow) {
+  const std::string yaml = with_operator(R"(timeline:
+  - {at: 3s, name: garbage, operator_misbehave: {malformed_json: true}}
+  - {at: 3500ms, operator_misbehave: {}}
+expect:
+  events:
+    - {event: connection_closed, wire: operator, reason: malformed JSON, after: garbage, within: [0ms, 10ms]}
+    - {event: connection_closed, wire: operator, reason: malformed JSON, after: garbage, within: [100ms, 1s]}
+)");
+  const auto outcome = run_text(yaml);
+  ASSERT_EQ(outcome.verdicts.size(), 2u);
+  EXPECT_TRUE(outcome.verdicts[0].passed) << outcome.verdicts[0].actual;
+  EXPECT_EQ(outcome.verdicts[0].title.find("within [0ms"), std::string::npos) << outcome.verdicts[0].title;
+  EXPECT_FALSE(outcome.verdicts[1].passed);
+  EXPECT_EQ(outcome.verdicts[1].expected, "connection_closed in [3.1s, 4s]") << outcome.verdicts[1].expected;
+  EXPECT_NE(outcome.verdicts[1].actual.find("nearest: connection_closed on player"), std::string::npos)
+      << outcome.verdicts[1].actual;
+  expect_operator_round_trip(yaml);
+  expect_parse_error(with_operator("expect:\n  events:\n    - {event: source_locked, after: 1s, within: [2s, 1s]}\n"),
+                     "within: max < min");
+}
+
+// With an operator client, client data of source tcp goes through its connection: it stops
+// while the client is away, and the Player (tcp locked, no client) returns no pair (SPEC §4.3
+// Decision): InvalidMac a Player frame plus the 20 ms link delay after the hang-up. Before
+// issue #35 the data reached the Player without a connection and the old pair kept coming.
+TEST(OperatorSide, TcpClientDataGoesThroughTheOperatorClient) {
+  const std::string yaml = R"(seed: 4
+duration: 6s
+world:
+  gamepad: drive
+  operator_client: {connect: true, keep_alive_period: 100ms, reconnect_backoff: 1s}
+  vehicles:
+    - name: truck-1
+      link: {delay: 20ms}
+timeline:
+  - {at: 1s, name: echo, client_data: {source: tcp, vehicles: {truck-1: {echo: latest}}, every: 10ms}}
+  - {at: 3s, name: hang_up, operator_misbehave: {bad_message: eof_mid_frame}}
+  - {at: 3050ms, operator_misbehave: {}}
+expect:
+  events:
+    - {event: source_locked, source: tcp, after: echo, within: 10ms}
+  faults:
+    - fault: InvalidMac
+      raised: {after: hang_up, within: [20ms, 40ms]}
+      cleared: {after: hang_up, within: [1000ms, 1060ms]}
+)";
+  const auto outcome = run_text(yaml);
+  ASSERT_EQ(outcome.verdicts.size(), 3u);
+  for (const Verdict& verdict : outcome.verdicts) EXPECT_TRUE(verdict.passed) << verdict.title << ": " << verdict.actual;
+}
+
+// SPEC §4.2 Decision: a web view call with a bare entry gets its pair injected and locks the
+// source; the loop keeps turning while it sends. Before issue #35 it was a keep-alive: no lock.
+TEST(OperatorSide, WebviewBareEntriesLockAndKeepTheLoopClosed) {
+  const std::string yaml = test::one_vehicle(R"(timeline:
+  - {at: 1s, name: page, client_data: {source: webview, vehicles: {truck-1: {}}, every: 10ms}}
+expect:
+  events:
+    - {event: source_locked, source: webview, after: page, within: 10ms}
+  faults:
+    - {fault: InvalidMac, never: true, from: 500ms}
+    - {fault: HighLatency, never: true}
+)");
+  const auto outcome = run_text(yaml);
+  ASSERT_EQ(outcome.verdicts.size(), 3u);
+  for (const Verdict& verdict : outcome.verdicts) EXPECT_TRUE(verdict.passed) << verdict.title << ": " << verdict.actual;
+}
+
 TEST(OperatorSide, OperatorMisbehaviourNeedsTheClientAndValidSettings) {
   expect_parse_error(test::one_vehicle("timeline:\n  - {at: 1s, operator_misbehave: {silent: true}}\nexpect:\n"
                                        "  faults:\n    - {fault: InputLost, never: true}\n"),

@@ -56,11 +56,11 @@ TEST(Envelope, ParsesNameAndKeepsIntegersExact) {
   EXPECT_EQ(make_envelope("a", "{}"), R"({"name":"a","data":{}})");
 }
 
-TEST(Envelope, KeepAliveIsAMessageWithoutClientData) {
+TEST(Envelope, KeepAliveIsAMessageThatNamesNoVehicle) {
   ClientOcpShared data;
   EXPECT_TRUE(is_keep_alive(data));
   data.client_user_data["truck-1"] = {};
-  EXPECT_TRUE(is_keep_alive(data));
+  EXPECT_FALSE(is_keep_alive(data));   // SPEC §4.2 Decision: a bare entry still gets its pair
   data.client_user_data["truck-1"].ocp_disable_gamepad = false;
   EXPECT_FALSE(is_keep_alive(data));
   ClientOcpShared selecting;

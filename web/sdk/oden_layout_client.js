@@ -11,7 +11,9 @@
 // source); once it calls sendNamedUserMessage("ocp_client_user_data", …), the Player stamps
 // every such message with the latest timestamp pair itself — the exact u64 value, which a JS
 // number could not hold above 2^53. So keep sending (e.g. on every ocp_vehicle_user_data)
-// while the page is in control, or the vehicle sees the latency grow.
+// while the page is in control, or the vehicle sees the latency grow. A call that names a
+// vehicle gets its pair even with a bare entry ({client_user_data: {"truck-1": {}}}) and
+// takes the source lock; only a call naming nothing ({}) is a keep-alive.
 //
 // Extra, simulator-only message names: "ocp_webview_status" (who holds the client-data
 // source lock, SPEC §4.3) and "ocp_webview_error" (why a message of this page was dropped).

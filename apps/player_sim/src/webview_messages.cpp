@@ -56,15 +56,7 @@ std::string make_envelope(std::string_view name, std::string_view data_json) {
   return out;
 }
 
-bool is_keep_alive(const ClientOcpShared& data) {
-  if (data.active_vehicle) return false;
-  for (const auto& [name, entry] : data.client_user_data) {
-    if (entry.user_data || entry.ocp_disable_gamepad || entry.ack_time_returned || entry.ack_time_mac_returned) {
-      return false;
-    }
-  }
-  return true;
-}
+bool is_keep_alive(const ClientOcpShared& data) { return ocp::is_keep_alive(ClientSource::webview, data); }
 
 std::string describe(const Status::ClientFrameTooLarge& too_large) {
   return fmt::format("VehicleOcpShared too large: {} B > {} B, not sent to the operator TCP client, which "

@@ -78,6 +78,8 @@ struct OracleTolerances {
 // The slack of a real-time world: a loaded 2-core machine runs a tick or a write tens of ms late.
 inline constexpr Micros real_time_oracle_slack{50'000};
 
+class SourceLockWatch;   // oracle_source_lock.hpp
+
 class Oracle {
  public:
   explicit Oracle(const scenario::Scenario& scenario, OracleTolerances tolerances = {});
@@ -109,6 +111,7 @@ class Oracle {
   void on_operator_connection(SimTime now, const ConnectionEvent& connection);
   void on_operator_frame(SimTime now, const WireFrame& frame);
   void on_source_locked(SimTime now, const SourceLocked& locked);
+  void judge_tcp_lock(SimTime now);
   void on_feedback_link(VehicleState& vehicle, const LinkEvent& link);
   void check_operator_port(SimTime now);
   void check_feedback_lists(SimTime now, std::string_view payload);
@@ -137,6 +140,7 @@ class Oracle {
   bool gamepad_plugged_ = true;
   std::map<std::string, std::unique_ptr<VehicleState>, std::less<>> vehicles_;
   std::unique_ptr<OperatorPort> operator_;   // null: the world connects no operator client
+  std::unique_ptr<SourceLockWatch> source_lock_watch_;   // the locked tcp client left: no pair
   std::vector<EventBus::Subscription> subscriptions_;
   std::vector<Violation> violations_;
   std::uint64_t violation_count_ = 0;

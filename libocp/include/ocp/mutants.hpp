@@ -18,6 +18,7 @@ enum class Mutant {
   operator_bad_frame_kept,          // a broken client frame is ignored, the connection kept
   keep_alive_locks_source,          // a keep-alive `{}` takes the tcp source lock (SPEC §4.2)
   feedback_fault_lists_stale,       // VehicleOcpShared's fault lists are never refreshed
+  locked_client_pair_kept,          // the locked tcp client left, its last pair still returned (§4.3)
 };
 
 #ifdef OCP_MUTANTS

@@ -62,6 +62,10 @@ inline constexpr std::string_view tcp_lock_without_client_text =
 // with any field, e.g. {} — is a keep-alive (SPEC §4.2): a read-only dashboard sends it to
 // stay connected, so it neither locks a source nor counts as that source's data (§4.3).
 bool is_keep_alive(const ClientOcpShared& data);
+// The same rule for one source. A web view call is never a keep-alive for a vehicle it names
+// (SPEC §4.2 Decision: the Player injects the pair into every call), so for the web view only a
+// call naming nothing — no active_vehicle, no client_user_data entry, e.g. {} — is one.
+bool is_keep_alive(ClientSource source, const ClientOcpShared& data);
 
 inline constexpr double max_player_frame_rate_hz = 100.0;
 

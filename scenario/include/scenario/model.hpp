@@ -241,6 +241,7 @@ struct EventExpectation {
   SimTime from{0};
   std::string from_label;
   std::optional<SimTime> until;          // nullopt: the end of the run (never only)
+  Micros min{0};                         // after / within [min, max]: not before from + min
 };
 
 // What the operator client read in the Player's VehicleOcpShared (SPEC §4.1) about one

@@ -44,8 +44,9 @@ struct InboundMessage {
 // {"name":"<name>","data":<data_json>}; data_json must already be valid JSON.
 std::string make_envelope(std::string_view name, std::string_view data_json);
 
-// SPEC §4.2 Decision: no active_vehicle and no entry with any field — it must not lock the
-// source (a page that only keeps itself alive is still listen-only).
+// SPEC §4.2 Decisions: a call that names nothing (no active_vehicle, no entry) must not lock the
+// source (a page that only keeps itself alive is still listen-only); one that names a vehicle,
+// even with a bare entry ({"truck-1": {}}), is client data: the Player injects its pair.
 bool is_keep_alive(const ClientOcpShared& data);
 
 // What a page needs to show the source-locking banner (SPEC §4.3).
