@@ -66,16 +66,22 @@ void SourceLockWatch::on_control_link(const std::string& name, const LinkEvent& 
   switch (link.outcome) {
     case LinkOutcome::sent:
       if (left_at_ && vehicle.pairless_in_flight.size() < max_pairless_in_flight) {
-        vehicle.pairless_in_flight.insert(link.message_id);
+        vehicle.pairless_in_flight[link.message_id] = 1;
+      }
+      return;
+    case LinkOutcome::duplicated:   // a second copy, as pairless as the first (counted, not timed)
+      if (const auto found = vehicle.pairless_in_flight.find(link.message_id); found != vehicle.pairless_in_flight.end()) {
+        ++found->second;
       }
       return;
     case LinkOutcome::dropped: vehicle.pairless_in_flight.erase(link.message_id); return;
-    case LinkOutcome::delivered:
-      // A duplicate delivers the same message again: as pairless as the first time.
-      vehicle.last_delivered_pairless = vehicle.pairless_in_flight.erase(link.message_id) > 0 ||
-                                        (vehicle.last_delivered_pairless && vehicle.last_delivered_at == now);
+    case LinkOutcome::delivered: {
+      const auto found = vehicle.pairless_in_flight.find(link.message_id);
+      vehicle.last_delivered_pairless = found != vehicle.pairless_in_flight.end();
+      if (found != vehicle.pairless_in_flight.end() && --found->second == 0) vehicle.pairless_in_flight.erase(found);
       vehicle.last_delivered_at = now;
       return;
+    }
   }
 }
 

@@ -10,7 +10,7 @@
 #include <map>
 #include <optional>
 #include <string>
-#include <unordered_set>
+#include <unordered_map>
 #include <vector>
 
 #include "campaign/world_facts.hpp"
@@ -29,7 +29,7 @@ class SourceLockWatch {
 
  private:
   struct VehicleTrack {
-    std::unordered_set<std::uint64_t> pairless_in_flight;   // control messages sent with no client
+    std::unordered_map<std::uint64_t, std::uint32_t> pairless_in_flight;   // sent with no client → copies
     bool last_delivered_pairless = false;
     SimTime last_delivered_at{0};
     bool invalid_mac = false;
