@@ -9,6 +9,7 @@
 
 #include "ocp/build_info.hpp"
 #include "sim_app/data_dir.hpp"
+#include "scratch_dir.hpp"
 
 namespace ocp::sim_app {
 namespace {
@@ -17,14 +18,6 @@ namespace fs = std::filesystem;
 
 class DataDir : public ::testing::Test {
  protected:
-  void SetUp() override {
-    root_ = fs::temp_directory_path() /
-            ("ocp_data_dir_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" +
-             ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(root_);
-    fs::create_directories(root_);
-  }
-  void TearDown() override { fs::remove_all(root_); }
   fs::path file(const fs::path& relative) {
     const fs::path path = root_ / relative;
     fs::create_directories(path.parent_path());
@@ -40,7 +33,8 @@ class DataDir : public ::testing::Test {
     }
     return "";
   }
-  fs::path root_;
+  testing_support::ScratchDir scratch_{"ocp_data_dir_test"};
+  fs::path root_ = scratch_.path();
 };
 
 TEST_F(DataDir, TheOverrideComesFirstAndAloneWhenSet) {

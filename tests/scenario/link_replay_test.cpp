@@ -9,6 +9,7 @@
 #include "ocp/link_recording.hpp"
 #include "scenario/extract_link.hpp"
 #include "scenario_test_support.hpp"
+#include "scratch_dir.hpp"
 
 namespace ocp::scenario {
 namespace {
@@ -17,12 +18,6 @@ namespace fs = std::filesystem;
 
 class ScenarioLinkReplay : public ::testing::Test {
  protected:
-  void SetUp() override {
-    folder_ = fs::temp_directory_path() /
-              ("ocp_link_replay_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
-    fs::create_directories(folder_);
-  }
-  void TearDown() override { fs::remove_all(folder_); }
   void write(const std::string& name, const std::string& text) { std::ofstream(folder_ / name) << text; }
   std::string path(const std::string& name) const { return (folder_ / name).string(); }
   // One vehicle with the given link lines, driving; `duration` of virtual time.
@@ -41,7 +36,8 @@ class ScenarioLinkReplay : public ::testing::Test {
     const ExtractedLink extracted = extract_link(original.trace_jsonl, ExtractLinkOptions{path("trace.jsonl"), vehicle, false});
     return extracted.recording.format(extracted.comments);
   }
-  fs::path folder_;
+  testing_support::ScratchDir scratch_{"ocp_link_replay_test"};
+  fs::path folder_ = scratch_.path();
 };
 
 // The acceptance test: jitter, loss and a timeline change in the original; the replay

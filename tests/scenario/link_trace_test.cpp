@@ -5,6 +5,7 @@
 
 #include "ocp/delivery_trace.hpp"
 #include "scenario_test_support.hpp"
+#include "scratch_dir.hpp"
 
 namespace ocp::scenario {
 namespace {
@@ -13,18 +14,15 @@ namespace fs = std::filesystem;
 
 class ScenarioLinkTrace : public ::testing::Test {
  protected:
-  void SetUp() override {
-    folder_ = fs::temp_directory_path() / ("ocp_link_trace_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
-    fs::create_directories(folder_ / "traces");
-  }
-  void TearDown() override { fs::remove_all(folder_); }
+  void SetUp() override { fs::create_directories(folder_ / "traces"); }
   void write(const std::string& name, const std::string& text) { std::ofstream(folder_ / name) << text; }
   std::string path(const std::string& name) const { return (folder_ / name).string(); }
   static std::string with_link(const std::string& link) {
     return "seed: 1\nduration: 2s\nworld:\n  vehicles:\n    - name: truck-1\n" + link +
            "expect: {invariants: [no_stale_pair_after_reconnect]}\n";
   }
-  fs::path folder_;
+  testing_support::ScratchDir scratch_{"ocp_link_trace_test"};
+  fs::path folder_ = scratch_.path();
 };
 
 TEST_F(ScenarioLinkTrace, RelativeToTheScenarioFileAndSharedByBothDirections) {
