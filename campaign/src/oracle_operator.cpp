@@ -257,30 +257,19 @@ void Oracle::judge_tcp_lock(SimTime now) {
 // Feedback messages to the Player, for the receiver_fault list it must show.
 void Oracle::on_feedback_link(VehicleState& state, const LinkEvent& link) {
   switch (link.outcome) {
-    case LinkOutcome::sent:
-      if (state.feedback_in_flight.size() < max_feedback_in_flight) {
-        state.feedback_in_flight.emplace(link.message_id, VehicleState::FeedbackInFlight{state.reported_vehicle});
-      }
-      return;
-    case LinkOutcome::duplicated:
-      if (const auto found = state.feedback_in_flight.find(link.message_id); found != state.feedback_in_flight.end()) {
-        ++found->second.copies;
-      }
-      return;
-    case LinkOutcome::dropped: state.feedback_in_flight.erase(link.message_id); return;
+    case LinkOutcome::sent: state.feedback_in_flight.send(link.message_id, state.reported_vehicle, max_feedback_in_flight); return;
+    case LinkOutcome::duplicated: state.feedback_in_flight.duplicate(link.message_id); return;
+    case LinkOutcome::dropped: (void)state.feedback_in_flight.take(link.message_id); return;
     case LinkOutcome::delivered: break;
   }
-  const auto found = state.feedback_in_flight.find(link.message_id);
-  if (found == state.feedback_in_flight.end()) {
+  const std::optional<FaultBits> faults = state.feedback_in_flight.take(link.message_id);
+  if (!faults) {
     state.player_receiver_known = false;   // not tied to a send the oracle saw
     return;
   }
-  if (found->second.faults.bits != state.player_has_receiver.bits || !state.player_receiver_known) {
-    operator_->lists_changed = true;
-  }
-  state.player_has_receiver = found->second.faults;
+  if (faults->bits != state.player_has_receiver.bits || !state.player_receiver_known) operator_->lists_changed = true;
+  state.player_has_receiver = *faults;
   state.player_receiver_known = true;
-  if (--found->second.copies == 0) state.feedback_in_flight.erase(found);
 }
 
 void Oracle::check_feedback_lists(SimTime now, std::string_view payload) {

@@ -65,23 +65,14 @@ void SourceLockWatch::on_control_link(const std::string& name, const LinkEvent& 
   VehicleTrack& vehicle = track(name);
   switch (link.outcome) {
     case LinkOutcome::sent:
-      if (left_at_ && vehicle.pairless_in_flight.size() < max_pairless_in_flight) {
-        vehicle.pairless_in_flight[link.message_id] = 1;
-      }
+      if (left_at_) vehicle.pairless_in_flight.send(link.message_id, {}, max_pairless_in_flight);
       return;
-    case LinkOutcome::duplicated:   // a second copy, as pairless as the first (counted, not timed)
-      if (const auto found = vehicle.pairless_in_flight.find(link.message_id); found != vehicle.pairless_in_flight.end()) {
-        ++found->second;
-      }
-      return;
-    case LinkOutcome::dropped: vehicle.pairless_in_flight.erase(link.message_id); return;
-    case LinkOutcome::delivered: {
-      const auto found = vehicle.pairless_in_flight.find(link.message_id);
-      vehicle.last_delivered_pairless = found != vehicle.pairless_in_flight.end();
-      if (found != vehicle.pairless_in_flight.end() && --found->second == 0) vehicle.pairless_in_flight.erase(found);
+    case LinkOutcome::duplicated: vehicle.pairless_in_flight.duplicate(link.message_id); return;   // as pairless as the first
+    case LinkOutcome::dropped: (void)vehicle.pairless_in_flight.take(link.message_id); return;
+    case LinkOutcome::delivered:
+      vehicle.last_delivered_pairless = vehicle.pairless_in_flight.take(link.message_id).has_value();
       vehicle.last_delivered_at = now;
       return;
-    }
   }
 }
 

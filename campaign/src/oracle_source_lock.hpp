@@ -10,10 +10,10 @@
 #include <map>
 #include <optional>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include "campaign/world_facts.hpp"
+#include "copies_in_flight.hpp"
 #include "ocp/events.hpp"
 #include "scenario/model.hpp"
 
@@ -29,7 +29,7 @@ class SourceLockWatch {
 
  private:
   struct VehicleTrack {
-    std::unordered_map<std::uint64_t, std::uint32_t> pairless_in_flight;   // sent with no client → copies
+    CopiesInFlight<> pairless_in_flight;   // control messages sent with no client
     bool last_delivered_pairless = false;
     SimTime last_delivered_at{0};
     bool invalid_mac = false;

@@ -6,6 +6,7 @@
 
 #include "campaign/oracle.hpp"
 #include "campaign/world_facts.hpp"
+#include "copies_in_flight.hpp"
 
 namespace ocp::campaign {
 
@@ -44,26 +45,12 @@ struct CameraWatch {
   std::vector<bool> certain;   // no other window of this camera ends inside it
 };
 
-// One link direction, message by message. Copies are counted from the link's own `duplicated`
-// events, so nothing here depends on when the copies arrive (real time delivers them
-// microseconds apart, virtual time at the same instant).
+// One link direction, message by message (copies counted, copies_in_flight.hpp).
 struct Oracle::LinkTally {
   std::uint64_t sent = 0, delivered = 0, dropped = 0, duplicated = 0;
-  std::unordered_map<std::uint64_t, std::uint32_t> in_flight;   // message → copies still in flight
-  std::uint64_t copies_in_flight = 0;                           // the sum of in_flight's values
+  CopiesInFlight<> in_flight;
   std::uint64_t last_sent = 0;
   bool duplicates_possible = false;
-
-  // Takes one copy of `message` out of flight; returns how many there were (0: none).
-  std::uint32_t take_copy(std::uint64_t message) {
-    const auto found = in_flight.find(message);
-    if (found == in_flight.end()) return 0;
-    const std::uint32_t copies = found->second;
-    --copies_in_flight;
-    if (copies == 1) in_flight.erase(found);
-    else --found->second;
-    return copies;
-  }
 };
 
 struct Oracle::VehicleState {
@@ -87,11 +74,7 @@ struct Oracle::VehicleState {
   // What the Player's feedback entry must say (oracle_operator.cpp): the vehicle faults each
   // feedback message in flight carried when the Streamer sent it, and those of the one the
   // Player got last.
-  struct FeedbackInFlight {
-    FaultBits faults;
-    std::uint32_t copies = 1;
-  };
-  std::unordered_map<std::uint64_t, FeedbackInFlight> feedback_in_flight;   // bounded
+  CopiesInFlight<FaultBits> feedback_in_flight;   // bounded
   FaultBits player_has_receiver;
   bool player_receiver_known = true;   // false: a delivery the oracle could not tie to a send
   bool feedback_mismatch = false;      // reported; said again only after the lists match once
