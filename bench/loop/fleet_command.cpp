@@ -18,6 +18,7 @@
 #include "ocp/faults.hpp"
 #include "svg_chart.hpp"
 #include "ocp/cli_checks.hpp"
+#include "ocp/cli_paths.hpp"
 #include "ocp/exit_codes.hpp"
 #include "ocp/interrupt.hpp"
 
@@ -55,8 +56,8 @@ CLI::App* add_fleet_command(CLI::App& app, FleetOptions& options) {
                   "virtual points: skip the codec floor (the wire codec and MAC work of the same fleet alone,\n"
                   "measured after the point's window)");
   fleet->add_flag("--in-process", options.in_process, "run the points in this process, not forked children (for profilers)");
-  fleet->add_option("--json", options.json_path, "write the points as JSON to FILE");
-  fleet->add_option("--svg", options.svg_path, "write the scale curve as SVG to FILE");
+  fleet->add_option("--json", options.json_path, "write the points as JSON to FILE")->check(ocp::cli::writable_file());
+  fleet->add_option("--svg", options.svg_path, "write the scale curve as SVG to FILE")->check(ocp::cli::writable_file());
   return fleet;
 }
 

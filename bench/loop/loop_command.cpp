@@ -22,6 +22,7 @@
 #include "streamer_app/streamer_simulation.hpp"
 #include "timer_client.hpp"
 #include "ocp/cli_checks.hpp"
+#include "ocp/cli_paths.hpp"
 #include "ocp/exit_codes.hpp"
 
 namespace ocp::bench {
@@ -38,8 +39,9 @@ CLI::App* add_loop_command(CLI::App& app, LoopOptions& options) {
       ->capture_default_str()->check(ocp::cli::real(0.1, 86400.0));
   loop->add_option("--connect-timeout-s", options.connect_timeout_s, "give up when no client connects within this")
       ->capture_default_str()->check(ocp::cli::real(0.1, 3600.0));
-  loop->add_option("--json", options.json_path, "write the figures as JSON to FILE");
-  loop->add_option("--html", options.html_path, "write a self-contained HTML page (inline SVG) to FILE");
+  loop->add_option("--json", options.json_path, "write the figures as JSON to FILE")->check(ocp::cli::writable_file());
+  loop->add_option("--html", options.html_path, "write a self-contained HTML page (inline SVG) to FILE")
+      ->check(ocp::cli::writable_file());
   loop->add_flag("--compare", options.compare,
                  "also measure, in the same run: the machine floor (bare blocking-socket echo, no Streamer),\n"
                  "a bare client (blocking read, libocp codec, answers at once) against a Streamer of its own,\n"
@@ -78,6 +80,8 @@ StreamerSimOptions streamer_options(std::uint16_t port, const std::string& vehic
   options.vehicle = vehicle;
   options.plugin_params.tcp_port = port;
   options.operator_phase = operator_phase;
+  options.program = "ocp_bench loop";
+  options.port_option = "--port N (or leave --port out when launching a client: a free port is used)";
   return options;
 }
 

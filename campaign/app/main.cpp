@@ -29,6 +29,7 @@
 #include "ocp/bounded_file.hpp"
 #include "ocp/cli_checks.hpp"
 #include "ocp/cli_parse.hpp"
+#include "ocp/cli_paths.hpp"
 #include "sim_app/client_process.hpp"
 #include "ocp/exit_codes.hpp"
 #include "ocp/interrupt.hpp"
@@ -177,7 +178,7 @@ bool campaign_options_of(const RunCommand& command, CampaignOptions& options) {
   try {
     options.profile = resolve_profile(command.profile);
   } catch (const ProfileError& error) {
-    std::cerr << error.what() << "\n";
+    std::cerr << "ocp_campaign run: " << error.what() << "\n";
     return false;
   }
   std::string error;
@@ -336,7 +337,6 @@ int merge_command(const std::vector<std::string>& inputs, const std::string& out
 int main(int argc, char** argv) {
   CLI::App app{"ocp_campaign: seeded random worlds against an independent oracle (docs/campaigns.md)", "ocp_campaign"};
   app.require_subcommand(1);
-  ocp::cli::add_version_flag(app);
   RunCommand run;
   CLI::App* run_app = app.add_subcommand("run", "run a campaign (or one shard of it)");
   run_app->add_option("--seed", run.seed, "campaign seed")->check(ocp::cli::whole())->capture_default_str();
@@ -345,7 +345,7 @@ int main(int argc, char** argv) {
       ->check(script_name())->capture_default_str();
   run_app->add_option("-j,--jobs", run.jobs, "worker threads")->check(CLI::Range(1, 256))->capture_default_str();
   run_app->add_option("--shard", run.shard, "run shard I of N (worlds i with i % N == I); default from SLURM_ARRAY_TASK_ID/COUNT");
-  run_app->add_option("--out", run.out, "results folder")->check(script_name())->capture_default_str();
+  run_app->add_option("--out", run.out, "results folder")->check(script_name())->check(ocp::cli::writable_folder())->capture_default_str();
   run_app->add_option("--world", run.world, "run only this world (a repro) and print its violations");
   run_app->add_flag("--no-shrink", run.no_shrink, "do not shrink failing worlds");
   run_app->add_option("--shrink-runs", run.shrink_runs, "world runs allowed per shrink")->check(CLI::Range(1, 100'000))->capture_default_str();
@@ -366,7 +366,7 @@ int main(int argc, char** argv) {
   std::string merge_out = "campaign-results";
   CLI::App* merge_app = app.add_subcommand("merge", "join shard results into one summary, JUnit file and HTML index");
   merge_app->add_option("shards", merge_inputs, "shard result folders (or their summary.json)")->required();
-  merge_app->add_option("--out", merge_out, "merged results folder")->capture_default_str();
+  merge_app->add_option("--out", merge_out, "merged results folder")->check(ocp::cli::writable_folder())->capture_default_str();
 
   // Every profile, scenario and summary file is read under a size cap (ocp/bounded_file.hpp).
   double max_file_mb = 0;
@@ -379,12 +379,7 @@ int main(int argc, char** argv) {
   CLI::App* slurm_app = app.add_subcommand("slurm", "run the campaign as an sbatch job array, wait, and merge");
   add_slurm_options(*slurm_app, slurm);
 
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& error) {
-    const int code = app.exit(error);
-    return code == 0 ? 0 : exit_usage;
-  }
+  if (auto exit_code = ocp::cli::parse_or_exit_code(app, argc, argv)) return *exit_code;
   if (max_file_mb > 0) ocp::raise_file_caps(static_cast<std::uint64_t>(max_file_mb * 1024 * 1024));
   if (run_app->parsed()) return run_command(run);
   if (check_app->parsed()) return check_command(check_file);

@@ -233,7 +233,7 @@ Profile parse_profile(const std::string& text, const std::string& path) {
 
 Profile load_profile(const std::string& path) {
   auto text = read_bounded_file(path, file_kinds::profile);
-  if (!text) throw ProfileError(path + ":0:0: " + text.error().detail.substr(path.size() + 2));
+  if (!text) throw ProfileError(text.error().detail);   // "PATH: why", the system's reason included
   return parse_profile(*text, path);
 }
 

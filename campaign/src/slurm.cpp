@@ -19,6 +19,7 @@
 
 #include "campaign/profile.hpp"
 #include "ocp/cli_checks.hpp"
+#include "ocp/cli_paths.hpp"
 #include "ocp/interrupt.hpp"
 
 namespace ocp::campaign {
@@ -56,7 +57,7 @@ void add_slurm_options(CLI::App& app, SlurmOptions& options) {
   app.add_option("--tasks", options.tasks, "array tasks (shards)")->check(CLI::Range(1, 10'000))->capture_default_str();
   app.add_option("-j,--jobs", options.jobs, "worker threads per task (--cpus-per-task)")->check(CLI::Range(1, 256))->capture_default_str();
   app.add_option("--out", options.out, "results folder (shards in shard-<i>/, merged at the top)")
-      ->check(script_name())->capture_default_str();
+      ->check(script_name())->check(cli::writable_folder())->capture_default_str();
   app.add_option("--partition", options.partition, "Slurm partition (default: the cluster's)")->check(script_name());
   app.add_option("--poll", options.poll_seconds, "seconds between squeue polls")->check(cli::real(0.05, 600))->capture_default_str();
   app.add_option("--timeout", options.timeout_seconds, "give up waiting after this many seconds")
@@ -124,7 +125,7 @@ std::optional<int> check_before_submitting(const SlurmOptions& o) {
     const std::string& p = o.profile;
     load_profile(p.find('/') == std::string::npos && p.find('.') == std::string::npos ? shipped_profile_path(p) : p);
   } catch (const ProfileError& error) {
-    std::cerr << error.what() << "\n";
+    std::cerr << "ocp_campaign slurm: " << error.what() << "\n";
     return exit_usage;
   }
   for (const char* tool : {"sbatch", "squeue"}) {

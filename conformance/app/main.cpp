@@ -3,6 +3,7 @@
 // Exit codes: 0 every MUST case passed (or failed as the baseline expects), 1 a failure,
 // 2 a harness error (bad options, port in use, client could not be launched), 130 Ctrl-C.
 #include <CLI/CLI.hpp>
+#include <stdlib.h>
 #include <signal.h>
 
 #include <filesystem>
@@ -17,6 +18,7 @@
 #include "conformance/vehicle_cases.hpp"
 #include "sim_app/client_process.hpp"
 #include "ocp/cli_parse.hpp"
+#include "ocp/cli_paths.hpp"
 #include "ocp/cli_checks.hpp"
 #include "ocp/interrupt.hpp"
 
@@ -67,11 +69,22 @@ void add_suite_options(CLI::App& suite, bool is_vehicle, SuiteCommandLine& line)
                    "A launched client that has not connected this long after its launch (or exited before) stops the run: exit 2")
       ->capture_default_str()
       ->check(ocp::cli::real(0.1, 600.0));
-  suite.add_option("--out", line.out_dir, "Write index.json, report.html and client logs into this directory");
-  suite.add_option("--junit", line.junit, "Write JUnit XML to this file");
+  suite.add_option("--out", line.out_dir, "Write index.json, report.html and client logs into this directory")
+      ->check(ocp::cli::writable_folder());
+  suite.add_option("--junit", line.junit, "Write JUnit XML to this file")->check(ocp::cli::writable_file());
   suite.add_option("--baseline", line.baseline_path, "Expected failures (one case id per line); the run is judged against it");
   suite.add_option("--write-baseline", line.write_baseline, "Write this run's failures as a baseline file");
   suite.add_option("command", line.command, "-- CMD ARGS…: launch the client; OCP_PORT and {port} carry the port");
+  if (is_vehicle) {
+    // A client whose interlock works other buttons than the reference client's is judged on
+    // the §10 cases when it says which (docs/protocol.md §10), instead of "not judged".
+    const std::vector<std::string> buttons(controller_buttons.begin(), controller_buttons.end());
+    suite.add_option("--enable-button", options.interlock.enable,
+                     "The gamepad button that enables your drive interlock (pressed with the sticks at rest), for the §10 cases")
+        ->capture_default_str()->check(CLI::IsMember(buttons))->group("Safety (SPEC §10)");
+    suite.add_option("--stop-button", options.interlock.stop, "The gamepad button of your emergency stop, for vehicle/10/3")
+        ->capture_default_str()->check(CLI::IsMember(buttons))->group("Safety (SPEC §10)");
+  }
 }
 
 void print_case_list(const std::vector<VehicleCase>& cases, const SuiteCommandLine& line, bool operator_suite) {
@@ -86,14 +99,37 @@ void print_case_list(const std::vector<VehicleCase>& cases, const SuiteCommandLi
   }
 }
 
+// Without --out, a launched client's output still goes to a file, so that a client that fails
+// to start can be shown by its last lines; the folder is removed when the run ends.
+class TemporaryLogFolder {
+ public:
+  ~TemporaryLogFolder() {
+    std::error_code ignored;
+    if (!path_.empty()) std::filesystem::remove_all(path_, ignored);
+  }
+  std::string make() {
+    std::string pattern = (std::filesystem::temp_directory_path() / "ocp_conformance_clients_XXXXXX").string();
+    if (::mkdtemp(pattern.data()) != nullptr) path_ = pattern;
+    return path_;
+  }
+
+ private:
+  std::string path_;
+};
+
 // The rest of the run options: the port (well-known when waiting for an external client, any
-// free one when launching it) and the client logs' folder under --out. False: --out cannot be made.
-bool complete_run_options(SuiteCommandLine& line, bool operator_suite) {
+// free one when launching it) and the client logs' folder (under --out, or a temporary one).
+// False: --out cannot be made.
+bool complete_run_options(SuiteCommandLine& line, bool operator_suite, TemporaryLogFolder& temporary_logs) {
   RunOptions& options = line.options;
   options.command = line.command;
   options.connect_timeout = std::chrono::milliseconds(static_cast<std::int64_t>(line.connect_timeout_s * 1000.0));
   options.port = static_cast<std::uint16_t>(line.port >= 0 ? line.port : (line.command.empty() ? (operator_suite ? 4001 : 4000) : 0));
-  if (line.out_dir.empty()) return true;
+  if (line.out_dir.empty()) {
+    if (!line.command.empty()) options.client_log_dir = temporary_logs.make();
+    options.client_logs_kept = false;
+    return true;
+  }
   std::error_code error;
   std::filesystem::create_directories(line.out_dir + "/clients", error);
   if (error) {
@@ -140,6 +176,11 @@ int main(int argc, char** argv) {
 
   if (auto exit_code = ocp::cli::parse_or_exit_code(app, argc, argv)) return *exit_code;
   const bool operator_suite = operator_side->parsed();
+  if (line.options.interlock.enable == line.options.interlock.stop) {
+    std::cerr << "ocp_conformance: --enable-button and --stop-button are both '" << line.options.interlock.enable
+              << "': an interlock needs two buttons\nRun with --help for more information.\n";
+    return 2;
+  }
   const std::string suite_name = operator_suite ? "operator" : "vehicle";
   std::vector<VehicleCase> cases = select_cases(operator_suite ? operator_cases() : vehicle_cases(), line.include, line.exclude);
   if (line.list) {
@@ -159,7 +200,8 @@ int main(int argc, char** argv) {
     }
     baseline = *loaded;
   }
-  if (!complete_run_options(line, operator_suite)) return 2;
+  TemporaryLogFolder temporary_logs;
+  if (!complete_run_options(line, operator_suite, temporary_logs)) return 2;
   // Ctrl-C stops the run after the finished cases are reported; a second one ends it at once,
   // killing the launched clients first (async-signal-safe), so they never outlive us.
   ocp::cli::install_interrupt_handlers(ocp::sim_app::kill_all_clients);

@@ -1,4 +1,5 @@
 #pragma once
+#include <bit>
 // Shared pieces of the vehicle case bodies (private to the library).
 #include <fmt/format.h>
 
@@ -6,6 +7,7 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -60,6 +62,20 @@ inline std::string last_close(const Observations& observed) {
 
 inline std::string describe(const AckPair& pair) {
   return fmt::format("({}, {})", pair.ack_time, pair.ack_time_mac);
+}
+
+// The sent pair that `pair` is a copy of, rounded through a double (same MAC, an ack_time off by
+// less than a double's step at that size, and not equal), or nullopt. A rounding client's
+// responses are echoes it got wrong, not pairs it made up.
+inline std::optional<AckPair> rounded_from(const AckPair& pair, const std::vector<SentPair>& sent) {
+  for (const SentPair& candidate : sent) {
+    const std::uint64_t original = candidate.ack.ack_time;
+    if (candidate.ack.ack_time_mac != pair.ack_time_mac || original == pair.ack_time || original < (1ull << 53)) continue;
+    const std::uint64_t step = std::uint64_t{1} << (std::bit_width(original) - 53);   // a double's step there
+    const std::uint64_t off = original > pair.ack_time ? original - pair.ack_time : pair.ack_time - original;
+    if (off <= step) return candidate.ack;
+  }
+  return std::nullopt;
 }
 
 // The client must be connected before anything else is graded.

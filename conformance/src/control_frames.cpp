@@ -10,14 +10,17 @@ namespace {
 
 // The controller object: every button and axis of seed 001, the pad's ones set.
 std::string crafted_controller_json(const CraftedPad& pad, bool unknown_fields) {
-  const auto flag = [](bool on) { return on ? "true" : "false"; };
+  std::string buttons;
+  for (const std::string_view name : controller_buttons) {
+    const bool pressed = (name == "a" && pad.a) || (name == "back" && pad.back) || (name == "start" && pad.start) ||
+                         (!pad.also_pressed.empty() && name == pad.also_pressed);
+    buttons += fmt::format(R"({}"{}":{})", buttons.empty() ? "" : ",", name, pressed ? "true" : "false");
+  }
   return fmt::format(
-      R"({{"buttons":{{"a":{0},"b":false,"x":false,"y":false,"left_bumper":false,"right_bumper":false,)"
-      R"("back":{1},"start":{2},"guide":false,"left_thumb":false,"right_thumb":false,"dpad_up":false,)"
-      R"("dpad_right":false,"dpad_down":false,"dpad_left":false{3}}},"axes":{{"left_x":{4:.3f},"left_y":0.0,)"
-      R"("right_x":0.0,"right_y":0.0,"left_trigger":{5:.3f},"right_trigger":{6:.3f}}}{7}}})",
-      flag(pad.a), flag(pad.back), flag(pad.start), unknown_fields ? R"(,"paddle_1":true)" : "", pad.left_x,
-      pad.left_trigger, pad.right_trigger, unknown_fields ? R"(,"haptics":{"rumble":[0.1,0.2]})" : "");
+      R"({{"buttons":{{{0}{1}}},"axes":{{"left_x":{2:.3f},"left_y":0.0,)"
+      R"("right_x":0.0,"right_y":0.0,"left_trigger":{3:.3f},"right_trigger":{4:.3f}}}{5}}})",
+      buttons, unknown_fields ? R"(,"paddle_1":true)" : "", pad.left_x, pad.left_trigger, pad.right_trigger,
+      unknown_fields ? R"(,"haptics":{"rumble":[0.1,0.2]})" : "");
 }
 
 }  // namespace

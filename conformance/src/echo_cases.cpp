@@ -178,9 +178,30 @@ Outcome no_pair_before_control(CaseContext& context) {
   std::size_t echoes = 0;
   for (const Response& response : observed.responses) echoes += response.time_us >= resumed && response.ack && observed.find_sent(*response.ack) >= 0;
   if (echoes == 0) return failed(fmt::format("no echo of a sent pair within 400 ms after control started ({} responses before it)", early.size()));
-  if (!early.empty()) {
-    return non_strict(fmt::format("{} responses written before the client read a control message, carrying made-up pairs such as {}; "
-                                  "then {} echoes once control started", early.size(), describe(early.front()), echoes));
+  // Before the first exact echo, a client that rounds ack_time through a double answers control
+  // messages with pairs no one sent: name that cause, since the pairs are not made up.
+  std::vector<AckPair> made_up;
+  std::optional<std::pair<AckPair, AckPair>> rounded;   // (what it wrote, what was sent)
+  for (const AckPair& pair : early) {
+    if (const auto source = rounded_from(pair, observed.sent)) {
+      if (!rounded) rounded.emplace(pair, *source);
+    } else {
+      made_up.push_back(pair);
+    }
+  }
+  const std::string rounding = rounded ? fmt::format("; {} responses before the first exact echo carry sent pairs rounded through a double, e.g. {} for the sent {}, "
+                                                     "off by {} (ack_time is a u64: keep its digits, vehicle/2/2)",
+                                                     early.size() - made_up.size(), describe(rounded->first), describe(rounded->second),
+                                                     rounded->first.ack_time > rounded->second.ack_time
+                                                         ? rounded->first.ack_time - rounded->second.ack_time
+                                                         : rounded->second.ack_time - rounded->first.ack_time)
+                                       : "";
+  if (!made_up.empty()) {
+    return non_strict(fmt::format("{} responses written before the client read a control message, carrying made-up pairs such as {}{}; "
+                                  "then {} echoes once control started", made_up.size(), describe(made_up.front()), rounding, echoes));
+  }
+  if (rounded) {
+    return ok(fmt::format("no made-up pair before control{}; {} exact echoes once control started", rounding, echoes));
   }
   return ok(fmt::format("silent for 400 ms without control; {} echoes once control started", echoes));
 }

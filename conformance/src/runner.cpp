@@ -106,9 +106,11 @@ void wait_for_first_connection(StreamerHost& host, ClientProcess& client, const 
                     std::chrono::duration<double>(limit).count())
       : fmt::format("{} before it connected to 127.0.0.1:{}", describe_exit_status(*client.exit_status()), host.port());
   const std::string output = last_lines_of(client_log, 10);
+  const std::string where = options.client_logs_kept ? " (" + client_log + ")" : "";
+  const std::string keep = options.client_logs_kept ? "" : "\n  (rerun with --out DIR to keep its whole output)";
   const std::string said = client_log.empty() ? "rerun with --out DIR to keep its output"
                            : output.empty()   ? "it wrote nothing"
-                                              : "the last lines it wrote (" + client_log + "):" + output;
+                                              : "the last lines it wrote" + where + ":" + output + keep;
   throw std::runtime_error(fmt::format("the client {}; {}", what, said));
 }
 
@@ -137,7 +139,7 @@ CaseResult run_one(Shared& shared, StreamerHost& host, std::size_t index, std::u
     client = std::move(*launched);
     client_log = path;
   }
-  result.client_log_path = launching ? client_log : std::string();
+  result.client_log_path = launching && options.client_logs_kept ? client_log : std::string();
   // A client just launched (a new process, or one relaunched after it died) is given its own
   // bounded time to start and connect before the case's clock starts: starting is no part of
   // what the case grades. A client that exits or never connects cannot be graded at all: the
@@ -151,6 +153,7 @@ CaseResult run_one(Shared& shared, StreamerHost& host, std::size_t index, std::u
   const auto timeout = std::chrono::duration_cast<Clock::duration>(
       std::chrono::duration<double, std::milli>(static_cast<double>(test_case.body.info.timeout.count()) * options.timeout_scale));
   CaseContext context(host, log, case_start + timeout, options.timeout_scale);
+  context.set_interlock(options.interlock);
   try {
     const Outcome outcome = test_case.body.run(context);
     result.verdict = outcome.verdict;

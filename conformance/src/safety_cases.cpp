@@ -31,19 +31,21 @@ constexpr std::int64_t safety_react_bound_us = 500'000;
 std::string safety_ms(std::int64_t us) { return fmt::format("{:.0f} ms", static_cast<double>(us) / 1000.0); }
 
 // The client must be driving before the watchdog or a fault can show anything.
-std::optional<Outcome> not_driving(const ScriptRun& run, std::int64_t at_us, const std::string& when) {
+std::optional<Outcome> not_driving(const ScriptRun& run, std::int64_t at_us, const std::string& when,
+                                   const InterlockButtons& interlock) {
   const auto before = last_report_before(run, at_us);
   if (before && driving(*before)) return std::nullopt;
-  return informational(fmt::format("not judged: the client was not driving {} ({}) after a start-button press with the "
-                                   "sticks at rest and half throttle: nothing to see",
-                                   when, before ? describe_report(*before) : std::string("no report")));
+  return informational(fmt::format("not judged: the client was not driving {} ({}) after a press of '{}' with the "
+                                   "sticks at rest and half throttle: nothing to see (a client that enables with another "
+                                   "button: --enable-button NAME --stop-button NAME)",
+                                   when, before ? describe_report(*before) : std::string("no report"), interlock.enable));
 }
 
 Outcome command_timeout(CaseContext& context) {
   if (auto early = safety_prologue(context)) return *early;
-  const ScriptRun run = play_safety_script(context, 101, enable_and_drive(30), safety_silence);
+  const ScriptRun run = play_safety_script(context, 101, enable_and_drive(30, context.interlock()), safety_silence);
   if (auto not_judged = safety_not_judged(run)) return *not_judged;
-  if (auto idle = not_driving(run, run.last_frame_us, "when the control messages stopped")) return *idle;
+  if (auto idle = not_driving(run, run.last_frame_us, "when the control messages stopped", context.interlock())) return *idle;
   const Settling settled = settle_within(run, run.last_frame_us, run.end_us, safety_timeout_bound_us, in_safe_state);
   const std::string counts = fmt::format("driving, then no control message for {} (connection open): {}", safety_ms(run.end_us - run.last_frame_us),
                                          describe_settling(settled, run.last_frame_us, "safe state with throttle 0"));
@@ -69,7 +71,7 @@ CraftedControl user_data_command(std::string json) {
 
 Outcome actuator_limits(CaseContext& context) {
   if (auto early = safety_prologue(context)) return *early;
-  std::vector<SafetyPhase> phases = enable_and_drive(10);
+  std::vector<SafetyPhase> phases = enable_and_drive(10, context.interlock());
   phases.push_back({30, pad_frame(CraftedPad{.left_x = -1.0, .right_trigger = 1.0})});   // full throttle, full left
   phases.push_back({20, pad_frame(CraftedPad{.left_x = 1.0, .left_trigger = 1.0})});     // full brake, full right
   // Commands beyond the limits, for a client that takes them from client_user_data (SPEC §3.2).
@@ -96,11 +98,11 @@ Outcome actuator_limits(CaseContext& context) {
 
 // Interlock phases: full throttle never enabled; enable and drive; emergency stop (back) and
 // throttle after it; enable and drive; a fault and throttle after it.
-std::vector<SafetyPhase> interlock_script() {
+std::vector<SafetyPhase> interlock_script(const InterlockButtons& interlock) {
   std::vector<SafetyPhase> phases{{30, pad_frame(CraftedPad{.right_trigger = 1.0})}};
-  const auto enable = enable_and_drive(30);
+  const auto enable = enable_and_drive(30, interlock);
   phases.insert(phases.end(), enable.begin(), enable.end());
-  phases.push_back({30, pad_frame(CraftedPad{.back = true, .right_trigger = 0.0})});
+  phases.push_back({30, pad_frame(pad_pressing(interlock.stop, 0.0))});
   phases.push_back({30, pad_frame(CraftedPad{.right_trigger = 0.0})});
   phases.insert(phases.end(), enable.begin(), enable.end());
   CraftedControl fault;
@@ -115,17 +117,17 @@ constexpr std::size_t interlock_stop_phase = 4, interlock_after_stop_phase = 5, 
 
 Outcome drive_interlocks(CaseContext& context) {
   if (auto early = safety_prologue(context)) return *early;
-  const ScriptRun run = play_safety_script(context, 103, interlock_script(), milliseconds(50));
+  const ScriptRun run = play_safety_script(context, 103, interlock_script(context.interlock()), milliseconds(50));
   if (auto not_judged = safety_not_judged(run)) return *not_judged;
   const auto& start = run.phase_start_us;
   const Settling never_enabled = settle_within(run, start[0], start[1], 0, disabled_and_still);
   const std::string first = "full throttle before any enable: " + describe_settling(never_enabled, start[0], "disabled with throttle 0");
   if (!never_enabled.holds()) return failed(first + (never_enabled.broken ? " (no interlock: it drives without being enabled)" : ""));
-  if (auto idle = not_driving(run, start[interlock_stop_phase], "before the emergency stop")) return *idle;
+  if (auto idle = not_driving(run, start[interlock_stop_phase], "before the emergency stop", context.interlock())) return *idle;
   const Settling stop = settle_within(run, start[interlock_stop_phase], start[interlock_after_stop_phase + 1], safety_react_bound_us,
                                       disabled_and_still);
   const Settling fault = settle_within(run, start[interlock_fault_phase], run.end_us, safety_react_bound_us, disabled_and_still);
-  const std::string counts = fmt::format("{}; back button, then throttle without enable: {}; fault, then throttle without enable: {}", first,
+  const std::string counts = fmt::format("{}; stop button '{}', then throttle without enable: {}; fault, then throttle without enable: {}", first, context.interlock().stop,
                                          describe_settling(stop, start[interlock_stop_phase], "disabled with throttle 0"),
                                          describe_settling(fault, start[interlock_fault_phase], "disabled with throttle 0"));
   if (!stop.holds() || !fault.holds()) return failed(counts);
@@ -134,14 +136,14 @@ Outcome drive_interlocks(CaseContext& context) {
 
 // Fault phases: the default controller with fault true (a control-path fault), and the
 // operator's controller passed through with fault true (a camera lost: SPEC §3.2, §6).
-std::vector<SafetyPhase> fault_script() {
-  std::vector<SafetyPhase> phases = enable_and_drive(30);
+std::vector<SafetyPhase> fault_script(const InterlockButtons& interlock) {
+  std::vector<SafetyPhase> phases = enable_and_drive(30, interlock);
   CraftedControl path_fault;
   path_fault.controller = CraftedController::safe_default;
   path_fault.fault = true;
   path_fault.fault_reason = "No Control Message, Latency Loop Not Closed";
   phases.push_back({60, path_fault});
-  const auto again = enable_and_drive(30);
+  const auto again = enable_and_drive(30, interlock);
   phases.insert(phases.end(), again.begin(), again.end());
   CraftedControl camera_lost = pad_frame(CraftedPad{.right_trigger = 0.0}, true);
   camera_lost.fault_reason = "Camera Lost";
@@ -153,10 +155,10 @@ constexpr std::size_t fault_default_phase = 3, fault_passed_through_phase = 7;
 
 Outcome fault_safe_state(CaseContext& context) {
   if (auto early = safety_prologue(context)) return *early;
-  const ScriptRun run = play_safety_script(context, 104, fault_script(), milliseconds(50));
+  const ScriptRun run = play_safety_script(context, 104, fault_script(context.interlock()), milliseconds(50));
   if (auto not_judged = safety_not_judged(run)) return *not_judged;
   const auto& start = run.phase_start_us;
-  if (auto idle = not_driving(run, start[fault_default_phase], "when the fault came")) return *idle;
+  if (auto idle = not_driving(run, start[fault_default_phase], "when the fault came", context.interlock())) return *idle;
   const Settling path = settle_within(run, start[fault_default_phase], start[fault_default_phase + 1], safety_react_bound_us, in_safe_state);
   const Settling camera = settle_within(run, start[fault_passed_through_phase], run.end_us, safety_react_bound_us, in_safe_state);
   const std::string counts = fmt::format("fault with the default controller: {}; fault with the controller passed through (camera lost): {}",

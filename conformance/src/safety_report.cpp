@@ -167,9 +167,16 @@ CraftedControl pad_frame(const CraftedPad& pad, bool fault) {
   return control;
 }
 
-std::vector<SafetyPhase> enable_and_drive(std::size_t drive) {
+CraftedPad pad_pressing(const std::string& button, double right_trigger) {
+  CraftedPad pad;
+  pad.also_pressed = button;
+  pad.right_trigger = right_trigger;
+  return pad;
+}
+
+std::vector<SafetyPhase> enable_and_drive(std::size_t drive, const InterlockButtons& interlock) {
   return {{5, pad_frame(CraftedPad{})},
-          {5, pad_frame(CraftedPad{.start = true})},
+          {5, pad_frame(pad_pressing(interlock.enable))},
           {drive, pad_frame(CraftedPad{.right_trigger = 0.0})}};
 }
 

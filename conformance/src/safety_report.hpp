@@ -86,9 +86,11 @@ std::optional<SafetyReport> last_report_before(const ScriptRun& run, std::int64_
 
 // Control frames the scripts are made of (raw gamepad values: triggers -1 released .. 1 full).
 CraftedControl pad_frame(const CraftedPad& pad, bool fault = false);
-// Release every button, then press start with the sticks at rest: the reference client's enable
-// (safety_layer.hpp), then `drive` frames at half throttle.
-std::vector<SafetyPhase> enable_and_drive(std::size_t drive);
+// Release every button, then press the interlock's enable button with the sticks at rest (start:
+// the reference client's enable, safety_layer.hpp), then `drive` frames at half throttle.
+std::vector<SafetyPhase> enable_and_drive(std::size_t drive, const InterlockButtons& interlock);
+// A pad that presses `button` (by name) with the sticks at rest and the triggers as given.
+CraftedPad pad_pressing(const std::string& button, double right_trigger = -1.0);
 
 inline bool in_safe_state(const SafetyReport& r) { return r.safe_state && r.throttle == 0.0; }
 inline bool disabled_and_still(const SafetyReport& r) { return !r.enabled && r.throttle == 0.0; }

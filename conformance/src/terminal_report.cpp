@@ -48,6 +48,11 @@ std::vector<NamedCause> named_causes(const RunSummary& summary) {
 
 void print_summary(std::ostream& out, const ReportContext& report) {
   const RunSummary& summary = *report.summary;
+  // A harness error before any case finished has no verdicts to count: it alone is the news.
+  if (!summary.harness_error.empty() && summary.results.empty()) {
+    out << "\nHARNESS ERROR: " << summary.harness_error << "\n";
+    return;
+  }
   out << "\n" << verdict_counts(summary) << "\n";
   for (const NamedCause& cause : named_causes(summary)) {
     std::string ids;

@@ -21,6 +21,7 @@
 #include "ocp/bounded_file.hpp"
 #include "ocp/cli_checks.hpp"
 #include "ocp/cli_parse.hpp"
+#include "ocp/cli_paths.hpp"
 #include "ocp/interrupt.hpp"
 #include "world/seeds.hpp"
 
@@ -89,8 +90,10 @@ void add_run_command(CLI::App& app, ToolOptions& options) {
   // As in the simulators: a sign, a fraction or a number past 2^64-1 is refused, not wrapped.
   run->add_option("--seed", options.seed, "override every file's seed")->type_name("N")->check(ocp::cli::whole());
   run->add_option("--repeat", options.repeat, "run each file K times with seeds derived from its seed")->check(CLI::Range(1u, 100000u));
-  run->add_option("--junit", options.junit, "write JUnit XML (one testsuite per run, one testcase per expectation)");
-  run->add_option("--out", options.out_dir, "results folder (trace.jsonl, summary.json, report.html per run)")->capture_default_str();
+  run->add_option("--junit", options.junit, "write JUnit XML (one testsuite per run, one testcase per expectation)")
+      ->check(ocp::cli::writable_file());
+  run->add_option("--out", options.out_dir, "results folder (trace.jsonl, summary.json, report.html per run)")
+      ->check(ocp::cli::writable_folder())->capture_default_str();
   run->add_flag("--list", options.list, "list files and expectations without running");
   run->add_flag("--no-trace", options.no_trace, "do not write trace.jsonl (faster long runs)");
   run->add_flag("--trace-payloads", options.trace_payloads, "include every frame's payload in trace.jsonl");

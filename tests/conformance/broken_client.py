@@ -29,7 +29,10 @@ LIMIT = 16384
 
 # Vehicle clients with a safety report (docs/conformance.md, Safety report): `safety` keeps SPEC
 # §10 as the reference client does (safety_layer.hpp); each of the others breaks one rule.
-SAFETY = {"safety", "no-watchdog", "no-limits", "no-interlock", "ignore-fault"}
+SAFETY = {"safety", "no-watchdog", "no-limits", "no-interlock", "ignore-fault", "safety-x-y"}
+# The interlock's buttons: `safety-x-y` behaves, but enables with x and stops with y (a vendor's
+# own convention), so the suite judges it only when told (--enable-button x --stop-button y).
+ENABLE_BUTTON, STOP_BUTTON = ("x", "y") if MODE == "safety-x-y" else ("start", "back")
 # Broken modes (each fails one case) and hostile modes (the harness must stay in control).
 BROKEN = {"echo-only", "timer-echo", "naive-recv", "reject-oversized", "require-controller",
           "fault-enum", "flat-user-data", "strict-schema", "bad-pos", "no-reconnect",
@@ -184,10 +187,10 @@ class Safety:
         sticks = all(abs(axes.get(k, 0.0)) < self.NEUTRAL for k in ("left_x", "left_y", "right_x", "right_y"))
         self.default = not any(buttons.values()) and sticks and max(self.request[:2]) < self.NEUTRAL
         self.source = True
-        edge = bool(buttons.get("start")) and not self.start_was
-        self.start_was = bool(buttons.get("start"))
+        edge = bool(buttons.get(ENABLE_BUTTON)) and not self.start_was
+        self.start_was = bool(buttons.get(ENABLE_BUTTON))
         self.enable_was = False
-        return edge, bool(buttons.get("back"))
+        return edge, bool(buttons.get(STOP_BUTTON))
 
     def from_user_data(self, command):
         command = command if isinstance(command, dict) else {}

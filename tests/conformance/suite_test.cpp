@@ -430,6 +430,62 @@ TEST(ExampleClient, OperatorClientPassesTheOperatorSuite) {
   EXPECT_GE(expect_every_case_ok(r, operator_info_cases), 19u);
 }
 
+// The Node.js examples (standard library only) pass both suites: they keep ack_time's digits
+// although JSON.parse would round them (vehicle/2/2 and operator/4.2/2 send pairs above 2^53).
+bool have_node() { return std::system("command -v node > /dev/null 2>&1") == 0; }
+
+TEST(ExampleClient, NodeVehicleClientPassesTheVehicleSuite) {
+  if (!have_node()) GTEST_SKIP() << "node is not installed (scripts/setup --test installs it)";
+  const SuiteRun r = run_suite("example_vehicle_js", "-j 2", "node " + std::string(OCP_EXAMPLES_DIR) + "/vehicle_client.js 127.0.0.1:{port}");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::map<std::string, std::string> allowed = wall_clock_allowance;
+  for (const char* id : {"vehicle/10/1", "vehicle/10/2", "vehicle/10/3", "vehicle/10/4"}) allowed[id] = "INFORMATIONAL";
+  EXPECT_GE(expect_every_case_ok(r, allowed), 19u);
+  EXPECT_EQ(r.verdict("vehicle/2/2"), "OK");
+}
+
+TEST(ExampleClient, NodeOperatorClientPassesTheOperatorSuite) {
+  if (!have_node()) GTEST_SKIP() << "node is not installed (scripts/setup --test installs it)";
+  const SuiteRun r = run_suite("example_operator_js", "-j 2", "node " + std::string(OCP_EXAMPLES_DIR) + "/operator_client.js 127.0.0.1:{port}",
+                               "operator");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_GE(expect_every_case_ok(r, operator_info_cases), 19u);
+  EXPECT_EQ(r.verdict("operator/4.2/2"), "OK");
+}
+
+// A client whose interlock works other buttons (x enables, y stops) is "not judged" on the §10
+// cases by default, and judged when it names its buttons (docs/protocol.md §10).
+TEST(ConformanceSuite, AClientNamesItsInterlockButtonsAndIsJudged) {
+  const std::string cases = "--cases vehicle/10/1,vehicle/10/3,vehicle/10/4";
+  const SuiteRun unnamed = run_suite("interlock_default", cases, python_client("safety-x-y"));
+  for (const char* id : {"vehicle/10/1", "vehicle/10/3", "vehicle/10/4"}) EXPECT_EQ(unnamed.verdict(id), "INFORMATIONAL") << id << unnamed.output;
+  EXPECT_NE(unnamed.output.find("--enable-button"), std::string::npos) << "the not-judged reason names the option\n" << unnamed.output;
+  const SuiteRun named = run_suite("interlock_named", cases + " --enable-button x --stop-button y", python_client("safety-x-y"));
+  for (const char* id : {"vehicle/10/1", "vehicle/10/3", "vehicle/10/4"}) EXPECT_EQ(named.verdict(id), "OK") << id << named.output;
+  EXPECT_EQ(named.exit_code, 0) << named.output;
+  // And a client that keeps the reference convention is not judged on buttons it does not use.
+  const SuiteRun wrong = run_suite("interlock_wrong", "--cases vehicle/10/3 --enable-button x --stop-button y", python_client("safety"));
+  EXPECT_EQ(wrong.verdict("vehicle/10/3"), "INFORMATIONAL") << wrong.output;
+}
+
+// vehicle/3.3/4 grades pairs made up before any control message. A client that rounds ack_time
+// through a double answers control messages with pairs no one sent: that is named as rounding,
+// never called made up (the u64 cases grade it).
+// The case's pairs are 2^53 + t: only an odd first pair is changed by the rounding, so a run
+// shows it about every second time; four runs almost always do (one sufficed before the fix).
+TEST(ConformanceSuite, RoundedPairsAreNotCalledMadeUp) {
+  int rounding_named = 0;
+  for (int run = 0; run < 4; ++run) {
+    const SuiteRun r = run_suite("rounding_3_3_4", "--cases vehicle/3.3/4", python_client("float-ack"));
+    ASSERT_TRUE(r.index.IsObject()) << r.output;
+    const std::string actual = r.index["cases"][0]["actual"].GetString();
+    EXPECT_EQ(actual.find("made-up pairs"), std::string::npos) << actual;
+    EXPECT_EQ(r.verdict("vehicle/3.3/4"), "OK") << actual;
+    rounding_named += actual.find("rounded through a double") != std::string::npos;
+  }
+  std::printf("  rounding named in %d of 4 runs\n", rounding_named);
+}
+
 // `ocp_conformance operator`: python's op-echo behaves; each op-* mode breaks one rule.
 TEST(OperatorSuite, WellBehavedClientPassesEveryCase) {
   const SuiteRun r = run_suite("operator_echo", "-j 2", python_client("op-echo"), "operator");

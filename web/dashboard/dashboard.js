@@ -265,6 +265,15 @@
     return li;
   }
 
+  // Where an axis's fill starts and how wide it is, in % of its bar. A stick rests at 0, so its
+  // fill grows from the middle, left or right; a trigger rests at -1 (released), so its fill
+  // grows from the left edge. [-1, 1] spans the bar either way.
+  function axisFill(axis, value) {
+    const v = Math.max(-1, Math.min(1, Number(value) || 0));
+    if (axis.endsWith("_trigger")) return [0, ((v + 1) / 2) * 100];
+    return v >= 0 ? [50, v * 50] : [50 + v * 50, -v * 50];
+  }
+
   function renderInput(box, controller) {
     box.replaceChildren();
     if (!controller) {
@@ -277,7 +286,10 @@
       const bar = document.createElement("span");
       bar.className = "bar";
       const fill = document.createElement("span");
-      fill.style.width = `${((value + 1) / 2) * 100}%`;
+      const [left, width] = axisFill(axis, value);
+      fill.style.marginLeft = `${left}%`;
+      fill.style.width = `${width}%`;
+      if (!axis.endsWith("_trigger")) bar.classList.add("centred");
       bar.appendChild(fill);
       row.append(`${axis} `, bar, ` ${value.toFixed(2)}`);
       box.appendChild(row);

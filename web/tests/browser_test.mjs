@@ -234,6 +234,19 @@ async function dashboardScenario(browser) {
   order = await shownOrder(page);
   check(order.rows[0] === "truck-1" && order.cards[0] === "truck-1", `truck-1 first once it is active (${order.rows})`);
 
+  // The input bars: a stick's fill grows from the bar's centre (rest 0), a trigger's from its
+  // left edge (rest -1), so a centred stick does not look half pressed.
+  await waitFor("truck-2's input bars", () => page.evaluate(() =>
+    document.querySelectorAll('#vehicles [data-vehicle="truck-2"] .input .axis').length === 6));
+  const bars = await page.evaluate(() => [...document.querySelectorAll('#vehicles [data-vehicle="truck-2"] .input .axis')]
+    .map((row) => ({ text: row.textContent, left: parseFloat(row.querySelector(".bar span").style.marginLeft),
+                     width: parseFloat(row.querySelector(".bar span").style.width) })));
+  for (const bar of bars) {
+    const centre = Math.abs(bar.left - 50) < 0.01 || Math.abs(bar.left + bar.width - 50) < 0.01;
+    check(/_trigger/.test(bar.text) ? bar.left === 0 : centre,
+          `input bar ${bar.text.trim()}: ${/_trigger/.test(bar.text) ? "from the left edge" : "from the centre"} (left ${bar.left}%, width ${bar.width}%)`);
+  }
+
   await page.waitForTimeout(2500);   // let the chart and the track grow for the screenshot
   await screenshot(page, "dashboard.png", { fullPage: true });
 

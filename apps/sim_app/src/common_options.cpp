@@ -7,6 +7,7 @@
 
 #include "ocp/cli_checks.hpp"
 #include "ocp/cli_parse.hpp"
+#include "ocp/cli_paths.hpp"
 #include "ocp/number_text.hpp"
 #include "ocp/exit_codes.hpp"
 
@@ -131,7 +132,7 @@ void add_common_options(CLI::App& app, CommonOptions& options) {
   app.add_option("--wire-log", options.wire_log_path,
                  "write every frame on the TCP API, both directions, as JSON lines to FILE (- = stderr); "
                  "format: docs/trace-format.md, \"frame\" events; capped at 1 GiB")
-      ->group(general);
+      ->check(cli::writable_file())->group(general);
   app.add_option("--gamepad", options.gamepad_text,
                  "operator gamepad: idle, drive, a recording file, or js:DEVICE (a real joystick)")
       ->capture_default_str()->group(general);

@@ -17,7 +17,7 @@ int main(int argc, char** argv) {
   StreamerSimulation simulation(runner.executor(), cli.simulation_options(), sink);
   return sim_app::run_simulation("streamer_sim", cli.common, runner, logger, simulation, [&] {
     const StreamerStats& stats = simulation.streamer().stats();
-    return fmt::format("{} control frames sent, {} vehicle responses, {} connections accepted, {} refused",
+    return fmt::format("{} control frames sent, {} vehicle responses (keep-alives included), {} connections accepted, {} refused",
                        stats.control_frames_sent, stats.vehicle_responses_received,
                        stats.connections_accepted, stats.connections_refused);
   });

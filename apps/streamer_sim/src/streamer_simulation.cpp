@@ -54,7 +54,7 @@ Status StreamerSimulation::start() {
   const TcpServerOptions listen_options{options_.plugin_params.tcp_port,
                                         options_.plugin_params.ocp_tcp_allow_remote};
   if (auto status = front_->listen(listen_options); !status) {
-    return sim_app::with_port_hint(status, "streamer_sim", "--plugin-param tcp_port N");
+    return sim_app::with_port_hint(status, options_.program, options_.port_option);
   }
   if (com_) {
     if (auto status = com_->listen(*options_.com_listen); !status) {

@@ -130,6 +130,11 @@ ParseOutcome parse_program_options(int argc, const char* const* argv) {
   };
   Result<Endpoint> endpoint = parse_endpoint(server);
   if (!endpoint.ok()) return fail(endpoint.error().detail);
+  const bool port_given = server.starts_with('[') ? server.find("]:") != std::string::npos : server.find(':') != std::string::npos;
+  if (!port_given) {
+    std::cerr << "vehicle_client: no port in \"" << server << "\": using " << endpoint->port
+              << " (the Streamer's default tcp_port); give host:port to choose\n";
+  }
   options.runner.server = *endpoint;
   options.runner.connect_timeout = from_ms(connect_timeout_ms);
   options.runner.reconnect = !no_reconnect;

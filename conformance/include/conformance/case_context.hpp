@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "conformance/control_frames.hpp"
 #include "conformance/streamer_host.hpp"
 #include "conformance/wire_log.hpp"
 
@@ -23,6 +24,9 @@ class CaseContext {
               double timeout_scale);
 
   StreamerHost& host() { return host_; }
+  // The client's interlock buttons (RunOptions::interlock), for the §10 cases' scripts.
+  const InterlockButtons& interlock() const { return interlock_; }
+  void set_interlock(InterlockButtons interlock) { interlock_ = std::move(interlock); }
   StreamerCore& streamer() { return host_.streamer(); }
   WireLog& log() { return log_; }
   const std::vector<WireLogEntry>& entries() const { return log_.entries(); }
@@ -44,6 +48,7 @@ class CaseContext {
   WireLog& log_;
   std::chrono::steady_clock::time_point deadline_;
   double timeout_scale_;
+  InterlockButtons interlock_;
 };
 
 }  // namespace ocp::conformance

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "conformance/control_frames.hpp"
 #include "conformance/case.hpp"
 #include "conformance/vehicle_cases.hpp"
 
@@ -24,6 +25,8 @@ struct RunOptions {
   // did) cannot be graded: the run stops with a harness error (exit 2). Scaled by timeout_scale.
   std::chrono::milliseconds connect_timeout{3'000};
   std::string client_log_dir;         // launched clients' output (one file each); "" → /dev/null
+  bool client_logs_kept = true;       // false: a temporary folder, quoted from but never named
+  InterlockButtons interlock;         // how the §10 cases enable and stop the client's drive
   // Progress: each result in case order (with jobs > 1 a result waits for the cases before it).
   std::function<void(const CaseResult&)> on_result;
   // Ctrl-C: polled while cases wait; true stops the run. The case in progress gets no verdict.

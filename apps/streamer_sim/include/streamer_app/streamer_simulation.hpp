@@ -25,6 +25,9 @@ namespace ocp {
 
 struct StreamerSimOptions : sim_app::SimulatedWorldOptions {   // tcp_port is the vehicle API's
   std::string vehicle = "vehicle";
+  // What a busy :4000 tells the user to change: the option of the program that embeds this.
+  std::string program = "streamer_sim";
+  std::string port_option = "--plugin-param tcp_port N";
   double operator_frame_rate_hz = 100.0;
   Micros operator_phase{0};              // the operator's frames this long after the control ticks
   // --com-listen: the operator is a real Player (player_sim on another host) over UDP at this

@@ -1,11 +1,13 @@
 #pragma once
 // One way for every executable to end a command line that does not parse: --help and --version
-// print and exit 0; a bad option prints "<program>: <what CLI11 found>" and a hint, and exits 2.
+// print and exit 0; a bad option prints "<program>: <what is wrong>" (the unknown word with the
+// nearest known one, cli_suggest.hpp, else what CLI11 found) and a hint, and exits 2.
 #include <CLI/CLI.hpp>
 #include <iostream>
 #include <optional>
 
 #include "ocp/build_info.hpp"
+#include "ocp/cli_suggest.hpp"
 #include "ocp/exit_codes.hpp"
 
 namespace ocp::cli {
@@ -29,7 +31,10 @@ inline std::optional<int> parse_or_exit_code(CLI::App& app, int argc, const char
   } catch (const CLI::CallForVersion& version) {
     return app.exit(version);
   } catch (const CLI::ParseError& error) {
-    std::cerr << app.get_name() << ": " << error.what() << "\nRun with --help for more information.\n";
+    // A typo makes CLI11 blame the words after it; name the typo itself when there is one.
+    const std::optional<std::string> typo = unknown_word(app, argc, argv);
+    std::cerr << app.get_name() << ": " << (typo ? *typo : std::string(error.what()))
+              << "\nRun with --help for more information.\n";
     return exit_usage_error;
   }
   return std::nullopt;
