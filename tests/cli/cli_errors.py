@@ -66,6 +66,8 @@ def main():
           says=["unknown option '--sed'", "did you mean '--seed'?"])
     check("streamer_sim: --link-dely-ms suggests --link-delay-ms", ["streamer_sim", "--link-dely-ms", "5"], 2,
           says=["did you mean '--link-delay-ms'?"])
+    check("a value that starts with '-' is the option's, not an unknown option", ["streamer_sim", "--link-delay-ms", "-inf"], 2,
+          says=["--link-delay-ms"], never=["unknown option"])
     check("a known option with a bad value keeps CLI11's own message", ["ocp_campaign", "run", "--worlds", "0"], 2,
           says=["--worlds"], never=["unknown option"])
 

@@ -102,6 +102,10 @@ inline std::optional<std::string> unknown_word(CLI::App& app, int argc, const ch
   for (int i = 1; i < argc; ++i) {
     const std::string word = argv[i];
     if (word == "--") break;
+    if (expects_value) {   // the option's value, whatever it looks like ("-inf" included)
+      expects_value = false;
+      continue;
+    }
     if (word.size() > 1 && word[0] == '-' && !detail::looks_like_number(word)) {
       const std::string name = word.substr(0, word.find('='));
       const std::string lookup = (name.size() > 2 && name[1] != '-') ? name.substr(0, 2) : name;   // -j2
@@ -112,10 +116,6 @@ inline std::optional<std::string> unknown_word(CLI::App& app, int argc, const ch
         return message;
       }
       expects_value = option->get_type_size() != 0 && name == word && lookup == name;
-      continue;
-    }
-    if (expects_value) {
-      expects_value = false;
       continue;
     }
     if (CLI::App* sub = detail::subcommand_named(*chain.back(), word)) {
