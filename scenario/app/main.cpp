@@ -253,6 +253,10 @@ int run_every_scenario(const std::vector<Scenario>& scenarios, const ToolOptions
                            (tool.realtime ? " --realtime (real time: not reproducible)" : "")};
       print_run(report, run_seed, tally);
       if (!write_run_results(tool, report, run_seed)) return exit_error;
+      // What is kept for the closing summary and JUnit is the verdicts and the run's headline:
+      // the observations go, so --repeat 10000 holds no more than one run's series at a time.
+      runs.back().observations = Observations{};
+      runs.back().trace_jsonl.clear();
       reports.push_back(std::move(report));
       interrupted = result.interrupted || ocp::cli::interrupt_requested();
     }

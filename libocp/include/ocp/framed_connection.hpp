@@ -12,9 +12,10 @@
 //     send one over the limit — an oversized frame never leaves;
 //   * a peer that stops reading is disconnected (PeerError::not_reading, "peer not reading")
 //     when bytes have waited for it for write_stall_timeout without any of them being taken
-//     (10 s on both ports: one rule, whatever a port's byte rate), or sooner, once the bytes
-//     queued for it would exceed write_queue_limit_bytes: it can never grow our memory. Both
-//     are checked when a frame is sent (every 10 ms on :4000, every Player frame on :4001).
+//     (10 s on both ports: one rule, whatever a port's byte rate), or once the bytes queued
+//     for it would exceed write_queue_limit_bytes (16 MiB, more than 10 s of the largest
+//     frames at 100 Hz): it can never grow our memory beyond that. Both are checked when a
+//     frame is sent (every 10 ms on :4000, every Player frame on :4001).
 // Every close path — peer, timeout, bad input, write queue, local close() — reports
 // `on_closed` exactly once with a typed CloseReason (a PeerError or LocalError value and its
 // detail) and is logged with it. When the first bytes of the connection are not OCP framing at
@@ -53,10 +54,11 @@
 
 namespace ocp {
 
-// 1 MiB: about 3 000 control frames, 30 s of a vehicle that stopped reading.
-inline constexpr std::size_t default_write_queue_limit_bytes = 1024 * 1024;
 // A peer that has taken none of the bytes waiting for it for this long is not reading.
 inline constexpr Micros default_write_stall_timeout{10'000'000};
+// 16 MiB: 10 s of the largest frames (16 KiB) at both ports' highest rate (100 a second), so
+// that at the product's rates the 10 s rule drops a deaf peer, not this memory bound.
+inline constexpr std::size_t default_write_queue_limit_bytes = 16 * 1024 * 1024;
 
 class FramedConnection : public std::enable_shared_from_this<FramedConnection> {
  public:
