@@ -18,7 +18,7 @@ using testing_support::ScratchDir;
 
 // The calm profile with a fixed duration, one vehicle, no episodes, and every world's
 // determinism checked (two runs, the trace on).
-std::string profile(const std::string& duration) {
+std::string long_world_profile(const std::string& duration) {
   return "description: one long calm world\nduration: [" + duration + ", " + duration +
          "]\nvehicles: [1, 1]\nmonitor_share: 0.0\ncameras: [1, 1]\ncamera_fps: [30, 30]\n"
          "link:\n  delay: [10ms, 20ms]\n  jitter: [0ms, 3ms]\n  loss: [0, 0.005]\n"
@@ -34,7 +34,7 @@ TEST(CampaignLongWorld, ALongWorldNeedsNoMoreMemoryThanAShortOne) {
   if (!memory_is_measurable()) GTEST_SKIP() << "resident memory means nothing under AddressSanitizer";
   ScratchDir scratch("ocp_campaign_long_world");
   const auto peak_kib = [&](const std::string& duration) {
-    const std::string file = scratch.write("profile-" + duration + ".yaml", profile(duration)).string();
+    const std::string file = scratch.write("profile-" + duration + ".yaml", long_world_profile(duration)).string();
     const auto measured = run_measuring_memory({OCP_CAMPAIGN_PATH, "run", "--profile", file, "--worlds", "1", "--seed", "3",
                                                 "-q", "--out", (scratch / ("out-" + duration)).string()});
     EXPECT_EQ(measured.exit_code, 0) << duration;

@@ -18,14 +18,14 @@ namespace {
 
 using testing_support::ScratchDir;
 
-struct ToolRun {
+struct CeilingRun {
   int exit_code = -1;
   std::string output;
   double seconds = 0;
 };
 
-ToolRun run_command(const std::string& command) {
-  ToolRun run;
+CeilingRun run_ceiling_command(const std::string& command) {
+  CeilingRun run;
   const auto start = std::chrono::steady_clock::now();
   FILE* pipe = popen((command + " 2>&1").c_str(), "r");
   if (pipe == nullptr) return run;
@@ -37,31 +37,31 @@ ToolRun run_command(const std::string& command) {
   return run;
 }
 
-std::string world_with(const std::string& vehicle_fields, const std::string& world_fields = "") {
+std::string ceiling_world(const std::string& vehicle_fields, const std::string& world_fields = "") {
   return "seed: 1\nduration: 10s\nworld:\n" + world_fields + "  vehicles:\n    - name: truck-1\n" + vehicle_fields +
          "expect:\n  thresholds:\n    control_gap_ms: [\"count >= 0\"]\n";
 }
 
-std::string many_cameras(int count) {
+std::string cameras_at_1000_fps(int count) {
   std::string cameras = "      cameras:\n";
   for (int i = 0; i < count; ++i) cameras += "        - {name: cam" + std::to_string(i) + ", fps: 1000}\n";
   return cameras;
 }
 
-struct Runaway {
+struct RunawayWorld {
   const char* what;
   std::string scenario;
   std::string flags;
 };
 
-void PrintTo(const Runaway& runaway, std::ostream* out) { *out << runaway.what; }
+void PrintTo(const RunawayWorld& runaway, std::ostream* out) { *out << runaway.what; }
 
-class EventCeilingStopsARunaway : public ::testing::TestWithParam<Runaway> {};
+class EventCeilingStopsARunaway : public ::testing::TestWithParam<RunawayWorld> {};
 
 TEST_P(EventCeilingStopsARunaway, WithExitCode2AtOnce) {
   ScratchDir scratch("ocp_event_ceiling");
   const std::string file = scratch.write("runaway.yaml", GetParam().scenario).string();
-  const ToolRun run = run_command(std::string(OCP_SCENARIO_PATH) + " run " + file + " --no-trace --out " +
+  const CeilingRun run = run_ceiling_command(std::string(OCP_SCENARIO_PATH) + " run " + file + " --no-trace --out " +
                                   (scratch / "out").string() + " " + GetParam().flags);
   EXPECT_EQ(run.exit_code, 2) << run.output;
   EXPECT_NE(run.output.find("events in the simulated second from 0s: over the ceiling of events per simulated second"),
@@ -73,61 +73,61 @@ TEST_P(EventCeilingStopsARunaway, WithExitCode2AtOnce) {
 
 INSTANTIATE_TEST_SUITE_P(
     Table, EventCeilingStopsARunaway,
-    ::testing::Values(Runaway{"control_period_1us", world_with("      control_period: 1us\n"), ""},
-                      Runaway{"ping_period_1us", world_with("", "  player: {ping_period: 1us}\n"), ""},
-                      Runaway{"a_thousand_cameras_at_1000_fps", world_with(many_cameras(1000)), ""},
-                      Runaway{"an_ordinary_world_under_a_low_ceiling", world_with(""), "--max-events-per-s 1000"}),
+    ::testing::Values(RunawayWorld{"control_period_1us", ceiling_world("      control_period: 1us\n"), ""},
+                      RunawayWorld{"ping_period_1us", ceiling_world("", "  player: {ping_period: 1us}\n"), ""},
+                      RunawayWorld{"a_thousand_cameras_at_1000_fps", ceiling_world(cameras_at_1000_fps(1000)), ""},
+                      RunawayWorld{"an_ordinary_world_under_a_low_ceiling", ceiling_world(""), "--max-events-per-s 1000"}),
     [](const auto& info) { return std::string(info.param.what); });
 
 TEST(EventCeiling, TheFlagRaisesIt) {
   ScratchDir scratch("ocp_event_ceiling");
-  const std::string file = scratch.write("busy.yaml", world_with("      control_period: 100us\n")).string();
+  const std::string file = scratch.write("busy.yaml", ceiling_world("      control_period: 100us\n")).string();
   const std::string base = std::string(OCP_SCENARIO_PATH) + " run " + file + " --no-trace --out " + (scratch / "out").string();
-  const ToolRun refused = run_command(base + " --max-events-per-s 10000");
+  const CeilingRun refused = run_ceiling_command(base + " --max-events-per-s 10000");
   EXPECT_EQ(refused.exit_code, 2) << refused.output;
-  const ToolRun raised = run_command(base + " --max-events-per-s 100000000");
+  const CeilingRun raised = run_ceiling_command(base + " --max-events-per-s 100000000");
   EXPECT_EQ(raised.exit_code, 0) << raised.output;
 }
 
 TEST(EventCeiling, TheDefaultLetsAnOrdinaryFleetRun) {
   ScratchDir scratch("ocp_event_ceiling");
   std::string fleet = "seed: 1\nduration: 3s\nworld:\n  fleet: true\n  vehicles:\n";
-  for (int v = 0; v < 16; ++v) fleet += "    - {name: v" + std::to_string(v) + "}\n" + many_cameras(4);
+  for (int v = 0; v < 16; ++v) fleet += "    - {name: v" + std::to_string(v) + "}\n" + cameras_at_1000_fps(4);
   fleet += "expect:\n  thresholds:\n    control_gap_ms: [\"count > 0\"]\n";
   const std::string file = scratch.write("fleet.yaml", fleet).string();
-  const ToolRun run = run_command(std::string(OCP_SCENARIO_PATH) + " run " + file + " --no-trace --out " + (scratch / "out").string());
+  const CeilingRun run = run_ceiling_command(std::string(OCP_SCENARIO_PATH) + " run " + file + " --no-trace --out " + (scratch / "out").string());
   EXPECT_EQ(run.exit_code, 0) << run.output;
 }
 
-struct BadCeiling {
+struct BadCeilingValue {
   const char* what;
   const char* value;
 };
 
-class EventCeilingFlagRefuses : public ::testing::TestWithParam<BadCeiling> {};
+class EventCeilingFlagRefuses : public ::testing::TestWithParam<BadCeilingValue> {};
 
 // ocp_campaign's run and check take the same option: tests/campaign/cli_test.cpp.
 TEST_P(EventCeilingFlagRefuses, WithExitCode2) {
   ScratchDir scratch("ocp_event_ceiling");
-  const std::string file = scratch.write("ok.yaml", world_with("")).string();
-  const ToolRun run = run_command(std::string(OCP_SCENARIO_PATH) + " run " + file + " --list --max-events-per-s '" +
+  const std::string file = scratch.write("ok.yaml", ceiling_world("")).string();
+  const CeilingRun run = run_ceiling_command(std::string(OCP_SCENARIO_PATH) + " run " + file + " --list --max-events-per-s '" +
                                   GetParam().value + "'");
   EXPECT_EQ(run.exit_code, 2) << run.output;
   EXPECT_NE(run.output.find("--max-events-per-s"), std::string::npos) << run.output;
 }
 
 INSTANTIATE_TEST_SUITE_P(Table, EventCeilingFlagRefuses,
-                         ::testing::Values(BadCeiling{"zero", "0"}, BadCeiling{"negative", "-1"},
-                                           BadCeiling{"nan", "nan"}, BadCeiling{"infinity", "inf"},
-                                           BadCeiling{"fraction", "1500.5"}, BadCeiling{"empty", ""},
-                                           BadCeiling{"words", "many"}, BadCeiling{"below_the_floor", "999"},
-                                           BadCeiling{"overflow", "18446744073709551616"},
-                                           BadCeiling{"past_the_top", "1e30"}),
+                         ::testing::Values(BadCeilingValue{"zero", "0"}, BadCeilingValue{"negative", "-1"},
+                                           BadCeilingValue{"nan", "nan"}, BadCeilingValue{"infinity", "inf"},
+                                           BadCeilingValue{"fraction", "1500.5"}, BadCeilingValue{"empty", ""},
+                                           BadCeilingValue{"words", "many"}, BadCeilingValue{"below_the_floor", "999"},
+                                           BadCeilingValue{"overflow", "18446744073709551616"},
+                                           BadCeilingValue{"past_the_top", "1e30"}),
                          [](const auto& info) { return std::string(info.param.what); });
 
 // The library call says the same: a HarnessError, which the tools turn into exit 2.
 TEST(EventCeiling, RunScenarioThrowsAHarnessErrorNamingTheCeiling) {
-  const Scenario scenario = parse_scenario(world_with("      control_period: 1us\n"), "runaway.yaml");
+  const Scenario scenario = parse_scenario(ceiling_world("      control_period: 1us\n"), "runaway.yaml");
   RunOptions options;
   options.trace = false;
   try {

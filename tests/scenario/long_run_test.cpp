@@ -20,7 +20,7 @@ using testing_support::memory_is_measurable;
 using testing_support::run_measuring_memory;
 using testing_support::ScratchDir;
 
-std::string jittery_drive(const std::string& duration) {
+std::string long_jittery_drive(const std::string& duration) {
   return "seed: 9\nduration: " + duration +
          "\nworld:\n  gamepad: drive\n  vehicles:\n    - name: truck-1\n"
          "      link: {delay: 20ms, jitter: 5ms, loss: 0.01}\n"
@@ -31,7 +31,7 @@ std::string jittery_drive(const std::string& duration) {
 TEST(ScenarioLongRun, TheSeriesOfHalfAnHourStayBounded) {
   RunOptions options;
   options.trace = false;
-  const auto outcome = test::run_text(jittery_drive("30min"), options);
+  const auto outcome = test::run_text(long_jittery_drive("30min"), options);
   const VehicleObservations& truck = outcome.run.observations.vehicles.at("truck-1");
   // 100 control ticks a second: 180 000 samples counted, at most plot_capacity kept for the plot.
   EXPECT_GT(truck.latency_ms.count(), 170'000u);
@@ -54,8 +54,8 @@ TEST(ScenarioLongRun, TheTraceIsWrittenToItsFileAsTheRunGoes) {
   ScratchDir scratch("ocp_long_run_trace");
   RunOptions to_file;
   to_file.trace_file = (scratch / "trace.jsonl").string();
-  const auto streamed = test::run_text(jittery_drive("20s"), to_file);
-  const auto in_memory = test::run_text(jittery_drive("20s"), RunOptions{});
+  const auto streamed = test::run_text(long_jittery_drive("20s"), to_file);
+  const auto in_memory = test::run_text(long_jittery_drive("20s"), RunOptions{});
   EXPECT_TRUE(streamed.run.trace_jsonl.empty());
   std::ifstream file(scratch / "trace.jsonl", std::ios::binary);
   std::stringstream text;
@@ -69,28 +69,28 @@ TEST(ScenarioLongRun, TheTraceIsWrittenToItsFileAsTheRunGoes) {
 TEST(ScenarioLongRun, AnUnwritableTraceFileIsAHarnessError) {
   RunOptions options;
   options.trace_file = "/nonexistent-folder/trace.jsonl";
-  const Scenario scenario = parse_scenario(jittery_drive("1s"), "inline.yaml");
+  const Scenario scenario = parse_scenario(long_jittery_drive("1s"), "inline.yaml");
   EXPECT_THROW(run_scenario(scenario, options), HarnessError);
 }
 
 // ocp_scenario's peak memory: a run 8 times as long needs no more than a few MB more, with the
 // trace (streamed to its file) and without it (the series). Before: +25 MB for 35 more
 // minutes without a trace, and three copies of the trace in memory with it.
-struct LongRunCase {
+struct ToolMemoryCase {
   const char* what;
   const char* short_run;
   const char* long_run;
   bool trace;
 };
 
-class ScenarioToolMemory : public ::testing::TestWithParam<LongRunCase> {};
+class ScenarioToolMemory : public ::testing::TestWithParam<ToolMemoryCase> {};
 
 TEST_P(ScenarioToolMemory, ALongRunNeedsNoMoreMemoryThanAShortOne) {
   if (!memory_is_measurable()) GTEST_SKIP() << "resident memory means nothing under AddressSanitizer";
-  const LongRunCase& run = GetParam();
+  const ToolMemoryCase& run = GetParam();
   ScratchDir scratch("ocp_long_run_memory");
   const auto peak_kib = [&](const char* duration) {
-    const std::string file = scratch.write(std::string("run-") + duration + ".yaml", jittery_drive(duration)).string();
+    const std::string file = scratch.write(std::string("run-") + duration + ".yaml", long_jittery_drive(duration)).string();
     std::vector<std::string> argv{OCP_SCENARIO_PATH, "run", file, "--out", (scratch / "out").string()};
     if (!run.trace) argv.push_back("--no-trace");
     const auto measured = run_measuring_memory(argv);
@@ -104,8 +104,8 @@ TEST_P(ScenarioToolMemory, ALongRunNeedsNoMoreMemoryThanAShortOne) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Runs, ScenarioToolMemory,
-                         ::testing::Values(LongRunCase{"series (no trace)", "5min", "40min", false},
-                                           LongRunCase{"trace streamed", "1min", "8min", true}),
+                         ::testing::Values(ToolMemoryCase{"series (no trace)", "5min", "40min", false},
+                                           ToolMemoryCase{"trace streamed", "1min", "8min", true}),
                          [](const auto& info) { return info.param.trace ? std::string("Trace") : std::string("NoTrace"); });
 
 }  // namespace

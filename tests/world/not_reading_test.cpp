@@ -18,16 +18,16 @@ namespace {
 
 using testing::frame_of;
 
-struct Drop {
+struct DeafPeerDrop {
   std::optional<SimTime> first_frame_out;   // the first frame the deaf peer was sent
   std::optional<SimTime> closed_at;
   std::optional<CloseReason> reason;
 };
 
 // Keeps sending (so the 2 s read timeout never fires) and never reads.
-class DeafPeer {
+class NeverReadingPeer {
  public:
-  DeafPeer(VirtualExecutor& executor, std::shared_ptr<ByteStream> end, std::string frame)
+  NeverReadingPeer(VirtualExecutor& executor, std::shared_ptr<ByteStream> end, std::string frame)
       : end_(std::move(end)), frame_(std::move(frame)),
         timer_(executor, Micros{500'000}, [this](SimTime) { end_->write(frame_); }) {
     timer_.start(executor.now());
@@ -39,12 +39,12 @@ class DeafPeer {
   PeriodicTimer timer_;
 };
 
-struct Port {
+struct DeafPeerPort {
   const char* name;
   int vehicles;   // the Player's frame grows with them; the Streamer's control frame does not
 };
 
-class NotReadingRule : public ::testing::TestWithParam<Port> {};
+class NotReadingRule : public ::testing::TestWithParam<DeafPeerPort> {};
 
 TEST_P(NotReadingRule, BothPortsDropADeafPeerTenSecondsAfterItStoppedTaking) {
   WorldConfig config;
@@ -55,9 +55,9 @@ TEST_P(NotReadingRule, BothPortsDropADeafPeerTenSecondsAfterItStoppedTaking) {
     config.vehicles.push_back(spec);
   }
   VirtualWorld sim(config);
-  Drop vehicle_side, operator_side;
+  DeafPeerDrop vehicle_side, operator_side;
   auto watch = sim.world().events().subscribe([&](const Event& event) {
-    Drop* drop = nullptr;
+    DeafPeerDrop* drop = nullptr;
     Wire wire{};
     if (const auto* frame = std::get_if<WireFrame>(&event.body)) {
       wire = frame->wire;
@@ -81,10 +81,10 @@ TEST_P(NotReadingRule, BothPortsDropADeafPeerTenSecondsAfterItStoppedTaking) {
   encode_vehicle_response(VehicleResponseMessage{AckPair{1, 2}, std::nullopt}, response);
   PipeEnds vehicle_pipe = make_pipe(sim.executor());
   sim.world().accept_vehicle_connection("truck-1", vehicle_pipe.b);
-  DeafPeer deaf_vehicle(sim.executor(), vehicle_pipe.a, frame_of(response));
+  NeverReadingPeer deaf_vehicle(sim.executor(), vehicle_pipe.a, frame_of(response));
   PipeEnds client_pipe = make_pipe(sim.executor());
   sim.world().player().accept_client_connection(client_pipe.a);
-  DeafPeer deaf_client(sim.executor(), client_pipe.b, frame_of("{}"));
+  NeverReadingPeer deaf_client(sim.executor(), client_pipe.b, frame_of("{}"));
   sim.run_for(Millis{15'000});
 
   for (const auto& [side, drop] : {std::pair{":4000 vehicle", &vehicle_side}, std::pair{":4001 client", &operator_side}}) {
@@ -97,7 +97,7 @@ TEST_P(NotReadingRule, BothPortsDropADeafPeerTenSecondsAfterItStoppedTaking) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Ports, NotReadingRule, ::testing::Values(Port{"one_vehicle", 1}, Port{"a_fleet_of_four", 4}),
+INSTANTIATE_TEST_SUITE_P(Ports, NotReadingRule, ::testing::Values(DeafPeerPort{"one_vehicle", 1}, DeafPeerPort{"a_fleet_of_four", 4}),
                          [](const auto& info) { return std::string(info.param.name); });
 
 // A peer that reads, however slowly its bytes arrive (a 400 ms pipe: 40 frames always in
