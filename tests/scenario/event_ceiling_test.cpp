@@ -76,7 +76,8 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(RunawayWorld{"control_period_1us", ceiling_world("      control_period: 1us\n"), ""},
                       RunawayWorld{"ping_period_1us", ceiling_world("", "  player: {ping_period: 1us}\n"), ""},
                       RunawayWorld{"a_thousand_cameras_at_1000_fps", ceiling_world(cameras_at_1000_fps(1000)), ""},
-                      RunawayWorld{"an_ordinary_world_under_a_low_ceiling", ceiling_world(""), "--max-events-per-s 1000"}),
+                      RunawayWorld{"two_cameras_at_1000_fps_under_a_ceiling_of_1000", ceiling_world(cameras_at_1000_fps(2)),
+                                   "--max-events-per-s 1000"}),
     [](const auto& info) { return std::string(info.param.what); });
 
 TEST(EventCeiling, TheFlagRaisesIt) {
@@ -89,10 +90,11 @@ TEST(EventCeiling, TheFlagRaisesIt) {
   EXPECT_EQ(raised.exit_code, 0) << raised.output;
 }
 
-TEST(EventCeiling, TheDefaultLetsAnOrdinaryFleetRun) {
+// 16 vehicles (a campaign profile's most) with four cameras at 1 000 fps each: under the default.
+TEST(EventCeiling, TheDefaultLetsTheBusiestCampaignFleetRun) {
   ScratchDir scratch("ocp_event_ceiling");
   std::string fleet = "seed: 1\nduration: 3s\nworld:\n  fleet: true\n  vehicles:\n";
-  for (int v = 0; v < 16; ++v) fleet += "    - {name: v" + std::to_string(v) + "}\n" + cameras_at_1000_fps(4);
+  for (int v = 0; v < 16; ++v) fleet += "    - name: v" + std::to_string(v) + "\n" + cameras_at_1000_fps(4);
   fleet += "expect:\n  thresholds:\n    control_gap_ms: [\"count > 0\"]\n";
   const std::string file = scratch.write("fleet.yaml", fleet).string();
   const CeilingRun run = run_ceiling_command(std::string(OCP_SCENARIO_PATH) + " run " + file + " --no-trace --out " + (scratch / "out").string());
