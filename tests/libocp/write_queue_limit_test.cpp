@@ -75,20 +75,26 @@ TEST(WriteQueueLimit, APeerThatReadsIsNeverDisconnected) {
   EXPECT_EQ(received, 100'000u);
 }
 
-TEST(WriteQueueLimit, ALoopbackPeerThatNeverReadsIsDisconnectedAndOurQueueStaysBounded) {
-  asio::io_context io;
-  AsioExecutor executor(io);
+// Our end of a loopback connection whose other end, `client_socket`, never reads (and has a
+// 4 KiB receive buffer); nullptr when the connection did not come up.
+std::shared_ptr<ByteStream> accept_deaf_loopback_peer(asio::io_context& io, asio::ip::tcp::socket& client_socket) {
   asio::ip::tcp::acceptor acceptor(io, {asio::ip::make_address("127.0.0.1"), 0});
   asio::ip::tcp::socket server_socket(io);
   bool accepted = false;
   acceptor.async_accept(server_socket, [&](const boost::system::error_code& error) { accepted = !error; });
-  asio::ip::tcp::socket client_socket(io);   // connected, never read from
   client_socket.open(asio::ip::tcp::v4());
   client_socket.set_option(asio::socket_base::receive_buffer_size(4096));
   client_socket.connect(acceptor.local_endpoint());
-  ASSERT_TRUE(testing::run_until(io, [&] { return accepted; }));
+  if (!testing::run_until(io, [&] { return accepted; })) return nullptr;
+  return make_tcp_stream(std::move(server_socket));
+}
 
-  auto server = make_tcp_stream(std::move(server_socket));
+TEST(WriteQueueLimit, ALoopbackPeerThatNeverReadsIsDisconnectedAndOurQueueStaysBounded) {
+  asio::io_context io;
+  AsioExecutor executor(io);
+  asio::ip::tcp::socket client_socket(io);   // connected, never read from
+  auto server = accept_deaf_loopback_peer(io, client_socket);
+  ASSERT_TRUE(server);
   std::optional<CloseReason> closed;
   FramedConnection::Options options;
   options.read_timeout = Micros{0};   // this peer is silent on purpose; only the queue may end it
@@ -118,17 +124,9 @@ TEST(WriteQueueLimit, ALoopbackPeerThatNeverReadsIsDisconnectedAndOurQueueStaysB
 TEST(WriteQueueLimit, ALoopbackPeerThatTakesNothingForTheStallTimeIsDisconnected) {
   asio::io_context io;
   AsioExecutor executor(io);
-  asio::ip::tcp::acceptor acceptor(io, {asio::ip::make_address("127.0.0.1"), 0});
-  asio::ip::tcp::socket server_socket(io);
-  bool accepted = false;
-  acceptor.async_accept(server_socket, [&](const boost::system::error_code& error) { accepted = !error; });
   asio::ip::tcp::socket client_socket(io);   // connected, never read from
-  client_socket.open(asio::ip::tcp::v4());
-  client_socket.set_option(asio::socket_base::receive_buffer_size(4096));
-  client_socket.connect(acceptor.local_endpoint());
-  ASSERT_TRUE(testing::run_until(io, [&] { return accepted; }));
-
-  auto server = make_tcp_stream(std::move(server_socket));
+  auto server = accept_deaf_loopback_peer(io, client_socket);
+  ASSERT_TRUE(server);
   std::optional<CloseReason> closed;
   FramedConnection::Options options;
   options.read_timeout = Micros{0};
