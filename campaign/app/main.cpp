@@ -33,6 +33,7 @@
 #include "sim_app/client_process.hpp"
 #include "ocp/exit_codes.hpp"
 #include "ocp/interrupt.hpp"
+#include "scenario/limit_options.hpp"
 #include "scenario/parse.hpp"
 
 namespace fs = std::filesystem;
@@ -374,6 +375,8 @@ int main(int argc, char** argv) {
     command->add_option("--max-file-mb", max_file_mb, "raise the size cap of input files (profile, scenario: 1 MB)")
         ->check(ocp::cli::real(1, 65'536));
   }
+  std::uint64_t max_events_per_s = 0;
+  for (CLI::App* command : {run_app, check_app}) ocp::scenario::add_max_events_option(*command, max_events_per_s);
 
   SlurmOptions slurm;
   CLI::App* slurm_app = app.add_subcommand("slurm", "run the campaign as an sbatch job array, wait, and merge");
@@ -381,6 +384,7 @@ int main(int argc, char** argv) {
 
   if (auto exit_code = ocp::cli::parse_or_exit_code(app, argc, argv)) return *exit_code;
   if (max_file_mb > 0) ocp::raise_file_caps(static_cast<std::uint64_t>(max_file_mb * 1024 * 1024));
+  ocp::scenario::apply_max_events(max_events_per_s);
   if (run_app->parsed()) return run_command(run);
   if (check_app->parsed()) return check_command(check_file);
   if (merge_app->parsed()) return merge_command(merge_inputs, merge_out);

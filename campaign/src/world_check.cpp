@@ -19,6 +19,7 @@ double thread_cpu_seconds() {
 scenario::RunResult run_with_oracle(const scenario::Scenario& scenario, Oracle& oracle, bool trace) {
   scenario::RunOptions options;
   options.trace = trace;
+  options.trace_in_memory = false;   // the digest is what is compared: a 1 h world holds no line
   options.on_built = [&](World& world) { oracle.attach(world); };
   options.on_finished = [&](World& world) { oracle.finish(world); };
   return scenario::run_scenario(scenario, options);
@@ -62,7 +63,8 @@ WorldOutcome check_world(const scenario::Scenario& scenario, const CheckOptions&
 
 scenario::RunResult run_for_report(const scenario::Scenario& scenario) {
   scenario::RunOptions options;
-  options.trace = true;
+  options.trace = true;              // for the link events the report's panels draw
+  options.trace_in_memory = false;
   return scenario::run_scenario(scenario, options);
 }
 

@@ -1,6 +1,7 @@
 // One framed JSON connection with the SPEC §2 rules (see framed_connection.hpp).
 #include "ocp/framed_connection.hpp"
 
+#include <algorithm>
 #include <system_error>
 #include <utility>
 
@@ -145,12 +146,27 @@ Status FramedConnection::write_raw(std::string_view bytes) {
 
 Status FramedConnection::admit_to_write_queue(std::size_t bytes) {
   const std::size_t queued = stream_->queued_bytes();
-  if (queued + bytes <= options_.write_queue_limit_bytes) return Ok{};
-  CloseReason reason{PeerError::not_reading,
-                     fmt::format("{} bytes already queued for it (limit {})", queued,
-                                 options_.write_queue_limit_bytes)};
-  close(reason);
-  return reason;
+  const SimTime now = executor_.now();
+  const std::uint64_t taken = written_ - std::min<std::uint64_t>(queued, written_);
+  if (queued == 0 || taken != taken_) taking_nothing_since_ = now;   // nothing waits, or it took some
+  taken_ = taken;
+  std::optional<CloseReason> reason;
+  if (options_.write_stall_timeout.count() > 0 && queued > 0 &&
+      now - taking_nothing_since_ >= options_.write_stall_timeout) {
+    reason = CloseReason{PeerError::not_reading,
+                         fmt::format("took none of the {} bytes waiting for it for {} ms", queued,
+                                     (now - taking_nothing_since_).count() / 1000)};
+  } else if (queued + bytes > options_.write_queue_limit_bytes) {
+    reason = CloseReason{PeerError::not_reading,
+                         fmt::format("{} bytes already queued for it (limit {})", queued,
+                                     options_.write_queue_limit_bytes)};
+  }
+  if (!reason) {
+    written_ += bytes;
+    return Ok{};
+  }
+  close(*reason);
+  return *reason;
 }
 
 void FramedConnection::publish_frame(SimTime at, FrameDirection direction, WireMessageKind kind,

@@ -13,6 +13,7 @@
 #include <iostream>
 
 #include "scenario/extract_link.hpp"
+#include "scenario/limit_options.hpp"
 #include "scenario/metrics.hpp"
 #include "scenario/parse.hpp"
 #include "scenario/reports.hpp"
@@ -66,6 +67,7 @@ struct ToolOptions {
   bool list = false, no_trace = false, trace_payloads = false, realtime = false;
   std::uint16_t tcp_port = 4000;
   double max_file_mb = 0, max_simulated_h = 0;   // 0: the defaults (ocp/bounded_file.hpp, ParseLimits)
+  std::uint64_t max_events_per_s = 0;
 };
 
 // --max-file-mb: raises the cap of every scenario, trace and recording file (the defaults are
@@ -82,6 +84,7 @@ void apply_input_limits(const ToolOptions& options) {
     limits.max_run_duration = ocp::Micros{static_cast<std::int64_t>(options.max_simulated_h * 3600e6)};
     set_parse_limits(limits);
   }
+  apply_max_events(options.max_events_per_s);
 }
 
 void add_run_command(CLI::App& app, ToolOptions& options) {
@@ -105,6 +108,7 @@ void add_run_command(CLI::App& app, ToolOptions& options) {
   add_max_file_option(*run, options.max_file_mb);
   run->add_option("--max-simulated-h", options.max_simulated_h, "raise the ceiling of one run's duration (default 24 h)")
       ->check(ocp::cli::real(1, 1'000'000));
+  add_max_events_option(*run, options.max_events_per_s);
 }
 
 // A run's trace → a link recording on stdout (docs/link-recording.md).
@@ -147,11 +151,25 @@ void print_expectations(const std::vector<Scenario>& scenarios) {
   }
 }
 
-// One run in virtual time, or in real time waiting for the external vehicle clients.
+// OUT/<scenario>[/seed-N]: a folder per seed when a file runs more than once.
+fs::path run_folder(const ToolOptions& tool, const Scenario& scenario, std::uint64_t run_seed) {
+  fs::path dir = fs::path(tool.out_dir) / scenario.name;
+  if (tool.repeat > 1) dir /= "seed-" + std::to_string(run_seed);
+  return dir;
+}
+
+// One run in virtual time, or in real time waiting for the external vehicle clients. The
+// trace goes to its file as the run goes, so a long run's memory stays flat.
 RunResult run_once(const Scenario& scenario, const ToolOptions& tool, std::uint64_t run_seed) {
   RunOptions options;
   options.seed = run_seed;
   options.trace = !tool.no_trace;
+  if (options.trace) {
+    const fs::path dir = run_folder(tool, scenario, run_seed);
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    options.trace_file = (dir / "trace.jsonl").string();
+  }
   options.trace_payloads = tool.trace_payloads;
   options.interrupted = ocp::cli::interrupt_requested;
   if (!tool.realtime) return run_scenario(scenario, options);
@@ -196,16 +214,13 @@ void print_run(const RunReport& report, std::uint64_t run_seed, Tally& tally) {
   tally.runs_failed += failed ? 1 : 0;
 }
 
-// trace.jsonl, summary.json and report.html in OUT/<scenario>[/seed-N] (a folder per seed
-// when a file runs more than once).
+// summary.json and report.html beside the run's trace.jsonl (written while it ran).
 bool write_run_results(const ToolOptions& tool, const RunReport& report, std::uint64_t run_seed) {
-  fs::path dir = fs::path(tool.out_dir) / report.scenario->name;
-  if (tool.repeat > 1) dir /= "seed-" + std::to_string(run_seed);
+  const fs::path dir = run_folder(tool, *report.scenario, run_seed);
   std::error_code ec;
   fs::create_directories(dir, ec);
   const std::string summary = summary_json(report);
-  const bool written = (tool.no_trace || write_file(dir / "trace.jsonl", report.run->trace_jsonl)) &&
-                       write_file(dir / "summary.json", summary) &&
+  const bool written = write_file(dir / "summary.json", summary) &&
                        write_file(dir / "report.html", report_html(report, summary));
   if (ec || !written) {
     std::cerr << "error: cannot write results to " << dir << "\n";
@@ -241,6 +256,10 @@ int run_every_scenario(const std::vector<Scenario>& scenarios, const ToolOptions
                            (tool.realtime ? " --realtime (real time: not reproducible)" : "")};
       print_run(report, run_seed, tally);
       if (!write_run_results(tool, report, run_seed)) return exit_error;
+      // What is kept for the closing summary and JUnit is the verdicts and the run's headline:
+      // the observations go, so --repeat 10000 holds no more than one run's series at a time.
+      runs.back().observations = Observations{};
+      runs.back().trace_jsonl.clear();
       reports.push_back(std::move(report));
       interrupted = result.interrupted || ocp::cli::interrupt_requested();
     }

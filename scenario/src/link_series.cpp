@@ -12,15 +12,6 @@ SimTime bucket_start(SimTime now) {
   return SimTime{now.count() / LinkSeriesBuilder::bucket.count() * LinkSeriesBuilder::bucket.count()};
 }
 
-// Empty buckets between the last sample and `start` read as zero throughput, so the line
-// drops to the floor across a gap (a tunnel) instead of sloping over it.
-void zero_fill(std::vector<Sample>& series, SimTime start) {
-  if (series.empty()) return;
-  const SimTime after_last = series.back().time + LinkSeriesBuilder::bucket;
-  if (after_last < start) series.push_back({after_last, 0.0});
-  if (after_last < start - LinkSeriesBuilder::bucket) series.push_back({start - LinkSeriesBuilder::bucket, 0.0});
-}
-
 }  // namespace
 
 void LinkSeriesBuilder::on_link_event(const LinkEvent& event, SimTime now, LinkSeries& out) {
@@ -44,19 +35,27 @@ void LinkSeriesBuilder::on_link_event(const LinkEvent& event, SimTime now, LinkS
   }
 }
 
+// Empty buckets between the last one and `start` read as zero throughput, so the line drops
+// to the floor across a gap (a tunnel) instead of sloping over it.
 void LinkSeriesBuilder::add_delivery(SimTime now, std::size_t bytes, Micros queueing, LinkSeries& out) {
   const SimTime start = bucket_start(now);
-  if (out.throughput_mbps.empty() || out.throughput_mbps.back().time != start) {
-    zero_fill(out.throughput_mbps, start);
-    out.throughput_mbps.push_back({start, 0.0});
-  }
-  out.throughput_mbps.back().value += static_cast<double>(bytes) * 8.0 / link_bucket_seconds / 1e6;
   const double queueing_ms = static_cast<double>(queueing.count()) / 1000.0;
-  if (out.queueing_delay_ms.empty() || out.queueing_delay_ms.back().time != start) {
-    out.queueing_delay_ms.push_back({start, queueing_ms});
-  } else {
-    out.queueing_delay_ms.back().value = std::max(out.queueing_delay_ms.back().value, queueing_ms);
+  if (bucket_start_ != start) {
+    if (bucket_start_) {
+      const SimTime after_last = *bucket_start_ + LinkSeriesBuilder::bucket;
+      if (after_last < start) out.throughput_mbps.add(after_last, 0.0);
+      if (after_last < start - LinkSeriesBuilder::bucket) out.throughput_mbps.add(start - LinkSeriesBuilder::bucket, 0.0);
+    }
+    bucket_start_ = start;
+    bucket_mbps_ = 0;
+    bucket_queueing_ms_ = queueing_ms;
+    out.throughput_mbps.add(start, 0.0);
+    out.queueing_delay_ms.add(start, queueing_ms);
   }
+  bucket_mbps_ += static_cast<double>(bytes) * 8.0 / link_bucket_seconds / 1e6;
+  bucket_queueing_ms_ = std::max(bucket_queueing_ms_, queueing_ms);
+  out.throughput_mbps.raise_last(bucket_mbps_);
+  out.queueing_delay_ms.raise_last(bucket_queueing_ms_);
 }
 
 }  // namespace ocp::scenario

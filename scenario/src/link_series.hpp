@@ -5,6 +5,7 @@
 // propagation delay (Impairments::delay): the time it waited in a queue, or in jitter.
 #include <cstdint>
 #include <map>
+#include <optional>
 
 #include "ocp/events.hpp"
 #include "scenario/observer.hpp"
@@ -23,6 +24,9 @@ class LinkSeriesBuilder {
   void add_delivery(SimTime now, std::size_t bytes, Micros queueing, LinkSeries& out);
   std::map<std::uint64_t, SimTime> sent_;   // message id → when sent, until it settles
   Micros propagation_{0};
+  // The bucket filling now (the series' points may stand for several buckets each).
+  std::optional<SimTime> bucket_start_;
+  double bucket_mbps_ = 0, bucket_queueing_ms_ = 0;
 };
 
 }  // namespace ocp::scenario

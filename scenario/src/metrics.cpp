@@ -4,12 +4,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <numeric>
 
 namespace ocp::scenario {
 namespace {
 
-const std::vector<Sample>* series_of(const VehicleObservations& vehicle, std::string_view metric) {
+const Series* series_of(const VehicleObservations& vehicle, std::string_view metric) {
   if (metric == "latency_ms") return &vehicle.latency_ms;
   if (metric == "echo_delay_ms") return &vehicle.echo_delay_ms;
   if (metric == "control_gap_ms") return &vehicle.control_gap_ms;
@@ -23,14 +22,12 @@ bool is_counter_metric(std::string_view metric) {
   return metric == "lost_to_streamer" || metric == "lost_to_player";
 }
 
-std::vector<double> series_values(const Observations& observations, std::string_view metric,
-                                  const std::optional<std::string>& vehicle) {
-  std::vector<double> values;
+ValueHistogram series_values(const Observations& observations, std::string_view metric,
+                             const std::optional<std::string>& vehicle) {
+  ValueHistogram values;
   for (const auto& [name, data] : observations.vehicles) {
     if (vehicle && name != *vehicle) continue;
-    if (const auto* series = series_of(data, metric)) {
-      for (const Sample& sample : *series) values.push_back(sample.value);
-    }
+    if (const auto* series = series_of(data, metric)) values.merge(series->values());
   }
   return values;
 }
@@ -49,26 +46,6 @@ std::optional<double> counter_value(const Observations& observations, std::strin
     return static_cast<double>(dropped) / static_cast<double>(sent);
   }
   return static_cast<double>(dropped);
-}
-
-double percentile_of_sorted(const std::vector<double>& sorted, double percentile) {
-  if (sorted.size() == 1) return sorted.front();
-  const double rank = percentile / 100.0 * static_cast<double>(sorted.size() - 1);
-  const auto low = static_cast<std::size_t>(std::floor(rank));
-  const auto high = std::min(low + 1, sorted.size() - 1);
-  return sorted[low] + (sorted[high] - sorted[low]) * (rank - static_cast<double>(low));
-}
-
-std::optional<double> aggregate(std::vector<double>& values, std::string_view aggregate, double percentile) {
-  if (aggregate == "count") return static_cast<double>(values.size());
-  if (values.empty()) return std::nullopt;
-  std::sort(values.begin(), values.end());
-  if (aggregate == "min") return values.front();
-  if (aggregate == "max") return values.back();
-  if (aggregate == "avg") return std::accumulate(values.begin(), values.end(), 0.0) / static_cast<double>(values.size());
-  if (aggregate == "med") return percentile_of_sorted(values, 50);
-  if (aggregate == "rate") return std::nullopt;   // only counters have a rate
-  return percentile_of_sorted(values, percentile);
 }
 
 std::string format_number(double value) {

@@ -65,7 +65,7 @@ void Observer::on_event(const Event& event) {
   const SimTime now = event.time - origin_;
   if (const auto* sample = std::get_if<LatencySample>(&event.body)) {
     if (sample->latency_ms) {
-      state(event.component.name).out->latency_ms.push_back({now, static_cast<double>(*sample->latency_ms)});
+      state(event.component.name).out->latency_ms.add(now, static_cast<double>(*sample->latency_ms));
     }
   } else if (const auto* link = std::get_if<LinkEvent>(&event.body)) {
     on_link(event.component.name, *link, now);
@@ -114,7 +114,7 @@ void Observer::on_link(std::string_view name, const LinkEvent& link, SimTime now
   vehicle.series(link.route).on_link_event(link, now, link.route == LinkRoute::to_streamer ? vehicle.out->to_streamer_link
                                                                                            : vehicle.out->to_player_link);
   if (link.outcome == LinkOutcome::delivered && link.kind == LinkMessageKind::feedback) {
-    if (vehicle.last_feedback) vehicle.out->feedback_gap_ms.push_back({now, to_ms(now - *vehicle.last_feedback)});
+    if (vehicle.last_feedback) vehicle.out->feedback_gap_ms.add(now, to_ms(now - *vehicle.last_feedback));
     vehicle.last_feedback = now;
   }
 }
@@ -122,7 +122,7 @@ void Observer::on_link(std::string_view name, const LinkEvent& link, SimTime now
 // A control frame the Streamer wrote to its vehicle: the control gap, the pair its echo will
 // be matched against, and — only when asked — the decoded frame.
 void Observer::on_control_out(std::string_view name, VehicleState& vehicle, const WireFrame& frame, SimTime now) {
-  if (vehicle.last_control) vehicle.out->control_gap_ms.push_back({now, to_ms(now - *vehicle.last_control)});
+  if (vehicle.last_control) vehicle.out->control_gap_ms.add(now, to_ms(now - *vehicle.last_control));
   vehicle.last_control = now;
   if (frame.ack) {
     vehicle.pending_pairs.emplace_back(frame.ack->ack_time, now);
@@ -140,6 +140,10 @@ void Observer::on_control_out(std::string_view name, VehicleState& vehicle, cons
 void Observer::record_delivery(std::string_view name, const WireFrame& frame, SimTime now) {
   for (const DeliveryWindow& window : options_.delivery_windows) {
     if (window.vehicle != name || now < window.start || now > window.end) continue;
+    if (observations_.deliveries.size() >= delivery_limit) {
+      observations_.deliveries_truncated = true;
+      break;
+    }
     if (auto message = decode_control_message(frame.payload)) {
       Delivery delivery;
       delivery.time = now;
@@ -160,9 +164,13 @@ void Observer::record_delivery(std::string_view name, const WireFrame& frame, Si
 void Observer::check_controller(std::string_view name, VehicleState& vehicle, const WireFrame& frame, SimTime now) {
   ++vehicle.out->control_frames_checked;
   auto message = decode_control_message(frame.payload);
+  const bool violated = !message || (message->controller && !message->controller->is_safe_default());
+  if (!violated) return;
+  ++observations_.controller_violation_count;
+  if (observations_.controller_violations.size() >= violations_kept) return;
   if (!message) {
     observations_.controller_violations.push_back({now, std::string(name), "undecodable control frame"});
-  } else if (message->controller && !message->controller->is_safe_default()) {
+  } else {
     observations_.controller_violations.push_back(
         {now, std::string(name), "non-default controller while " + vehicle.control_faults.fault_reason() + " active"});
   }
@@ -172,7 +180,8 @@ void Observer::check_controller(std::string_view name, VehicleState& vehicle, co
 // never echoes a pair from before it.
 void Observer::on_response_in(std::string_view name, VehicleState& vehicle, const WireFrame& frame, SimTime now) {
   const std::uint64_t ack = frame.ack->ack_time;
-  if (vehicle.connection_first_ack && ack < *vehicle.connection_first_ack) {
+  if (vehicle.connection_first_ack && ack < *vehicle.connection_first_ack &&
+      ++observations_.stale_pair_violation_count <= violations_kept) {
     observations_.stale_pair_violations.push_back(
         {now, std::string(name),
          "pair ack_time " + std::to_string(ack) + " from before the reconnect (first on the new connection: " +
@@ -181,7 +190,7 @@ void Observer::on_response_in(std::string_view name, VehicleState& vehicle, cons
   auto& pending = vehicle.pending_pairs;
   while (!pending.empty() && pending.front().first < ack) pending.pop_front();
   if (!pending.empty() && pending.front().first == ack) {
-    vehicle.out->echo_delay_ms.push_back({now, to_ms(now - pending.front().second)});
+    vehicle.out->echo_delay_ms.add(now, to_ms(now - pending.front().second));
     pending.pop_front();   // a keep-alive repeating the pair is not a second echo
   }
 }

@@ -45,8 +45,8 @@ PlotScale plot_scale(const RunReport& report) {
     y_max = std::max(y_max, static_cast<double>(spec.streamer.latency_limit.count()) / 1000.0);
   }
   for (const auto& [name, data] : report.run->observations.vehicles) {
-    for (const Sample& s : data.latency_ms) y_max = std::max(y_max, s.value);
-    for (const Sample& s : data.ping_ms) y_max = std::max(y_max, s.value);
+    for (const Sample& s : data.latency_ms.points()) y_max = std::max(y_max, s.value);
+    for (const Sample& s : data.ping_ms.points()) y_max = std::max(y_max, s.value);
   }
   scale.y_max = y_max * 1.1;
   return scale;
@@ -73,8 +73,9 @@ void plot_axes(std::string& out, const PlotScale& scale, const Scenario& scenari
 }
 
 // At most max_points points: each is the highest sample of its bucket, so spikes survive.
-void polyline(std::string& out, const PlotScale& scale, const std::vector<Sample>& samples, const std::string& color,
+void polyline(std::string& out, const PlotScale& scale, const PlotSeries& series, const std::string& color,
               const char* style, const std::string& title) {
+  const std::vector<Sample>& samples = series.points();   // already at most plot_capacity
   if (samples.empty()) return;
   const std::size_t bucket = std::max<std::size_t>(1, (samples.size() + max_points - 1) / max_points);
   out += "<polyline fill=\"none\" stroke=\"" + color + "\" stroke-width=\"1\" " + style + " points=\"";
@@ -91,8 +92,8 @@ void latency_lines(std::string& out, const PlotScale& scale, const Observations&
   std::size_t color = 0;
   for (const auto& [name, data] : obs.vehicles) {
     const std::string stroke = palette[color++ % 6];
-    polyline(out, scale, data.latency_ms, stroke, "", "latency_ms " + name);
-    polyline(out, scale, data.ping_ms, stroke, "stroke-dasharray=\"1,2\" opacity=\"0.7\"", "ping_ms " + name);
+    polyline(out, scale, data.latency_ms.plot(), stroke, "", "latency_ms " + name);
+    polyline(out, scale, data.ping_ms.plot(), stroke, "stroke-dasharray=\"1,2\" opacity=\"0.7\"", "ping_ms " + name);
   }
 }
 
@@ -107,13 +108,13 @@ bool has_link_series(const Observations& obs) {
   return false;
 }
 
-using LinkSeriesField = std::vector<Sample> LinkSeries::*;
+using LinkSeriesField = PlotSeries LinkSeries::*;
 
 // One panel: frame, y ticks, its name, and a line per (vehicle, direction). Returns its bottom.
 double link_panel(std::string& out, PlotScale scale, const Observations& obs, LinkSeriesField field, const char* what) {
   for (const auto& [name, data] : obs.vehicles) {
-    for (const Sample& s : data.to_player_link.*field) scale.y_max = std::max(scale.y_max, s.value * 1.1);
-    for (const Sample& s : data.to_streamer_link.*field) scale.y_max = std::max(scale.y_max, s.value * 1.1);
+    for (const Sample& s : (data.to_player_link.*field).points()) scale.y_max = std::max(scale.y_max, s.value * 1.1);
+    for (const Sample& s : (data.to_streamer_link.*field).points()) scale.y_max = std::max(scale.y_max, s.value * 1.1);
   }
   out += "<rect x=\"" + num(left) + "\" y=\"" + num(scale.panel_top) + "\" width=\"" + num(scale.plot_width) + "\" height=\"" +
          num(scale.panel_height) + "\" fill=\"#fafafa\" stroke=\"#999\"/>\n";

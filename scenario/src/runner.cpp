@@ -6,10 +6,12 @@
 #include <algorithm>
 #include <chrono>
 #include <ctime>
+#include <fstream>
 #include <memory>
 
 #include "ocp/virtual_executor.hpp"
 #include "run_world.hpp"
+#include "scenario/parse.hpp"
 #include "timeline.hpp"
 #include "world_setup.hpp"
 
@@ -85,10 +87,17 @@ RunResult run_world(Executor& executor, const Scenario& scenario, const RunOptio
   config.deterministic_keys = deterministic_keys;
   // Log lines are not part of a scenario's outcome (the trace is): they go nowhere.
   World world(executor, config, make_null_sink());
+  std::ofstream trace_file;   // before the recorder: it writes here until it is destroyed
   std::unique_ptr<TraceRecorder> trace;
   if (options.trace) {
     TraceOptions trace_options;
     trace_options.frame_payloads = options.trace_payloads;
+    trace_options.keep_lines = options.trace_in_memory && options.trace_file.empty();
+    if (!options.trace_file.empty()) {
+      trace_file.open(options.trace_file, std::ios::binary | std::ios::trunc);
+      if (!trace_file) throw HarnessError("cannot write " + options.trace_file);
+      trace_options.stream = &trace_file;
+    }
     trace = std::make_unique<TraceRecorder>(world.events(), trace_options);
   }
   // With a trace every event is built anyway: the Observer may as well count link messages.
@@ -113,7 +122,7 @@ RunResult run_world(Executor& executor, const Scenario& scenario, const RunOptio
   Observations& observations = observer.observations();
   PeriodicTimer ping_sampler(executor, ping_sample_period, [&](SimTime now) {
     for (const auto& [vehicle, feedback] : world.player().last_shared().vehicle_feedback) {
-      observations.vehicles[vehicle].ping_ms.push_back({now - origin, static_cast<double>(feedback.ping_latency_ms)});
+      observations.vehicles[vehicle].ping_ms.add(now - origin, static_cast<double>(feedback.ping_latency_ms));
     }
   });
   ping_sampler.start(executor.now() + ping_sample_period);
@@ -132,6 +141,10 @@ RunResult run_world(Executor& executor, const Scenario& scenario, const RunOptio
     }
   }
   result.observations = observer.observations();
+  if (trace_file.is_open()) {
+    trace_file.close();
+    if (!trace_file) throw HarnessError("cannot write " + options.trace_file + " (disk full?)");
+  }
   if (trace) {
     result.trace_jsonl = trace->jsonl();
     result.trace_digest = trace->digest();
@@ -143,15 +156,50 @@ RunResult run_world(Executor& executor, const Scenario& scenario, const RunOptio
   return result;
 }
 
+namespace {
+
+// The ceiling on events per simulated second (ParseLimits::max_events_per_s), counted in the
+// run's own seconds ([0 s, 1 s), [1 s, 2 s), …): crossing it stops the run at once.
+class EventCeiling {
+ public:
+  EventCeiling(std::uint64_t ceiling, SimTime origin) : ceiling_(ceiling), origin_(origin) {}
+  void count(SimTime now) {
+    const std::int64_t second = (now - origin_).count() / 1'000'000;
+    if (second != second_) {
+      second_ = second;
+      events_ = 0;
+    }
+    if (++events_ > ceiling_) {
+      throw HarnessError("more than " + std::to_string(ceiling_) + " events in the simulated second from " +
+                         std::to_string(second) + "s: over the ceiling of events per simulated second (a control_period, "
+                         "ping_period, camera fps or fleet this busy runs away; --max-events-per-s raises it)");
+    }
+  }
+
+ private:
+  std::uint64_t ceiling_;
+  SimTime origin_;
+  std::int64_t second_ = 0;
+  std::uint64_t events_ = 0;
+};
+
+}  // namespace
+
 RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   VirtualExecutor executor;
   RunResult result = run_world(executor, scenario, options, true, [&](World&, SimTime end) {
     // In slices, to look at the interrupt flag in between; the events run are the same as in one
-    // go (run_until runs everything due by the slice's end), so the trace is too.
+    // go (every event due by the slice's end runs, in order), so the trace is too.
     constexpr Micros slice{100'000};
+    EventCeiling ceiling(parse_limits().max_events_per_s, executor.now());
     while (executor.now() < end) {
       if (options.interrupted && options.interrupted()) return executor.now();
-      executor.run_until(std::min(end, executor.now() + slice));
+      const SimTime slice_end = std::min(end, executor.now() + slice);
+      while (executor.next_deadline() <= slice_end) {
+        executor.step();
+        ceiling.count(executor.now());
+      }
+      executor.run_until(slice_end);
     }
     return end;
   });

@@ -19,10 +19,10 @@ void text(Json& json, std::string_view name, std::string_view value) {
 }
 double seconds(SimTime time) { return static_cast<double>(time.count()) / 1e6; }
 
-void latency(Json& json, std::vector<double> values) {
+void latency(Json& json, const ValueHistogram& values) {
   json.StartObject();
   key(json, "count");
-  json.Uint64(values.size());
+  json.Uint64(values.count());
   for (const auto& [name, p] : {std::pair{"p50", 50.0}, std::pair{"p95", 95.0}, std::pair{"p99", 99.0}}) {
     key(json, name);
     if (auto v = aggregate(values, "p", p)) json.Double(*v); else json.Null();
@@ -53,11 +53,9 @@ void latency_section(Json& json, const Observations& obs) {
   json.EndObject();
 
   key(json, "ping_ms");   // sampled every 100 ms from the Player's feedback (plot only)
-  std::vector<double> pings;
-  for (const auto& [name, data] : obs.vehicles) {
-    for (const Sample& sample : data.ping_ms) pings.push_back(sample.value);
-  }
-  latency(json, std::move(pings));
+  ValueHistogram pings;
+  for (const auto& [name, data] : obs.vehicles) pings.merge(data.ping_ms.values());
+  latency(json, pings);
 }
 
 void faults_section(Json& json, const Observations& obs) {

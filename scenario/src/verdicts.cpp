@@ -135,11 +135,16 @@ class Judge {
     v.kind = "threshold";
     v.expected = e.text;
     std::optional<double> value;
+    std::string resolution_note;
     if (is_counter_metric(e.metric)) {
       value = counter_value(observations_, e.metric, e.vehicle, e.aggregate);
     } else {
-      std::vector<double> values = series_values(observations_, e.metric, e.vehicle);
+      const ValueHistogram values = series_values(observations_, e.metric, e.vehicle);
       value = aggregate(values, e.aggregate, e.percentile);
+      if (values.resolution_ms() > 0 && (e.aggregate == "med" || e.aggregate.rfind("p(", 0) == 0)) {
+        resolution_note = " (within " + format_number(values.resolution_ms()) + " ms: over " +
+                          std::to_string(ValueHistogram::distinct_capacity) + " distinct values)";
+      }
     }
     if (!value) {
       v.actual = e.aggregate + " = no samples";
@@ -153,7 +158,7 @@ class Judge {
     else if (e.op == ">=") v.passed = x >= e.value;
     else if (e.op == "==") v.passed = x == e.value;
     else v.passed = x != e.value;
-    v.actual = e.aggregate + " = " + format_number(x);
+    v.actual = e.aggregate + " = " + format_number(x) + resolution_note;
     if (run().interrupted) cut_short(v);
   }
 
@@ -172,7 +177,7 @@ class Judge {
         v.actual = std::to_string(checked) + " control frames checked, all default or null";
         if (run().interrupted) cut_short(v);
       } else {
-        v.actual = std::to_string(violations.size()) + " of " + std::to_string(checked) + " frames violated; first at " +
+        v.actual = std::to_string(observations_.controller_violation_count) + " of " + std::to_string(checked) + " frames violated; first at " +
                    format_seconds(violations.front().time) + " on " + violations.front().vehicle + ": " + violations.front().detail;
       }
       return;
@@ -187,7 +192,7 @@ class Judge {
       v.actual = std::to_string(observations_.reconnects) + " reconnect(s), no stale pair";
       if (run().interrupted) cut_short(v);
     } else {
-      v.actual = std::to_string(violations.size()) + " stale pair(s); first at " + format_seconds(violations.front().time) +
+      v.actual = std::to_string(observations_.stale_pair_violation_count) + " stale pair(s); first at " + format_seconds(violations.front().time) +
                  " on " + violations.front().vehicle + ": " + violations.front().detail;
     }
   }

@@ -94,6 +94,10 @@ std::string expected_delivery(const DeliveryExpectation& e) {
   return text + " within " + verdict_ms_text(e.within) + " after " + e.after_label;
 }
 
+std::string truncated_note() {
+  return " (only the first " + std::to_string(delivery_limit) + " control frames in delivery windows were kept)";
+}
+
 // `every`: all frames in the window match, and there was at least one.
 void judge_every_delivery(const JudgeContext& context, const DeliveryExpectation& e, Verdict& v) {
   std::size_t checked = 0;
@@ -109,6 +113,7 @@ void judge_every_delivery(const JudgeContext& context, const DeliveryExpectation
   v.passed = checked > 0;
   v.actual = checked > 0 ? std::to_string(checked) + " control frames in the window, all did"
                          : "no control frame reached " + e.vehicle + " in the window: nothing checked";
+  if (context.observations.deliveries_truncated) v.actual += truncated_note();
   if (!context.ran_past(e.after + e.within)) context.cut_short(v);
 }
 
@@ -130,6 +135,7 @@ void judge_delivery(const JudgeContext& context, const DeliveryExpectation& e, V
   }
   v.actual = last == nullptr ? "no control frame reached " + e.vehicle + " in the window"
                              : "last frame in the window: " + describe_delivery(e, *last);
+  if (context.observations.deliveries_truncated) v.actual += truncated_note();
   if (!context.ran_past(e.after + e.within)) context.cut_short(v);
 }
 

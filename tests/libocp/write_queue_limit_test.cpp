@@ -6,6 +6,7 @@
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
+#include <chrono>
 #include <optional>
 #include <string>
 
@@ -74,20 +75,26 @@ TEST(WriteQueueLimit, APeerThatReadsIsNeverDisconnected) {
   EXPECT_EQ(received, 100'000u);
 }
 
-TEST(WriteQueueLimit, ALoopbackPeerThatNeverReadsIsDisconnectedAndOurQueueStaysBounded) {
-  asio::io_context io;
-  AsioExecutor executor(io);
+// Our end of a loopback connection whose other end, `client_socket`, never reads (and has a
+// 4 KiB receive buffer); nullptr when the connection did not come up.
+std::shared_ptr<ByteStream> accept_deaf_loopback_peer(asio::io_context& io, asio::ip::tcp::socket& client_socket) {
   asio::ip::tcp::acceptor acceptor(io, {asio::ip::make_address("127.0.0.1"), 0});
   asio::ip::tcp::socket server_socket(io);
   bool accepted = false;
   acceptor.async_accept(server_socket, [&](const boost::system::error_code& error) { accepted = !error; });
-  asio::ip::tcp::socket client_socket(io);   // connected, never read from
   client_socket.open(asio::ip::tcp::v4());
   client_socket.set_option(asio::socket_base::receive_buffer_size(4096));
   client_socket.connect(acceptor.local_endpoint());
-  ASSERT_TRUE(testing::run_until(io, [&] { return accepted; }));
+  if (!testing::run_until(io, [&] { return accepted; })) return nullptr;
+  return make_tcp_stream(std::move(server_socket));
+}
 
-  auto server = make_tcp_stream(std::move(server_socket));
+TEST(WriteQueueLimit, ALoopbackPeerThatNeverReadsIsDisconnectedAndOurQueueStaysBounded) {
+  asio::io_context io;
+  AsioExecutor executor(io);
+  asio::ip::tcp::socket client_socket(io);   // connected, never read from
+  auto server = accept_deaf_loopback_peer(io, client_socket);
+  ASSERT_TRUE(server);
   std::optional<CloseReason> closed;
   FramedConnection::Options options;
   options.read_timeout = Micros{0};   // this peer is silent on purpose; only the queue may end it
@@ -108,6 +115,39 @@ TEST(WriteQueueLimit, ALoopbackPeerThatNeverReadsIsDisconnectedAndOurQueueStaysB
   EXPECT_EQ(closed->code, PeerError::not_reading) << *closed;
   EXPECT_LE(most_queued, options.write_queue_limit_bytes) << "our memory stayed bounded";
   EXPECT_GT(frames_sent, 16u) << "the queue filled up before the disconnect";
+}
+
+// The 10 s rule of both TCP APIs, over real loopback TCP (with a 300 ms stall for the test):
+// a peer that never reads is dropped because it took nothing for the stall time — once the
+// kernel's buffers are full our queue holds bytes, and no byte of it is taken again — long
+// before a generous byte cap. Virtual time, exactly, on both ports: tests/world/not_reading_test.cpp.
+TEST(WriteQueueLimit, ALoopbackPeerThatTakesNothingForTheStallTimeIsDisconnected) {
+  asio::io_context io;
+  AsioExecutor executor(io);
+  asio::ip::tcp::socket client_socket(io);   // connected, never read from
+  auto server = accept_deaf_loopback_peer(io, client_socket);
+  ASSERT_TRUE(server);
+  std::optional<CloseReason> closed;
+  FramedConnection::Options options;
+  options.read_timeout = Micros{0};
+  options.write_stall_timeout = Micros{300'000};
+  options.write_queue_limit_bytes = 512 * 1024 * 1024;   // never the reason here
+  auto connection = FramedConnection::open(executor, Logger(executor, "test", make_null_sink()), server,
+                                           options, {}, recording(closed));
+  const std::string payload(4096, 'x');
+  std::optional<std::chrono::steady_clock::time_point> queue_first_held;
+  const bool disconnected = testing::run_until(io, [&] {
+    if (closed) return true;
+    (void)connection->send(payload);
+    if (!queue_first_held && server->queued_bytes() > 0) queue_first_held = std::chrono::steady_clock::now();
+    return closed.has_value();
+  }, std::chrono::seconds(60));
+  ASSERT_TRUE(disconnected) << "never disconnected";
+  EXPECT_EQ(closed->code, PeerError::not_reading) << *closed;
+  EXPECT_NE(closed->detail.find("took none of the"), std::string::npos) << *closed;
+  ASSERT_TRUE(queue_first_held.has_value());
+  EXPECT_GE(std::chrono::steady_clock::now() - *queue_first_held, std::chrono::milliseconds(300))
+      << "not before the stall time";
 }
 
 }  // namespace

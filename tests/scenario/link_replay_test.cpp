@@ -50,8 +50,8 @@ TEST_F(ScenarioLinkReplay, ReplayReproducesTheOriginalLatencySeries) {
   write("drive.link", extract(original));
   const RunResult replayed = run("replayed.yaml", story("      link: {replay: drive.link}\n"));
 
-  const auto& before = original.observations.vehicles.at("truck-1").latency_ms;
-  const auto& after = replayed.observations.vehicles.at("truck-1").latency_ms;
+  const auto& before = original.observations.vehicles.at("truck-1").latency_ms.points();
+  const auto& after = replayed.observations.vehicles.at("truck-1").latency_ms.points();
   ASSERT_GT(before.size(), 500u);
   ASSERT_EQ(after.size(), before.size());
   double worst = 0;
@@ -72,8 +72,8 @@ TEST_F(ScenarioLinkReplay, ADifferentLinkGivesADifferentSeries) {
   const RunResult original = run("original.yaml", story("      link: {delay: 25ms, jitter: 8ms}\n",
                                                         "timeline:\n  - at: 3s\n    impair: {delay: 120ms}\n"));
   const RunResult other = run("other.yaml", story("      link: {delay: 25ms, jitter: 8ms}\n"));
-  const auto& a = original.observations.vehicles.at("truck-1").latency_ms;
-  const auto& b = other.observations.vehicles.at("truck-1").latency_ms;
+  const auto& a = original.observations.vehicles.at("truck-1").latency_ms.points();
+  const auto& b = other.observations.vehicles.at("truck-1").latency_ms.points();
   double worst = 0;
   for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) worst = std::max(worst, std::fabs(a[i].value - b[i].value));
   EXPECT_GT(worst, 50.0);
@@ -179,8 +179,8 @@ TEST(ScenarioLibraryReplay, ReplayedDriveReproducesItsSourceRun) {
   RunOptions options;
   options.trace = false;
   const RunResult original = run_scenario(source, options), replayed = run_scenario(replay, options);
-  const auto& before = original.observations.vehicles.at("truck-1").latency_ms;
-  const auto& after = replayed.observations.vehicles.at("truck-1").latency_ms;
+  const auto& before = original.observations.vehicles.at("truck-1").latency_ms.points();
+  const auto& after = replayed.observations.vehicles.at("truck-1").latency_ms.points();
   ASSERT_EQ(after.size(), before.size());
   for (std::size_t i = 0; i < before.size(); ++i) {
     ASSERT_EQ(after[i].time, before[i].time) << "sample " << i;

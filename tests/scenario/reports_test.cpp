@@ -59,10 +59,10 @@ TEST(ScenarioReports, TraceLinkThroughputAndQueueingDelayInTheReport) {
   const LinkSeries& up = run.observations.vehicles.at("truck-1").to_player_link;
   // Samples in [from, to) s: their mean, or (rate = true) the mean rate over the window, one
   // sample per 100 ms bucket with deliveries.
-  const auto between = [](const std::vector<Sample>& series, double from_s, double to_s, bool rate) {
+  const auto between = [](const PlotSeries& series, double from_s, double to_s, bool rate) {
     double sum = 0;
     int count = 0;
-    for (const Sample& s : series) {
+    for (const Sample& s : series.points()) {
       if (s.time >= SimTime{static_cast<std::int64_t>(from_s * 1e6)} && s.time < SimTime{static_cast<std::int64_t>(to_s * 1e6)}) {
         sum += s.value;
         ++count;

@@ -104,7 +104,8 @@ expect:
   run.ran = secs(5);
   run.interrupted = true;
   run.observations.faults[{"truck-1", FaultId::InputLost}] = {closed_between(2.01, 4.01)};
-  run.observations.vehicles["truck-1"].latency_ms = {{secs(1), 40.0}, {secs(3), 60.0}};
+  run.observations.vehicles["truck-1"].latency_ms.add(secs(1), 40.0);
+  run.observations.vehicles["truck-1"].latency_ms.add(secs(3), 60.0);
   const std::vector<Verdict> verdicts = evaluate(scenario, run);
   ASSERT_EQ(verdicts.size(), 1u);
   EXPECT_EQ(verdicts[0].passed, cut.passed) << verdicts[0].actual;

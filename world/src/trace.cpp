@@ -28,6 +28,7 @@ void TraceRecorder::append(const std::string& line) {
   }
   ++lines_;
   if (options_.keep_lines) jsonl_ += line;
+  if (options_.stream != nullptr) options_.stream->write(line.data(), static_cast<std::streamsize>(line.size()));
 }
 
 std::vector<std::string> TraceRecorder::lines_containing(std::string_view needle) const {

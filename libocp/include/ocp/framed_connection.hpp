@@ -11,8 +11,11 @@
 //   * `send` frames an already-encoded payload and refuses (LocalError::frame_too_large) to
 //     send one over the limit — an oversized frame never leaves;
 //   * a peer that stops reading is disconnected (PeerError::not_reading, "peer not reading")
-//     once the bytes queued for it would exceed write_queue_limit_bytes: it can never grow
-//     our memory.
+//     when bytes have waited for it for write_stall_timeout without any of them being taken
+//     (10 s on both ports: one rule, whatever a port's byte rate), or once the bytes queued
+//     for it would exceed write_queue_limit_bytes (16 MiB, more than 10 s of the largest
+//     frames at 100 Hz): it can never grow our memory beyond that. Both are checked when a
+//     frame is sent (every 10 ms on :4000, every Player frame on :4001).
 // Every close path — peer, timeout, bad input, write queue, local close() — reports
 // `on_closed` exactly once with a typed CloseReason (a PeerError or LocalError value and its
 // detail) and is logged with it. When the first bytes of the connection are not OCP framing at
@@ -51,8 +54,11 @@
 
 namespace ocp {
 
-// 1 MiB: about 3 000 control frames, 30 s of a vehicle that stopped reading.
-inline constexpr std::size_t default_write_queue_limit_bytes = 1024 * 1024;
+// A peer that has taken none of the bytes waiting for it for this long is not reading.
+inline constexpr Micros default_write_stall_timeout{10'000'000};
+// 16 MiB: 10 s of the largest frames (16 KiB) at both ports' highest rate (100 a second), so
+// that at the product's rates the 10 s rule drops a deaf peer, not this memory bound.
+inline constexpr std::size_t default_write_queue_limit_bytes = 16 * 1024 * 1024;
 
 class FramedConnection : public std::enable_shared_from_this<FramedConnection> {
  public:
@@ -64,6 +70,8 @@ class FramedConnection : public std::enable_shared_from_this<FramedConnection> {
     std::size_t payload_limit_bytes = max_payload_bytes;
     // Bytes we may have queued for a peer that is not reading before we disconnect it.
     std::size_t write_queue_limit_bytes = default_write_queue_limit_bytes;
+    // How long bytes may wait for a peer that takes none of them; zero (or negative) disables.
+    Micros write_stall_timeout = default_write_stall_timeout;
     // Where frame and connection events go (nullptr: none), and how they are labelled.
     EventBus* events = nullptr;
     Component component{};
@@ -147,8 +155,9 @@ class FramedConnection : public std::enable_shared_from_this<FramedConnection> {
   void arm_read_timer(SimTime deadline);
   void on_read_timer();
   void finish(const CloseReason& reason);
-  // The write-queue rule of send() and write_raw(): Ok when `bytes` more fit the queue, else
-  // the peer is not reading — the connection is closed and the returned reason says so.
+  // The write-queue rules of send() and write_raw(): Ok when the peer took something within
+  // write_stall_timeout and `bytes` more fit the queue, else the peer is not reading — the
+  // connection is closed and the returned reason says so.
   Status admit_to_write_queue(std::size_t bytes);
   void publish_frame(SimTime at, FrameDirection direction, WireMessageKind kind, std::uint32_t length_prefix,
                      std::string_view payload, bool drained, std::optional<AckPair> carried = std::nullopt);
@@ -168,6 +177,10 @@ class FramedConnection : public std::enable_shared_from_this<FramedConnection> {
   SimTime last_byte_at_{};    // when the latest read returned: the time of the frames it carried
   std::optional<AckPair> inbound_pair_;   // set by the handler of the payload being handled
   Executor::TimerId read_timer_ = 0;
+  // The write-stall rule: bytes ever written, what the peer had taken at the last send, and
+  // since when it has taken nothing while bytes waited (admit_to_write_queue).
+  std::uint64_t written_ = 0, taken_ = 0;
+  SimTime taking_nothing_since_{};
   RepeatedWarning oversized_warnings_;   // "dropped oversized frame": once, then counted
 };
 

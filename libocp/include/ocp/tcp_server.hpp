@@ -22,7 +22,9 @@ namespace ocp {
 struct TcpServerOptions {
   std::uint16_t port = 0;       // 0 = an ephemeral port chosen by the system (see port())
   bool allow_remote = false;    // false: 127.0.0.1; true: 0.0.0.0 (ocp_tcp_allow_remote)
-  TcpStreamOptions stream{};    // every accepted stream's (the close grace)
+  // Every accepted stream's: the close grace, and a 64 KiB send buffer (about 1.5 s of
+  // control frames; 4 of the largest frames).
+  TcpStreamOptions stream{std::chrono::milliseconds{1000}, 64 * 1024};
 };
 
 // "127.0.0.1:4000" or "0.0.0.0:4000".

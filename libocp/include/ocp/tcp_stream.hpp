@@ -17,6 +17,11 @@ namespace ocp {
 
 struct TcpStreamOptions {
   std::chrono::milliseconds close_grace{1000};
+  // SO_SNDBUF, when > 0 (0: the kernel's, which grows to 4 MB). A server's streams take a
+  // small one (TcpServerOptions): then a peer that never reads fills the kernel's buffers in
+  // seconds on either API, and the not-reading rule (framed_connection.hpp), which counts
+  // from the moment our own queue holds bytes, drops it after about the same time on both.
+  int send_buffer_bytes = 0;
 };
 
 std::shared_ptr<ByteStream> make_tcp_stream(boost::asio::ip::tcp::socket socket, TcpStreamOptions options = {});

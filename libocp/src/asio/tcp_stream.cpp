@@ -42,6 +42,7 @@ class TcpStream final : public ByteStream, public std::enable_shared_from_this<T
       : socket_(std::move(socket)), options_(options), close_timer_(socket_.get_executor()) {
     error_code error;
     socket_.non_blocking(true, error);   // write_some below must never block
+    if (options_.send_buffer_bytes > 0) socket_.set_option(asio::socket_base::send_buffer_size(options_.send_buffer_bytes), error);
     const auto remote = socket_.remote_endpoint(error);
     peer_name_ = error ? std::string("unknown") : remote.address().to_string() + ":" + std::to_string(remote.port());
   }

@@ -11,17 +11,18 @@ namespace ocp::scenario {
 
 // The values of a metric: one vehicle's, or all vehicles' together (vehicle = nullopt).
 // Counters (lost_to_streamer, lost_to_player) give no series: see counter_value.
-std::vector<double> series_values(const Observations& observations, std::string_view metric,
-                                  const std::optional<std::string>& vehicle);
+ValueHistogram series_values(const Observations& observations, std::string_view metric,
+                             const std::optional<std::string>& vehicle);
 bool is_counter_metric(std::string_view metric);
 // lost_*: count = messages dropped on that route, rate = dropped / sent.
 std::optional<double> counter_value(const Observations& observations, std::string_view metric,
                                     const std::optional<std::string>& vehicle, std::string_view aggregate);
 
-// nullopt when the series is empty (count gives 0). `values` is sorted in place.
-std::optional<double> aggregate(std::vector<double>& values, std::string_view aggregate, double percentile);
-// Percentile by linear interpolation between closest ranks of a sorted series.
-double percentile_of_sorted(const std::vector<double>& sorted, double percentile);
+// nullopt when the series is empty (count gives 0); percentiles by linear interpolation
+// between closest ranks (ValueHistogram::aggregate).
+inline std::optional<double> aggregate(const ValueHistogram& values, std::string_view aggregate, double percentile) {
+  return values.aggregate(aggregate, percentile);
+}
 
 // "12.5", "3" — short, stable formatting for reports and verdicts.
 std::string format_number(double value);

@@ -16,6 +16,7 @@
 #include "ocp/faults.hpp"
 #include "ocp/time.hpp"
 #include "scenario/model.hpp"
+#include "scenario/series.hpp"
 #include "world/world.hpp"
 
 namespace ocp::scenario {
@@ -26,11 +27,6 @@ struct Interval {
   bool operator==(const Interval&) const = default;
 };
 
-struct Sample {
-  SimTime time{0};
-  double value = 0.0;
-};
-
 struct RouteCounters {
   std::uint64_t sent = 0, delivered = 0, dropped = 0, duplicated = 0;
 };
@@ -39,20 +35,21 @@ struct RouteCounters {
 // with deliveries, the delivered throughput and the highest queueing delay (one-way delay
 // less the set propagation delay); empty buckets between deliveries read 0 Mbit/s.
 struct LinkSeries {
-  std::vector<Sample> throughput_mbps;
-  std::vector<Sample> queueing_delay_ms;
+  PlotSeries throughput_mbps;
+  PlotSeries queueing_delay_ms;
 };
 
+// Every series is bounded (series.hpp): a run of hours keeps what a run of minutes does.
 struct VehicleObservations {
-  std::vector<Sample> latency_ms;      // per Streamer control tick with a valid pair
-  std::vector<Sample> echo_delay_ms;   // control frame out → the response echoing its pair in
-  std::vector<Sample> control_gap_ms;  // between consecutive control frames to the vehicle
-  std::vector<Sample> feedback_gap_ms; // between consecutive feedback deliveries at the Player
+  Series latency_ms;      // per Streamer control tick with a valid pair
+  Series echo_delay_ms;   // control frame out → the response echoing its pair in
+  Series control_gap_ms;  // between consecutive control frames to the vehicle
+  Series feedback_gap_ms; // between consecutive feedback deliveries at the Player
   RouteCounters to_streamer, to_player;
   LinkSeries to_streamer_link, to_player_link;   // only when the run observes link events
   // The Player's ping_latency_ms, sampled every 100 ms by the runner (not an event: for the
   // report's plot only, never for a verdict).
-  std::vector<Sample> ping_ms;
+  Series ping_ms;
   std::uint64_t connections_opened = 0;
   std::uint64_t control_frames_checked = 0;   // decoded while a control-path fault was active
 };
@@ -98,6 +95,10 @@ struct FeedbackSeries {
   std::uint64_t frames = 0;             // VehicleOcpShared frames looked at
   bool truncated = false;               // more changes than kept (feedback_change_limit)
 };
+inline constexpr std::size_t violations_kept = 64;
+// Control frames decoded in delivery windows: 11 minutes of 100 Hz; a longer window is judged
+// on its first frames, and the verdict says so.
+inline constexpr std::size_t delivery_limit = 65536;
 // Changes kept per watched field: a field that changes every frame (ping_latency_ms at 100 Hz)
 // fills it in ~10 minutes; the verdict then says it stopped looking.
 inline constexpr std::size_t feedback_change_limit = 65536;
@@ -114,9 +115,12 @@ struct Observations {
   // (vehicle, fault) → intervals in time order; both sides (the fault id says which).
   std::map<std::pair<std::string, FaultId>, std::vector<Interval>> faults;
   std::vector<std::pair<SimTime, std::optional<std::string>>> active_vehicle;   // changes
+  // Invariant violations: every one counted, the first violations_kept of each kept.
   std::vector<Violation> controller_violations;   // non-default controller under a control-path fault
   std::vector<Violation> stale_pair_violations;   // old pair echoed on a new connection
-  std::vector<Delivery> deliveries;               // decoded inside delivery windows only
+  std::uint64_t controller_violation_count = 0, stale_pair_violation_count = 0;
+  std::vector<Delivery> deliveries;               // decoded inside delivery windows only, at most delivery_limit
+  bool deliveries_truncated = false;              // more frames in windows than kept
   std::vector<NotableEvent> notable_events;       // source locks and conflicts, closes, refusals
   std::map<std::string, FeedbackSeries, std::less<>> feedback;   // feedback_key → the watched field
   std::uint64_t reconnects = 0;                   // vehicle connections opened after a close

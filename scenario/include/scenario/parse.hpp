@@ -36,10 +36,14 @@ inline constexpr std::int64_t max_duration_us = std::int64_t{1} << 62;
 
 // The ceilings of one run (docs/usage.md, "Input files"): a longer `duration`, a faster
 // `client_data every`, or a YAML value (user data, expected user data) that expands to more
-// nodes is refused with exit 2. The tools' --max-simulated-h raises the first.
+// nodes is refused with exit 2. The tools' --max-simulated-h raises the first. A virtual-time
+// run that runs more than max_events_per_s executor events in one simulated second (a
+// `control_period: 1us`, a thousand cameras) stops there with a HarnessError (exit 2);
+// --max-events-per-s raises it.
 struct ParseLimits {
   Micros max_run_duration{24LL * 3600 * 1'000'000};   // simulated time per run
   Micros min_every{1'000};                             // at most 1 000 client_data events a second
+  std::uint64_t max_events_per_s = 1'000'000;          // about 1 000 vehicles at the product's rates
   std::size_t max_value_nodes = 100'000;               // nodes of one user-data value, aliases expanded
 };
 const ParseLimits& parse_limits();

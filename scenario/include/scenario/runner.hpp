@@ -24,8 +24,14 @@ class HarnessError : public std::runtime_error {
 
 struct RunOptions {
   std::optional<std::uint64_t> seed;   // overrides the file's seed
-  bool trace = true;                   // record trace.jsonl (frames without payloads)
+  bool trace = true;                   // record the trace (frames without payloads): digest, line count
   bool trace_payloads = false;         // … with every frame's payload bytes
+  // Where the trace's lines go: written to this file as the run goes (memory stays flat
+  // however long the run: ocp_scenario's trace.jsonl), or, without a file, kept in
+  // RunResult::trace_jsonl when trace_in_memory (short runs, tests). Neither: only the digest
+  // and line count (ocp_campaign's determinism check).
+  std::string trace_file;
+  bool trace_in_memory = true;
   // Polled while the run goes (every 100 ms of virtual time, every 50 ms of real time): true
   // stops the run there (Ctrl-C, ocp/interrupt.hpp). Empty: never.
   std::function<bool()> interrupted;
@@ -52,7 +58,7 @@ struct RunResult {
   std::optional<std::string> refused_to_start;
   Observations observations;
   std::vector<FiredEvent> fired;
-  std::string trace_jsonl;   // empty unless RunOptions::trace
+  std::string trace_jsonl;   // empty unless RunOptions::trace and trace_in_memory, without trace_file
   std::uint64_t trace_digest = 0;
   std::uint64_t trace_lines = 0;
   std::uint64_t executor_events = 0;

@@ -62,8 +62,10 @@
 //   operator keeps sending it (ocp/log_limiter.hpp RepeatedWarning).
 // * Vehicle read timeout: the connection is closed when no byte arrived for
 //   vehicle_read_timeout (between frames as well as inside one).
-// * A vehicle that stops reading is closed (PeerError::not_reading) once the control frames
-//   queued for it would exceed vehicle_write_queue_limit_bytes; the Streamer carries on.
+// * A vehicle that stops reading is closed (PeerError::not_reading) once it has taken none of
+//   the control frames waiting for it for 10 s, or they would exceed
+//   vehicle_write_queue_limit_bytes (framed_connection.hpp: the same rule as :4001); the
+//   Streamer carries on.
 // * Events (events()): WireFrame for every control frame out and response in, FaultEvent on
 //   every vehicle-side fault change, ConnectionEvent on open / close / refuse, and one
 //   LatencySample per control tick. Nothing is built while nobody subscribes.

@@ -7,6 +7,7 @@
 // kept even when the lines are not). The human-readable text form is rendered from the JSON
 // Lines (render_trace_text), never written separately.
 #include <cstdint>
+#include <ostream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -20,6 +21,9 @@ inline constexpr int trace_format_version = 1;
 
 struct TraceOptions {
   bool keep_lines = true;        // false: only the digest and line count (long runs)
+  // Where each line is also written as it is recorded (a file: a run of hours then holds no
+  // line in memory); nullptr: nowhere. Must outlive the recorder.
+  std::ostream* stream = nullptr;
   bool frames = true;            // WireFrame events (every frame on both TCP APIs)
   bool frame_payloads = true;    // … with their payload bytes
   bool link_messages = true;     // LinkEvent per com-channel message sent / delivered / dropped
