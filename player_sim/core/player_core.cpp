@@ -69,7 +69,7 @@ void PlayerCore::stop() {
 
 bool PlayerCore::running() const { return impl_->running; }
 
-Status PlayerCore::add_vehicle(const std::string& name, LinkDirection* to_streamer, bool monitor) {
+Status PlayerCore::add_vehicle(const std::string& name, Link* to_streamer, bool monitor) {
   Impl& self = *impl_;
   auto configuration_error = [](std::string detail) {
     return Error{std::make_error_code(std::errc::invalid_argument), std::move(detail)};

@@ -15,6 +15,8 @@
 #include "ocp/event_bus.hpp"
 #include "ocp/executor.hpp"
 #include "ocp/impairments.hpp"
+#include "ocp/link.hpp"
+#include "ocp/link_events.hpp"
 #include "ocp/link_messages.hpp"
 #include "ocp/link_recording.hpp"
 #include "ocp/trace_queue.hpp"
@@ -32,10 +34,9 @@ struct DirectionCounters {
   std::size_t in_flight = 0;           // scheduled but not yet delivered
 };
 
-// One direction of a link.
-class LinkDirection {
+// One direction of a link: the simulated implementation of Link (ocp/link.hpp).
+class LinkDirection final : public Link {
  public:
-  using Receiver = std::function<void(LinkMessage&&)>;
   LinkDirection(Executor& executor, std::uint64_t seed);
   // Who this direction is, for the events it publishes (ComChannel sets it; a bare direction
   // publishes as an unnamed link, route to_streamer). `name` must outlive the direction.
@@ -43,14 +44,14 @@ class LinkDirection {
   // Destroying a direction with messages in flight is safe: their deliveries are cancelled
   // (the executor must outlive the direction). Not copyable, since in-flight deliveries refer
   // to it.
-  ~LinkDirection();
+  ~LinkDirection() override;
   LinkDirection(const LinkDirection&) = delete;
   LinkDirection& operator=(const LinkDirection&) = delete;
-  void set_receiver(Receiver receiver);
+  void set_receiver(Receiver receiver) override;
   void set_impairments(const Impairments& impairments);
   const Impairments& impairments() const { return impairments_; }
   // Schedules delivery (or drops) according to the current impairments.
-  void send(LinkMessage message);
+  void send(LinkMessage message) override;
   // Outage for `duration` starting now.
   void outage_for(Micros duration);
   // Counters as of now (queue depth is computed from the serialiser's backlog).

@@ -19,7 +19,7 @@
 #include "ocp/client_source.hpp"
 #include "ocp/error.hpp"
 #include "ocp/faults.hpp"
-#include "ocp/impairments.hpp"
+#include "ocp/link_events.hpp"
 #include "ocp/messages.hpp"
 #include "ocp/pair_diagnosis.hpp"
 #include "ocp/time.hpp"
@@ -86,30 +86,6 @@ struct LatencySample {
   bool control_sent = false;                // a control frame went to a connected vehicle
 };
 
-// What happened to one message on one direction of the fake com channel.
-enum class LinkRoute : std::uint8_t { to_streamer, to_player };
-enum class LinkMessageKind : std::uint8_t { operator_control, feedback, video_frame, ping, pong };
-// duplicated: at send time, a second copy of the message was put in flight (it repeats the
-// message_id); each copy is delivered, or dropped with the link's queue, on its own. Judges
-// count copies by this event, never by the time between two deliveries: in real time the two
-// copies' timers fire microseconds apart.
-enum class LinkOutcome : std::uint8_t { sent, delivered, dropped, duplicated };
-// in_flight_limit: the direction already held LinkDirection::in_flight_limit() messages.
-enum class DropReason : std::uint8_t { none, random_loss, burst_loss, outage, queue_full, recorded_loss, in_flight_limit };
-struct LinkEvent {
-  LinkRoute route = LinkRoute::to_streamer;
-  LinkOutcome outcome = LinkOutcome::sent;
-  LinkMessageKind kind = LinkMessageKind::operator_control;
-  DropReason reason = DropReason::none;  // dropped: why
-  std::size_t size_bytes = 0;
-  std::uint64_t message_id = 0;          // per direction, in send order; a duplicate repeats it
-};
-
-struct ImpairmentChange {
-  LinkRoute route = LinkRoute::to_streamer;
-  const Impairments* impairments = nullptr;  // the new settings
-};
-
 struct GamepadChange {
   bool plugged = true;
 };
@@ -152,9 +128,5 @@ std::string_view frame_direction_name(FrameDirection direction); // "out" | "in"
 std::string_view wire_message_kind_name(WireMessageKind kind);
 std::string_view fault_side_name(FaultSide side);  // "vehicle" | "operator"
 std::string_view connection_change_name(ConnectionChange change);
-std::string_view link_route_name(LinkRoute route);
-std::string_view link_message_kind_name(LinkMessageKind kind);
-std::string_view link_outcome_name(LinkOutcome outcome);
-std::string_view drop_reason_name(DropReason reason);
 
 }  // namespace ocp
