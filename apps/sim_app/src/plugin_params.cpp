@@ -1,4 +1,4 @@
-#include "ocp/plugin_params.hpp"
+#include "sim_app/plugin_params.hpp"
 
 #include <charconv>
 #include <limits>

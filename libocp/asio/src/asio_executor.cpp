@@ -1,4 +1,4 @@
-#include "ocp/asio_executor.hpp"
+#include "ocp/asio/executor.hpp"
 
 #include <algorithm>
 #include <boost/asio/post.hpp>

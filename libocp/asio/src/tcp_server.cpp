@@ -1,11 +1,11 @@
-#include "ocp/tcp_server.hpp"
+#include "ocp/asio/tcp_server.hpp"
 
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <chrono>
 #include <utility>
 
-#include "ocp/tcp_stream.hpp"
+#include "ocp/asio/tcp_stream.hpp"
 
 namespace ocp {
 

@@ -1,4 +1,4 @@
-#include "ocp/tcp_stream.hpp"
+#include "ocp/asio/tcp_stream.hpp"
 
 #include <linux/sockios.h>
 #include <netinet/in.h>

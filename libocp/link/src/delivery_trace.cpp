@@ -1,11 +1,10 @@
 #include "ocp/delivery_trace.hpp"
-#include "ocp/bounded_file.hpp"
+#include "ocp/escaped_excerpt.hpp"
 
 #include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cstring>
-#include <fstream>
 #include <sstream>
 #include <system_error>
 
@@ -64,12 +63,6 @@ Result<DeliveryTrace> DeliveryTrace::parse(std::string_view text, const std::str
                        ": the last timestamp must be > 0 ms (it is the period the trace loops with)");
   }
   return DeliveryTrace{std::move(millis), name};
-}
-
-Result<DeliveryTrace> DeliveryTrace::load(const std::string& path) {
-  auto text = read_bounded_file(path, file_kinds::delivery_trace);
-  if (!text) return trace_error(text.error().detail);
-  return parse(*text, path);
 }
 
 Micros DeliveryTrace::time_of(std::uint64_t index) const {

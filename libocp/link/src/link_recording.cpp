@@ -1,11 +1,10 @@
 // The link recording's text form (docs/link-recording.md), read and written in one place.
 #include "ocp/link_recording.hpp"
-#include "ocp/bounded_file.hpp"
+#include "ocp/escaped_excerpt.hpp"
 
 #include <cerrno>
 #include <charconv>
 #include <cstring>
-#include <fstream>
 #include <optional>
 #include <sstream>
 #include <system_error>
@@ -140,12 +139,6 @@ Result<LinkRecording> LinkRecording::parse(std::string_view text, const std::str
     return recording_error(name + ": empty link recording (no messages)");
   }
   return recording;
-}
-
-Result<LinkRecording> LinkRecording::load(const std::string& path) {
-  auto text = read_bounded_file(path, file_kinds::link_recording);
-  if (!text) return recording_error(text.error().detail);
-  return parse(*text, path);
 }
 
 std::string LinkRecording::format(const std::vector<std::string>& comments) const {

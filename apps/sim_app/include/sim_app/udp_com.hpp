@@ -20,7 +20,7 @@
 #include <optional>
 #include <string>
 
-#include "ocp/asio_executor.hpp"
+#include "ocp/asio/executor.hpp"
 #include "ocp/com_datagram.hpp"
 #include "ocp/com_session.hpp"
 #include "ocp/error.hpp"

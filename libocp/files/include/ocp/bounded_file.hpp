@@ -13,6 +13,7 @@
 #include <string_view>
 
 #include "ocp/error.hpp"
+#include "ocp/escaped_excerpt.hpp"
 
 namespace ocp {
 
@@ -42,9 +43,5 @@ std::uint64_t file_cap(const FileKind& kind);
 
 // The file's whole content, or why it cannot be had (the system's reason included).
 Result<std::string> read_bounded_file(const std::string& path, const FileKind& kind);
-
-// At most `max_chars` (40) of `text`, on one line: printable ASCII as is, \n \r \t and \\ escaped,
-// every other byte as \xNN; "…" when cut.
-std::string escaped_excerpt(std::string_view text, std::size_t max_chars = 40);
 
 }  // namespace ocp

@@ -23,7 +23,7 @@ class DeliveryTrace {
 
   // Errors are "NAME:LINE: reason" (or "NAME: reason" for the file as a whole), in `detail`.
   static Result<DeliveryTrace> parse(std::string_view text, const std::string& name);
-  static Result<DeliveryTrace> load(const std::string& path);
+  // Reading the file is the app layer's job: sim_app::load_delivery_trace (sim_app/file_loaders.hpp).
 
   const std::string& name() const { return name_; }
   Micros period() const { return Micros{millis_.back() * 1000}; }

@@ -37,7 +37,7 @@ class LinkRecording {
   LinkRecording() = default;
   // Errors are "NAME:LINE: reason" (or "NAME: reason" for the file as a whole), in `detail`.
   static Result<LinkRecording> parse(std::string_view text, const std::string& name);
-  static Result<LinkRecording> load(const std::string& path);
+  // Reading the file is the app layer's job: sim_app::load_link_recording (sim_app/file_loaders.hpp).
   // The file form (what parse reads back); `comments` become leading "# " lines.
   std::string format(const std::vector<std::string>& comments) const;
 

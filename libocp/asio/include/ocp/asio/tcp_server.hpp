@@ -15,7 +15,7 @@
 
 #include "ocp/byte_stream.hpp"
 #include "ocp/error.hpp"
-#include "ocp/tcp_stream.hpp"
+#include "ocp/asio/tcp_stream.hpp"
 
 namespace ocp {
 
