@@ -1,5 +1,7 @@
 #include "ocp/faults.hpp"
 
+#include "ocp/invariant.hpp"
+
 namespace ocp {
 namespace {
 
@@ -49,6 +51,8 @@ void FaultSet::set(FaultId id, bool active) {
   } else {
     bits_ &= static_cast<std::uint16_t>(~bit(id));
   }
+  OCP_INVARIANT(contains(id) == active, "a fault is in the set exactly when it was last set active");
+  OCP_INVARIANT(bits_ < (1u << fault_count), "a fault set holds only faults of the table");
 }
 
 bool FaultSet::contains(FaultId id) const { return (bits_ & bit(id)) != 0; }

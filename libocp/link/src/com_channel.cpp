@@ -1,5 +1,6 @@
 #include "ocp/com_channel.hpp"
 
+#include "ocp/invariant.hpp"
 #include "ocp/mutants.hpp"
 
 #include <algorithm>
@@ -43,6 +44,7 @@ void LinkDirection::set_impairments(const Impairments& impairments) {
   // A new recording replays from its first message.
   if (impairments.replay != impairments_.replay) replay_next_ = 0;
   impairments_ = impairments;
+  OCP_INVARIANT(impairments_.trace == trace_queue_.trace_shared(), "the trace queue runs the trace the impairments name");
   if (events_.active()) {
     events_.publish(Event{executor_.now(), Component{ComponentKind::link, name_},
                           ImpairmentChange{route_, &impairments_}});
@@ -76,7 +78,20 @@ void LinkDirection::drop(const LinkMessage& message, std::size_t size_bytes,
 }
 
 void LinkDirection::outage_for(Micros duration) {
+  const SimTime before = outage_until_;
   outage_until_ = std::max(outage_until_, executor_.now() + duration);
+  OCP_INVARIANT(outage_until_ >= before, "an outage is never shortened by a later one");
+}
+
+// What every handler that moves a message leaves true: each copy put on the link (a sent
+// message, a duplicate) is delivered, dropped or still in flight, exactly once.
+void LinkDirection::check_tally() const {
+  OCP_INVARIANT(counters_.sent + counters_.duplicated ==
+                        counters_.delivered + counters_.dropped + counters_.in_flight ||
+                    OCP_MUTATED(delivered_counted_twice),
+                "link tally: sent + duplicated == delivered + dropped + in_flight");
+  OCP_INVARIANT(in_flight_.size() == free_in_flight_.size() + counters_.in_flight,
+                "every slot of the in-flight pool is either free or holds one message in flight");
 }
 
 bool LinkDirection::is_down() const { return impairments_.down || executor_.now() < outage_until_; }
@@ -160,6 +175,7 @@ std::optional<SimTime> LinkDirection::queue_for_capacity(SimTime now, std::size_
                                  impairments_.bandwidth_bits_per_second;
   const SimTime start = std::max(now, link_free_at_);
   link_free_at_ = start + Micros{static_cast<std::int64_t>(std::ceil(transmit_micros - 1e-9))};
+  OCP_INVARIANT(link_free_at_ >= now, "the serialiser is busy until now or later once a message is queued");
   return link_free_at_;
 }
 
@@ -174,27 +190,33 @@ void LinkDirection::send(LinkMessage message) {
   if (is_down()) {
     if (replaying) ++replay_next_;   // the n-th message stays the n-th of the recording
     drop(message, size_bytes, message_id, DropReason::outage);
+    check_tally();
     return;
   }
   if (counters_.in_flight >= in_flight_limit_) {
     if (replaying) ++replay_next_;
     drop(message, size_bytes, message_id, DropReason::in_flight_limit);
+    check_tally();
     return;
   }
   if (replaying) {
     send_replayed(std::move(message), size_bytes, message_id);
+    check_tally();
     return;
   }
 
   const std::optional<SimTime> on_wire_at = queue_for_capacity(now, size_bytes);
   if (!on_wire_at) {
     drop(message, size_bytes, message_id, DropReason::queue_full);
+    check_tally();
     return;
   }
+  OCP_INVARIANT(*on_wire_at >= now, "a message is on the wire no earlier than it was sent");
 
   // Loss happens in transit, after the message used its share of the bandwidth.
   if (const DropReason lost = lost_in_transit(); lost != DropReason::none) {
     drop(message, size_bytes, message_id, lost);
+    check_tally();
     return;
   }
 
@@ -209,6 +231,7 @@ void LinkDirection::send(LinkMessage message) {
     deliver_at = std::max(deliver_at, last_delivery_at_);
     last_delivery_at_ = deliver_at;
   }
+  OCP_INVARIANT(deliver_at >= now, "a message is never delivered before it was sent");
 
   if (impairments_.duplicate_probability > 0.0 && uniform_unit() < impairments_.duplicate_probability &&
       counters_.in_flight + 1 < in_flight_limit_) {
@@ -217,10 +240,15 @@ void LinkDirection::send(LinkMessage message) {
     schedule_delivery(deliver_at, message, size_bytes, message_id);
   }
   schedule_delivery(deliver_at, std::move(message), size_bytes, message_id);
+  OCP_INVARIANT(counters_.in_flight <= in_flight_limit_, "a send never puts the pool beyond its in-flight limit");
+  OCP_INVARIANT(counters_.sent + 1 == next_message_id_, "message ids are dense: the n-th message sent has id n");
+  check_tally();
 }
 
 void LinkDirection::send_replayed(LinkMessage message, std::size_t size_bytes, std::uint64_t message_id) {
+  const std::uint64_t replayed_before = replay_next_;
   const RecordedMessage& recorded = impairments_.replay->nth(route_, replay_next_++);
+  OCP_INVARIANT(replay_next_ == replayed_before + 1, "each replayed message uses up exactly one recorded outcome");
   if (recorded.lost) {
     drop(message, size_bytes, message_id, DropReason::recorded_loss);
     return;
@@ -245,6 +273,8 @@ void LinkDirection::schedule_delivery(SimTime deliver_at, LinkMessage message, s
   flight.size_bytes = size_bytes;
   flight.message_id = message_id;
   flight.timer = executor_.call_at(deliver_at, [this, slot] { deliver(slot); });
+  OCP_INVARIANT(flight.timer != 0, "a message in flight holds a live timer (0 marks a free slot)");
+  OCP_INVARIANT(counters_.in_flight <= in_flight_.size(), "every message in flight has a slot of the pool");
 }
 
 void LinkDirection::deliver(std::uint32_t slot) {
@@ -262,6 +292,10 @@ void LinkDirection::deliver(std::uint32_t slot) {
 #endif
   counters_.bytes_delivered += size_bytes;
   if (events_.active()) publish(LinkOutcome::delivered, message, size_bytes, message_id);
+  // Checked before the receiver runs: it may send on this direction, which checks again.
+  OCP_INVARIANT(counters_.bytes_delivered <= counters_.bytes_sent * 2,
+                "bytes delivered never exceed the bytes sent and their duplicates");
+  check_tally();
   if (receiver_) {
     receiver_(std::move(message));
   }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "ocp/invariant.hpp"
+
 namespace ocp {
 
 void TraceQueue::reset(std::shared_ptr<const DeliveryTrace> trace, SimTime start) {
@@ -10,6 +12,7 @@ void TraceQueue::reset(std::shared_ptr<const DeliveryTrace> trace, SimTime start
   next_free_ = 0;
   queued_.clear();
   queued_total_bytes_ = 0;
+  OCP_INVARIANT(queued_.empty() && queued_total_bytes_ == 0, "a reset queue holds nothing");
 }
 
 std::uint64_t TraceQueue::served_by(SimTime now) const {
@@ -36,6 +39,7 @@ std::size_t TraceQueue::bytes_after(std::uint64_t served) {
     queued_total_bytes_ -= queued_.front().bytes;
     queued_.pop_front();
   }
+  OCP_INVARIANT(!queued_.empty() || queued_total_bytes_ == 0, "an empty trace queue counts no bytes");
   if (queued_.empty()) return 0;
   const Queued& front = queued_.front();
   const std::size_t gone = front.first < served
@@ -60,6 +64,12 @@ std::optional<SimTime> TraceQueue::enqueue(SimTime now, std::size_t size_bytes, 
   next_free_ = last + 1;
   queued_.push_back(Queued{first, last, size_bytes});
   queued_total_bytes_ += size_bytes;
+  OCP_INVARIANT(last >= first && packets >= 1, "a message takes at least one opportunity, in order");
+  OCP_INVARIANT(queued_.empty() || queued_.back().last + 1 == next_free_,
+                "the newest queued message ends just before the next free opportunity");
+  OCP_INVARIANT(limits.packets == 0 || packets_after(served) <= limits.packets,
+                "a trace queue never holds more packets than its limit");
+  OCP_INVARIANT(start_ + trace_->time_of(last) >= now, "a message leaves no earlier than it was queued");
   return start_ + trace_->time_of(last);
 }
 

@@ -6,6 +6,8 @@
 #include <string>
 #include <utility>
 
+#include "ocp/invariant.hpp"
+
 namespace ocp {
 
 struct EventBus::Subscription::Registry {
@@ -28,11 +30,13 @@ struct EventBus::Subscription::Registry {
       break;
     }
     compact_if_idle();
+    OCP_INVARIANT(live <= slots.size(), "each live subscriber has its slot");
   }
   void compact_if_idle() {
     if (publishing > 0 || !needs_compaction) return;
     std::erase_if(slots, [](const Slot& slot) { return !slot.handler; });
     needs_compaction = false;
+    OCP_INVARIANT(slots.size() == live, "once compacted, the slots are exactly the live subscribers");
   }
 };
 
@@ -73,6 +77,9 @@ EventBus::Subscription EventBus::subscribe(Handler handler) {
   const std::uint64_t id = registry_->next_id++;
   registry_->slots.push_back({id, std::move(handler)});
   ++registry_->live;
+  OCP_INVARIANT(registry_->live <= max_subscribers, "subscribe never takes a bus beyond its subscriber limit");
+  OCP_INVARIANT(registry_->live <= registry_->slots.size(), "each live subscriber has its slot");
+  OCP_INVARIANT(registry_->slots.back().id + 1 == registry_->next_id, "subscription ids are handed out in order");
   return Subscription(registry_, id);
 }
 
@@ -91,6 +98,7 @@ void EventBus::publish(const Event& event) const {
     }
     --registry->publishing;
     registry->compact_if_idle();
+    OCP_INVARIANT(registry->publishing >= 0, "every publish that entered has left");
   }
   if (parent_ != nullptr) parent_->publish(event);
 }

@@ -4,6 +4,8 @@
 #include <utility>
 #include <vector>
 
+#include "ocp/invariant.hpp"
+
 namespace ocp {
 namespace {
 
@@ -102,6 +104,14 @@ class PipeEnd final : public ByteStream, public std::enable_shared_from_this<Pip
     // Captures one pointer, so std::function stores it inline: no allocation per write.
     const auto timer = executor_.call_after(delay, [this] { deliver_next(); });
     pending_.push_back(Pending{timer, bytes.size()});
+    OCP_INVARIANT(transit_.size() - transit_head_ >= bytes.size(), "written bytes wait in transit until delivered");
+    OCP_INVARIANT_DEEP(transit_bytes_match_pending(), "the bytes in transit are exactly the pending writes' bytes");
+  }
+
+  bool transit_bytes_match_pending() const {
+    std::size_t pending_bytes = 0;
+    for (std::size_t i = pending_head_; i < pending_.size(); ++i) pending_bytes += pending_[i].length;
+    return pending_bytes == transit_.size() - transit_head_;
   }
 
   void deliver_next() {
@@ -117,6 +127,10 @@ class PipeEnd final : public ByteStream, public std::enable_shared_from_this<Pip
       transit_head_ += length;
     }
     drop_delivered();
+    OCP_INVARIANT(pending_head_ <= pending_.size() && transit_head_ <= transit_.size(),
+                  "a pipe's delivered fronts never pass the end of what was written");
+    OCP_INVARIANT(pending_head_ != pending_.size() || transit_head_ == transit_.size(),
+                  "no bytes stay in transit once every write is delivered");
     receive(arrived_);
   }
 

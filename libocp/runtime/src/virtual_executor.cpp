@@ -40,6 +40,9 @@ Executor::TimerId VirtualExecutor::call_at(SimTime deadline, Task task) {
   buckets_[bucket_for(effective)].items.push_back(Item{slot, entry_slot.generation});
   ++queued_items_;
   ++live_count_;
+  check_counts();
+  OCP_INVARIANT(live_count_ <= pending_limit_, "call_at never takes the queue beyond its pending limit");
+  OCP_INVARIANT(entry_slot.generation != 0, "timer generations start at 1, so no id is ever 0");
   // Generations start at 1, so no id is ever 0 (0 means "no timer" to callers).
   return make_id(slot, entry_slot.generation);
 }
@@ -102,6 +105,22 @@ void VirtualExecutor::cancel(TimerId id) {
   release_slot(slot);
   --live_count_;
   compact_if_mostly_cancelled();
+  check_counts();
+}
+
+// What every handler of the queue leaves true: each slot is free or holds one live task, each
+// live task has one queued item, and each bucket is both in the heap and in the index.
+void VirtualExecutor::check_counts() const {
+  OCP_INVARIANT(free_slots_.size() + live_count_ == slots_.size(), "each timer slot is free or holds one live task");
+  OCP_INVARIANT(queued_items_ >= live_count_, "each live task has its item in a bucket");
+  OCP_INVARIANT(bucket_by_deadline_.size() == bucket_heap_.size(), "each bucket is in the heap and the deadline index");
+  OCP_INVARIANT(bucket_heap_.empty() || buckets_[bucket_heap_.front()].deadline >= now_,
+                "the queue is ordered: its earliest deadline is never before now");
+  OCP_INVARIANT_DEEP(std::is_heap(bucket_heap_.begin(), bucket_heap_.end(),
+                                  [this](std::uint32_t left, std::uint32_t right) {
+                                    return buckets_[left].deadline > buckets_[right].deadline;
+                                  }),
+                     "the buckets form a heap on their deadlines");
 }
 
 void VirtualExecutor::release_slot(std::uint32_t slot) {
@@ -166,7 +185,10 @@ bool VirtualExecutor::step() {
   release_slot(item.slot);
   --live_count_;
   ++events_run_;
+  check_counts();
+  const SimTime ran_at = now_;
   task();
+  OCP_INVARIANT(now_ >= ran_at, "virtual time never goes back, across a task either");
   return true;
 }
 
@@ -179,6 +201,9 @@ void VirtualExecutor::run_until(SimTime end) {
     step();
   }
   now_ = std::max(now_, end);
+  OCP_INVARIANT(now_ >= end, "run_until leaves the clock at its end or later");
+  OCP_INVARIANT(bucket_heap_.empty() || buckets_[bucket_heap_.front()].deadline > end,
+                "run_until leaves no event due by its end");
 }
 
 std::size_t VirtualExecutor::drive_bounded(std::size_t max_steps) {

@@ -84,6 +84,8 @@ class LinkDirection final : public Link {
                std::uint64_t message_id, DropReason reason = DropReason::none);
   void drop(const LinkMessage& message, std::size_t size_bytes, std::uint64_t message_id,
             DropReason reason);
+  // The invariants every handler that moves a message leaves true (com_channel.cpp).
+  void check_tally() const;
 
   Executor& executor_;
   std::mt19937_64 random_;

@@ -27,3 +27,13 @@ inline bool mutant_active(Mutant mutant) { return active_mutant() == mutant; }
 #endif
 
 }  // namespace ocp
+
+// OCP_MUTATED(name): true when the mutant `name` is switched on (never outside the mutant test
+// target). An invariant whose breach is what a mutant plants says `|| OCP_MUTATED(name)`: the
+// mutant exists to prove the campaign oracle catches it from outside, which an invariant that
+// stopped the process first would hide.
+#ifdef OCP_MUTANTS
+#define OCP_MUTATED(name) ::ocp::mutant_active(::ocp::Mutant::name)
+#else
+#define OCP_MUTATED(name) false
+#endif

@@ -39,6 +39,8 @@ class VirtualExecutor final : public Executor {
   SimTime next_deadline() const;
 
  private:
+  // The invariants every handler of the queue leaves true (virtual_executor.cpp).
+  void check_counts() const;
   std::size_t pending_limit_ = default_pending_limit;
   // Tasks live in a slot vector indexed by the low half of the TimerId; the high half is the
   // slot's generation, so a stale id (already run or cancelled) never matches a reused slot.
