@@ -1,5 +1,5 @@
 // The product's --plugin-param settings (SPEC §9): names, defaults, validation.
-#include "ocp/plugin_params.hpp"
+#include "sim_app/plugin_params.hpp"
 
 #include <gtest/gtest.h>
 

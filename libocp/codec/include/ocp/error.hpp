@@ -63,9 +63,10 @@ using CloseReason = Error;
 // "peer closed: closed by peer" — for logs and test failure messages.
 std::ostream& operator<<(std::ostream& out, const Error& error);
 
-// Minimal expected<T, Error> (C++23's std::expected is not in GCC 12).
+// Minimal expected<T, Error> (C++23's std::expected is not in GCC 12). [[nodiscard]]: a
+// result dropped unread is an error ignored; a caller that means it says so with a cast.
 template <class T>
-class Result {
+class [[nodiscard]] Result {
  public:
   Result(T value) : state_(std::move(value)) {}          // NOLINT(google-explicit-constructor)
   Result(Error error) : state_(std::move(error)) {}      // NOLINT(google-explicit-constructor)
