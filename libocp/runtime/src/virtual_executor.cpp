@@ -109,12 +109,14 @@ void VirtualExecutor::cancel(TimerId id) {
 }
 
 // What every handler of the queue leaves true: each slot is free or holds one live task, each
-// live task has one queued item, and each bucket is both in the heap and in the index.
+// live task has one queued item, and each bucket is both in the heap and in the index. Deep:
+// they run twice per event, the hottest path of a virtual run (world_bench OneHour measured
+// 1.10× with them on in release); time never going back stays on everywhere (step()).
 void VirtualExecutor::check_counts() const {
-  OCP_INVARIANT(free_slots_.size() + live_count_ == slots_.size(), "each timer slot is free or holds one live task");
-  OCP_INVARIANT(queued_items_ >= live_count_, "each live task has its item in a bucket");
-  OCP_INVARIANT(bucket_by_deadline_.size() == bucket_heap_.size(), "each bucket is in the heap and the deadline index");
-  OCP_INVARIANT(bucket_heap_.empty() || buckets_[bucket_heap_.front()].deadline >= now_,
+  OCP_INVARIANT_DEEP(free_slots_.size() + live_count_ == slots_.size(), "each timer slot is free or holds one live task");
+  OCP_INVARIANT_DEEP(queued_items_ >= live_count_, "each live task has its item in a bucket");
+  OCP_INVARIANT_DEEP(bucket_by_deadline_.size() == bucket_heap_.size(), "each bucket is in the heap and the deadline index");
+  OCP_INVARIANT_DEEP(bucket_heap_.empty() || buckets_[bucket_heap_.front()].deadline >= now_,
                 "the queue is ordered: its earliest deadline is never before now");
   OCP_INVARIANT_DEEP(std::is_heap(bucket_heap_.begin(), bucket_heap_.end(),
                                   [this](std::uint32_t left, std::uint32_t right) {
