@@ -27,7 +27,7 @@
 #include <vector>
 
 #include "loop/floor_echo.hpp"
-#include "ocp/asio_executor.hpp"
+#include "ocp/asio/executor.hpp"
 #include "streamer_app/streamer_simulation.hpp"
 #include "vehicle_app/tcp_runner.hpp"
 

@@ -21,11 +21,11 @@
 #include <thread>
 #include <vector>
 
-#include "ocp/asio_executor.hpp"
+#include "ocp/asio/executor.hpp"
 #include "ocp/frame.hpp"
 #include "ocp/json_codec.hpp"
 #include "ocp/log.hpp"
-#include "ocp/tcp_stream.hpp"
+#include "ocp/asio/tcp_stream.hpp"
 #include "ocp/virtual_executor.hpp"
 #include "vehicle_client/vehicle_client.hpp"
 

@@ -1,9 +1,18 @@
 # The three protocol cores (Streamer, Player, vehicle client) are sans-IO: they never touch a
-# socket, a clock or a device (ARCHITECTURE.md property 1). ocp_require_no_asio(target) marks a
-# core; ocp_check_core_targets() — called once every target exists — fails the configure step
-# if any marked core links Asio/Boost (directly or through another library) or one of its
-# sources includes Asio or a device header. This is the build's guard against a shortcut.
+# socket, a file, a thread, a clock or a device (ARCHITECTURE.md property 1), and they know the
+# com channel only as an ocp::Link. ocp_require_no_asio(target) marks a core;
+# ocp_check_core_targets() — called once every target exists — fails the configure step if any
+# marked core
+#  * links Asio/Boost, the project's Asio adapters (ocp_asio), the link simulator (ocp_link),
+#    the UDP com channel (ocp_com) or the file reader (ocp_files), directly or through another
+#    library; or
+#  * has a source or header (its sources, and every file under its folder) that includes an
+#    I/O header: Boost/Asio, <fstream>, <thread>, <mutex>, a Linux device header, the project's
+#    Asio adapters (ocp/asio/…), or the file reader (ocp/bounded_file.hpp).
+# This is the build's guard against a shortcut; tests/build_check proves it fails such a core.
 set_property(GLOBAL PROPERTY OCP_CORE_TARGETS "")
+set(OCP_CORE_FORBIDDEN_INCLUDES
+    "^[ \t]*#[ \t]*include[ \t]*[<\"](boost/|asio|linux/|fstream>|thread>|mutex>|ocp/asio/|ocp/bounded_file|ocp/com_channel|ocp/impairments)")
 
 function(ocp_require_no_asio target)
   set_property(GLOBAL APPEND PROPERTY OCP_CORE_TARGETS ${target})
@@ -50,21 +59,28 @@ function(ocp_check_core_targets)
   foreach(core IN LISTS cores)
     _ocp_link_closure(${core} closure)
     foreach(link IN LISTS closure)
-      if(link MATCHES "^(ocp_asio|Boost::|boost_)" OR link MATCHES "asio")
+      if(link MATCHES "^(ocp_asio|ocp_link|ocp_com|ocp_files|Boost::|boost_)" OR link MATCHES "asio")
         message(FATAL_ERROR "core target '${core}' links '${link}': cores must stay sans-IO "
-                            "(no Asio). Move the I/O part into an app or adapter target.")
+                            "(no Asio, no link simulator, no file reader). Move the I/O part "
+                            "into an app or adapter target.")
       endif()
     endforeach()
     get_target_property(sources ${core} SOURCES)
     get_target_property(source_dir ${core} SOURCE_DIR)
-    foreach(source IN LISTS sources)
+    file(GLOB_RECURSE folder_files "${source_dir}/*.hpp" "${source_dir}/*.cpp" "${source_dir}/*.h")
+    set(files "")
+    foreach(source IN LISTS sources folder_files)
       if(NOT IS_ABSOLUTE "${source}")
         set(source "${source_dir}/${source}")
       endif()
-      file(STRINGS "${source}" includes REGEX "^#include [<\"](boost/|asio|linux/joystick)")
+      list(APPEND files "${source}")
+    endforeach()
+    list(REMOVE_DUPLICATES files)
+    foreach(file IN LISTS files)
+      file(STRINGS "${file}" includes REGEX "${OCP_CORE_FORBIDDEN_INCLUDES}")
       if(includes)
-        message(FATAL_ERROR "core target '${core}': ${source} includes ${includes}: cores must "
-                            "stay sans-IO (no Asio, no device).")
+        message(FATAL_ERROR "core target '${core}': ${file} includes ${includes}: cores must "
+                            "stay sans-IO (no Asio, no file, thread or lock, no device).")
       endif()
     endforeach()
   endforeach()

@@ -65,6 +65,16 @@ namespace {
 
 // Runs one point in a forked child (clean CPU and RSS figures; a point that hangs or crashes
 // is killed and reported instead of taking the whole run down).
+//
+// Why a fork without exec here, and not the one launcher of other programs
+// (sim_app::ClientProcess, tests/support/child_process.hpp): what runs in the child is a
+// function of this program, run_fleet_point, not another program, so there is nothing to
+// exec. The two hazards that launcher guards against do not arise: no environment is set
+// between fork and exec (there is no exec, and the child changes no environment), and the
+// parent is single-threaded when it forks (it runs no thread of its own between points; the
+// point's executor threads start in the child), so no lock can be held by a thread the child
+// lacks. It holds no listening socket either, and the pipe's ends are closed on both sides
+// before the next point, so no point inherits another's descriptors.
 FleetPointResult run_in_child(const FleetPointOptions& options, double timeout_s) {
   FleetPointResult result;
   result.mode = options.mode;

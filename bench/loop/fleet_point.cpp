@@ -19,7 +19,7 @@
 
 #include "codec_floor.hpp"
 #include "kernel_floor.hpp"
-#include "ocp/asio_executor.hpp"
+#include "ocp/asio/executor.hpp"
 #include "ocp/virtual_executor.hpp"
 #include "process_usage.hpp"
 #include "stats.hpp"

@@ -17,7 +17,7 @@
 #include "loop_recorder.hpp"
 #include "loop_report.hpp"
 #include "loop_result.hpp"
-#include "ocp/asio_executor.hpp"
+#include "ocp/asio/executor.hpp"
 #include "sim_app/client_process.hpp"
 #include "streamer_app/streamer_simulation.hpp"
 #include "timer_client.hpp"

@@ -2,6 +2,7 @@
 // for every client (SPEC §4.1, §6 operator faults, §7). Also the com-channel pings.
 #include <utility>
 
+#include "ocp/invariant.hpp"
 #include "player_impl.hpp"
 
 namespace ocp {
@@ -58,6 +59,9 @@ void PlayerCore::Impl::on_frame() {
       control.returned_ack = echo_pair(link);
       control.sender_faults = link.sender_faults.to_vector();
       if (is_active) last_input = control.controller;
+      OCP_INVARIANT(!control.controller || is_active || *control.controller == Controller::safe_default(),
+                    "only the active vehicle gets the gamepad; the others get the safe default");
+      OCP_INVARIANT(control.sequence + 1 == link.next_control_sequence, "control sequence numbers are dense, in order");
       link.to_streamer->send(LinkMessage{std::move(control)});
       ++stats.control_messages_sent;
     }
@@ -68,6 +72,7 @@ void PlayerCore::Impl::on_frame() {
   if (client && client->is_open()) send_to_client(last_shared);
   for (const SharedListener& listener : shared_listeners) listener(last_shared);
   summarise_repeated_warnings(now);
+  OCP_INVARIANT(stats.shared_published == stats.frames, "one VehicleOcpShared is published per frame");
 }
 
 // Rebuilding VehicleOcpShared from scratch every frame (a fresh map, every name, fault list
@@ -86,6 +91,8 @@ void PlayerCore::Impl::refresh_shared(SimTime now) {
     ++entry;
   }
   last_shared.last_input = last_input;
+  OCP_INVARIANT(last_shared.vehicle_feedback.size() == vehicles.size(),
+                "VehicleOcpShared has exactly one entry per linked vehicle");
 }
 
 void PlayerCore::Impl::on_ping() {

@@ -1,12 +1,11 @@
 // Scriptable gamepad: idle, constant, waveform and recorded playback (see gamepad.hpp).
 #include "player/gamepad.hpp"
-#include "ocp/bounded_file.hpp"
+#include "ocp/escaped_excerpt.hpp"
 
 #include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
-#include <fstream>
 #include <numbers>
 #include <sstream>
 
@@ -144,12 +143,6 @@ Result<Recording> parse_recording(std::string_view text) {
     recording.states.push_back(state);
   }
   return recording;
-}
-
-Result<Recording> load_recording_file(const std::string& path) {
-  auto content = read_bounded_file(path, file_kinds::gamepad_script);
-  if (!content) return content.error();
-  return parse_recording(*content);
 }
 
 std::string format_recording(const Recording& recording) {

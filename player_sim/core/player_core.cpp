@@ -69,7 +69,7 @@ void PlayerCore::stop() {
 
 bool PlayerCore::running() const { return impl_->running; }
 
-Status PlayerCore::add_vehicle(const std::string& name, LinkDirection* to_streamer, bool monitor) {
+Status PlayerCore::add_vehicle(const std::string& name, Link* to_streamer, bool monitor) {
   Impl& self = *impl_;
   auto configuration_error = [](std::string detail) {
     return Error{std::make_error_code(std::errc::invalid_argument), std::move(detail)};
@@ -107,31 +107,6 @@ Status PlayerCore::remove_vehicle(const std::string& name) {
   self.last_shared.vehicle_feedback.erase(name);
   self.logger.info("unlinked vehicle '{}'", name);
   return Ok{};
-}
-
-void PlayerCore::handle_link_message(const std::string& vehicle, LinkMessage&& message) {
-  Impl& self = *impl_;
-  const auto found = self.vehicles.find(vehicle);
-  if (found == self.vehicles.end()) {
-    if (self.warned_unknown_senders.first_time(vehicle, self.executor.now())) {
-      self.logger.warn("message from unknown vehicle '{}' dropped", vehicle);
-    }
-    return;
-  }
-  VehicleLink& link = found->second;
-  const SimTime now = self.executor.now();
-  if (auto* feedback = std::get_if<StreamerFeedback>(&message)) {
-    ++self.stats.feedback_received;
-    link.on_feedback(std::move(*feedback), now);
-  } else if (auto* frame = std::get_if<VideoFrame>(&message)) {
-    ++self.stats.video_frames_received;
-    link.on_video_frame(*frame);
-  } else if (auto* pong = std::get_if<Pong>(&message)) {
-    ++self.stats.pongs_received;
-    link.on_pong(*pong, now);
-  } else {
-    self.logger.warn("unexpected Player-bound message kind {} from '{}' dropped", message.index(), vehicle);
-  }
 }
 
 void PlayerCore::accept_client_connection(std::shared_ptr<ByteStream> stream) {

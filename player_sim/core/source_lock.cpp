@@ -1,6 +1,8 @@
 // Client data source locking (SPEC §4.3).
 #include "source_lock.hpp"
 
+#include "ocp/invariant.hpp"
+
 namespace ocp {
 
 bool is_keep_alive(const ClientOcpShared& data) {
@@ -17,6 +19,18 @@ bool is_keep_alive(ClientSource source, const ClientOcpShared& data) {
 }
 
 bool SourceLock::admit(ClientSource source, const Logger& logger) {
+  const std::optional<ClientSource> locked_before = locked_;
+  const bool stopped_before = stopped_;
+  const bool admitted = decide(source, logger);
+  // The lock is monotone: unlocked → locked to one source → stopped, never back.
+  OCP_INVARIANT(!locked_before || locked_ == locked_before, "a locked source never changes until restart");
+  OCP_INVARIANT(!stopped_before || stopped_, "a stopped source lock stays stopped until restart");
+  OCP_INVARIANT(!admitted || (locked_ == source && !stopped_), "only the locked source is admitted, and only while not stopped");
+  OCP_INVARIANT(!stopped_ || locked_.has_value(), "only a locked source can conflict");
+  return admitted;
+}
+
+bool SourceLock::decide(ClientSource source, const Logger& logger) {
   conflict_just_happened_ = false;
   if (stopped_) return false;
   if (!locked_) {

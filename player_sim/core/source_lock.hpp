@@ -20,6 +20,7 @@ class SourceLock {
   bool conflict_just_happened() const { return conflict_just_happened_; }
 
  private:
+  bool decide(ClientSource source, const Logger& logger);   // admit() without its invariants
   std::optional<ClientSource> locked_;
   bool stopped_ = false;
   bool conflict_just_happened_ = false;

@@ -5,7 +5,7 @@
 #include <optional>
 #include <string>
 
-#include "ocp/com_channel.hpp"
+#include "ocp/link.hpp"
 #include "ocp/faults.hpp"
 #include "ocp/link_messages.hpp"
 #include "ocp/messages.hpp"
@@ -22,7 +22,7 @@ struct VehicleClientState {
 
 struct VehicleLink {
   std::string name;
-  LinkDirection* to_streamer = nullptr;
+  Link* to_streamer = nullptr;
   bool monitor = false;
   SimTime linked_at{0};
 

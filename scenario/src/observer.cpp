@@ -5,6 +5,7 @@
 #include <deque>
 
 #include "link_series.hpp"
+#include "ocp/impairments.hpp"
 #include "ocp/json_codec.hpp"
 
 namespace ocp::scenario {

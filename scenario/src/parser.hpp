@@ -8,11 +8,13 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
 #include "scenario/model.hpp"
 #include "scenario/parse.hpp"
+#include "sim_app/file_loaders.hpp"
 #include "yaml_read.hpp"
 
 namespace ocp::scenario {
@@ -120,7 +122,14 @@ std::shared_ptr<const File> Parser::named_file(const YAML::Node& node, const std
   if (path.is_relative()) path = std::filesystem::path(scenario_.path).parent_path() / path;
   const std::string file = path.lexically_normal().string();
   if (const auto known = loaded.find(file); known != loaded.end()) return known->second;
-  auto opened = File::load(file);
+  // Read by the app layer's loaders (sim_app/file_loaders.hpp), parsed by the sans-IO parsers.
+  auto opened = [&file] {
+    if constexpr (std::is_same_v<File, DeliveryTrace>) {
+      return sim_app::load_delivery_trace(file);
+    } else {
+      return sim_app::load_link_recording(file);
+    }
+  }();
   if (!opened) {
     const Mark at = read_.mark(node);
     throw ScenarioError(file, opened.error().detail + " (the " + key + " of " + read_.file() + ":" +

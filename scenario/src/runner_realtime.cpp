@@ -4,7 +4,7 @@
 #include <memory>
 #include <vector>
 
-#include "ocp/tcp_server.hpp"
+#include "ocp/asio/tcp_server.hpp"
 #include "run_world.hpp"
 #include "scenario/runner.hpp"
 #include "sim_app/real_time_runner.hpp"

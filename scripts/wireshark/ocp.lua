@@ -2,7 +2,7 @@
 -- (Lua 5.2). Three protocols:
 --   ocp_vehicle   the vehicle TCP API (Streamer, default :4000)   SPEC §2, §3
 --   ocp_operator  the operator TCP API (Player, default :4001)    SPEC §2, §4
---   ocp_com       the com channel over UDP (issue #22)            libocp/include/ocp/com_datagram.hpp
+--   ocp_com       the com channel over UDP (issue #22)            libocp/com/include/ocp/com_datagram.hpp
 -- Both TCP APIs are a 4-byte little-endian length prefix and a JSON payload: the payload goes to
 -- Wireshark's own JSON dissector, and the OCP fields (ack_time, ack_time_mac, controller state,
 -- faults, latency) are added beside it. ack_time is a u64 that must never pass through a double,
@@ -22,7 +22,7 @@ local p_vehicle = Proto("ocp_vehicle", "OCP vehicle API")
 local p_operator = Proto("ocp_operator", "OCP operator API")
 local p_com = Proto("ocp_com", "OCP com channel")
 
--- FaultId's order (libocp/include/ocp/faults.hpp): the com channel sends the index.
+-- FaultId's order (libocp/codec/include/ocp/faults.hpp): the com channel sends the index.
 local fault_names = {
   [0] = "VehicleNoResponse", [1] = "NoControlMessage", [2] = "CameraLost", [3] = "StreamerSlow",
   [4] = "HighLatency", [5] = "OperatorStationHasError", [6] = "InvalidMac", [7] = "ControlThreadChannelSlow",
@@ -377,7 +377,7 @@ end
 ---------------------------------------------------------------------------------------------
 -- The com channel over UDP: header, tag, reassembly, and the body of every LinkMessage.
 
--- 6 and 7: the session handshake (libocp/include/ocp/com_session.hpp): a Hello with the Player's
+-- 6 and 7: the session handshake (libocp/com/include/ocp/com_session.hpp): a Hello with the Player's
 -- nonce, a Welcome with both; the session's keys come from them and the key file (HKDF).
 local kind_names = { [1] = "OperatorControl", [2] = "StreamerFeedback", [3] = "VideoFrame", [4] = "Ping", [5] = "Pong",
                      [6] = "Hello (handshake)", [7] = "Welcome (handshake)" }

@@ -3,6 +3,7 @@
 // with a fresh MAC'd ack pair and write it as one frame. Buffers are reused: no allocation on
 // the steady-state path beyond what user data and camera names need.
 #include "ocp/frame.hpp"
+#include "ocp/invariant.hpp"
 #include "ocp/json_codec.hpp"
 #include "ocp/log_limiter.hpp"
 #include "ocp/mutants.hpp"
@@ -23,6 +24,8 @@ void StreamerCore::Impl::on_control_tick(SimTime deadline) {
   publish_latency_sample(deadline, now);
   summarise_user_data_drops(now);
   summarise_pair_rejections(now);
+  OCP_INVARIANT(stats.control_frames_sent <= stats.control_ticks, "at most one control frame a tick");
+  OCP_INVARIANT(!control_sent || json_buffer.size() <= max_payload_bytes, "a control frame is never above 16 KiB");
 }
 
 // A client that alternates a good and a made-up pair (or a replay beside a live session) opens
@@ -57,6 +60,16 @@ void StreamerCore::Impl::evaluate_tick_faults(SimTime now) {
   cameras.missing_cameras(now, config.camera_drop_timeout, missing_cameras);
   faults.set(FaultId::CameraLost, !missing_cameras.empty());
   evaluate_inbox_fault();
+  // The fault set agrees with the inputs of its time-driven conditions.
+  const FaultSet& active = faults.faults();
+  OCP_INVARIANT(active.contains(FaultId::VehicleNoResponse) == (vehicle_connection == nullptr),
+                "VehicleNoResponse is raised exactly when no vehicle is connected");
+  OCP_INVARIANT(active.contains(FaultId::NoControlMessage) == (now - last_operator_arrival > no_control_timeout),
+                "NoControlMessage is raised exactly when the operator was silent beyond the timeout");
+  OCP_INVARIANT(active.contains(FaultId::HighLatency) == (latency && *latency > config.latency_limit),
+                "HighLatency is raised exactly when the loop latency is above the limit");
+  OCP_INVARIANT(active.contains(FaultId::CameraLost) == !missing_cameras.empty(),
+                "CameraLost is raised exactly when a camera is missing");
 }
 
 void StreamerCore::Impl::build_control_message(SimTime now) {
@@ -78,6 +91,10 @@ void StreamerCore::Impl::build_control_message(SimTime now) {
   outgoing.telemetry.missing_cameras = missing_cameras;
   outgoing.ack = latency_loop.issue(now);
   outgoing.client_user_data = operator_user_data;
+  OCP_INVARIANT(!active.any_control_path() || !outgoing.controller ||
+                    *outgoing.controller == Controller::safe_default() || OCP_MUTATED(default_controller_not_applied),
+                "during a control-path fault the vehicle gets the default controller (or null)");
+  OCP_INVARIANT(outgoing.telemetry.fault == !active.empty(), "telemetry.fault says whether any fault is active");
 }
 
 void StreamerCore::Impl::send_control_message() {
@@ -109,6 +126,7 @@ void StreamerCore::Impl::send_control_message() {
   ++stats.control_frames_sent;
   control_sent = true;
   last_sent_controller = outgoing.controller;
+  OCP_INVARIANT(json_buffer.size() <= max_payload_bytes, "a control frame is never above 16 KiB");
 }
 
 }  // namespace ocp

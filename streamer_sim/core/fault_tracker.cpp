@@ -1,5 +1,7 @@
 #include "fault_tracker.hpp"
 
+#include "ocp/invariant.hpp"
+
 namespace ocp::streamer {
 
 void FaultTracker::set(FaultId id, bool active) {
@@ -24,6 +26,10 @@ void FaultTracker::set(FaultId id, bool active) {
     logger_.info("fault cleared: {} ({})", fault_display(id), fault_identifier(id));
   }
   if (verdict.summary) logger_.warn("{}", *verdict.summary);
+  // Checked before the listener runs: it may report the change anywhere, and set again.
+  OCP_INVARIANT(faults_.contains(id) == active, "a fault is as last set");
+  OCP_INVARIANT(flaps_[index].has_value(), "every fault that changed has its flap summariser");
+  OCP_INVARIANT_DEEP(reason_ == faults_.fault_reason(), "fault_reason lists exactly the active faults");
   on_change_(id, active);
 }
 

@@ -1,5 +1,7 @@
 #include "frame_loop.hpp"
 
+#include "ocp/invariant.hpp"
+
 namespace ocp::streamer {
 
 FrameLoop::FrameLoop(Executor& executor, double rate_hz, IterationHandler on_iteration)
@@ -23,10 +25,14 @@ void FrameLoop::stop() {
   blocked_ = false;
   if (timer_ != 0) executor_.cancel(timer_);
   timer_ = 0;
+  OCP_INVARIANT(!running_ && timer_ == 0, "a stopped frame loop holds no timer");
 }
 
 void FrameLoop::arm() {
-  timer_ = executor_.call_at(schedule_.deadline(next_index_), [this] { on_due(); });
+  const SimTime deadline = schedule_.deadline(next_index_);
+  timer_ = executor_.call_at(deadline, [this] { on_due(); });
+  OCP_INVARIANT(running_ && timer_ != 0, "only a running frame loop arms its timer");
+  OCP_INVARIANT(deadline >= schedule_.deadline(0), "a frame is never due before the loop started");
 }
 
 void FrameLoop::on_due() {
@@ -41,7 +47,9 @@ void FrameLoop::on_due() {
   }
   on_iteration_(Micros{0});
   if (!running_) return;
+  const std::uint64_t previous_index = next_index_;
   next_index_ = schedule_.first_index_after(executor_.now(), next_index_ + 1);
+  OCP_INVARIANT(next_index_ > previous_index, "frames are indexed forward: a late loop skips, never repeats");
   arm();
 }
 

@@ -20,6 +20,9 @@ AckPair LatencyLoop::issue(SimTime now) {
   last_issued_elapsed_us_ = elapsed_us;
   const AckPair pair{ack_time, mac_.compute(ack_time)};
   recent_issued_[issued_count_++ % kept_issued_pairs] = pair;
+  OCP_INVARIANT(pair.ack_time - ack_time_offset_ == elapsed_us, "an issued ack_time undoes to its issue time exactly");
+  OCP_INVARIANT(issued_count_ > 0 && recent_issued_[(issued_count_ - 1) % kept_issued_pairs] == pair,
+                "the pair issued now is the newest kept for judging rejected pairs");
   return pair;
 }
 
@@ -37,10 +40,13 @@ ReturnedPairCheck LatencyLoop::check_returned(const std::optional<AckPair>& retu
 #ifdef OCP_MUTANTS
   if (mutant_active(Mutant::stale_pair_accepted)) newer = true;
 #endif
+  const std::optional<std::uint64_t> newest_before = newest_valid_elapsed_us_;
   if (newer) {
     newest_valid_elapsed_us_ = issued_elapsed_us;
     newest_valid_arrived_at_ = now;
   }
+  OCP_INVARIANT(!newest_before || *newest_valid_elapsed_us_ >= *newest_before || OCP_MUTATED(stale_pair_accepted),
+                "the newest valid pair is never older than the one before it");
   return ReturnedPairCheck::valid;
 }
 

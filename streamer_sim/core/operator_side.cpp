@@ -3,6 +3,7 @@
 #include <string>
 #include <variant>
 
+#include "ocp/invariant.hpp"
 #include "streamer_impl.hpp"
 
 namespace ocp {
@@ -11,8 +12,10 @@ void StreamerCore::Impl::handle_link_message(LinkMessage&& message) {
   if (auto* control = std::get_if<OperatorControl>(&message)) {
     enqueue_operator_control(std::move(*control));
   } else if (const auto* ping = std::get_if<Ping>(&message)) {
+    const std::uint64_t pongs_before = stats.pongs_sent;
     ++stats.pongs_sent;
     send_to_player(Pong{ping->id, ping->sent_at});
+    OCP_INVARIANT(stats.pongs_sent == pongs_before + 1, "each ping is answered by exactly one pong");
   } else {
     // Feedback, video and pongs travel the other way; a mis-wired link is our bug, not a peer's.
     logger.warn("ignored a link message of kind {} sent to the Streamer", message.index());
@@ -29,6 +32,8 @@ void StreamerCore::Impl::enqueue_operator_control(OperatorControl&& message) {
   }
   if (!control_thread_stalled) drain_inbox();
   evaluate_inbox_fault();
+  OCP_INVARIANT(control_thread_stalled || inbox.empty(), "a running control path applies its inbox at once");
+  OCP_INVARIANT(inbox.size() <= streamer::ControlInbox::hard_limit_items, "the control inbox stays within its limit");
 }
 
 void StreamerCore::Impl::drain_inbox() {
@@ -63,6 +68,16 @@ void StreamerCore::Impl::apply_operator_control(streamer::QueuedControl&& queued
     const auto latency = latency_loop.latency(executor.now());
     faults.set(FaultId::HighLatency, latency && *latency > config.latency_limit);
   }
+  // The fault set agrees with the inputs this message brought.
+  const FaultSet& now_faults = faults.faults();
+  OCP_INVARIANT(!now_faults.contains(FaultId::NoControlMessage), "an applied operator message clears NoControlMessage");
+  OCP_INVARIANT(now_faults.contains(FaultId::InvalidMac) == (check != streamer::ReturnedPairCheck::valid),
+                "InvalidMac is raised exactly when the returned pair is not valid");
+  OCP_INVARIANT(now_faults.contains(FaultId::OperatorStationHasError) == !message.sender_faults.empty(),
+                "OperatorStationHasError is raised exactly when the operator reports faults");
+  OCP_INVARIANT(check != streamer::ReturnedPairCheck::valid || !pair_rejection_reported,
+                "a valid pair ends the rejection episode");
+  OCP_INVARIANT(last_operator_arrival <= executor.now(), "the latest operator message arrived no later than now");
 }
 
 void StreamerCore::Impl::report_rejected_pair(const AckPair& rejected) {

@@ -76,7 +76,7 @@ StreamerCore::~StreamerCore() {
 
 void StreamerCore::start() { impl_->start(); }
 void StreamerCore::stop() { impl_->stop(); }
-void StreamerCore::set_link(LinkDirection* to_player) { impl_->to_player = to_player; }
+void StreamerCore::set_link(Link* to_player) { impl_->to_player = to_player; }
 void StreamerCore::use_control_ticker(ControlTicker* ticker) { impl_->control_ticker = ticker; }
 
 void StreamerCore::handle_link_message(LinkMessage&& message) {

@@ -68,7 +68,7 @@ struct StreamerCore::Impl {
   Logger logger;
   StreamerStats stats;
   EventBus events;
-  LinkDirection* to_player = nullptr;             // the link's direction towards the Player (feedback, video)
+  Link* to_player = nullptr;                      // the link's direction towards the Player (feedback, video)
 
   streamer::FaultTracker faults;
   streamer::LatencyLoop latency_loop;

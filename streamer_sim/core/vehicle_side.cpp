@@ -6,6 +6,7 @@
 #include <memory>
 #include <utility>
 
+#include "ocp/invariant.hpp"
 #include "ocp/json_codec.hpp"
 #include "ocp/raw_pieces.hpp"
 #include "streamer_impl.hpp"
@@ -60,6 +61,7 @@ void StreamerCore::Impl::accept_vehicle(std::shared_ptr<ByteStream> stream) {
   vehicle_connection = FramedConnection::open(executor, logger.child("vehicle"), std::move(stream),
                                    std::move(options), counters, std::move(handlers));
   if (started) faults.set(FaultId::VehicleNoResponse, false);
+  OCP_INVARIANT(stats.connections_closed <= stats.connections_accepted, "only an accepted connection closes");
 }
 
 void StreamerCore::Impl::on_vehicle_response(VehicleResponseMessage&& response) {
@@ -83,6 +85,9 @@ void StreamerCore::Impl::on_vehicle_closed(const CloseReason& reason) {
   // led here holds its own reference, so resetting our pointer is safe.
   vehicle_connection.reset();
   if (started) faults.set(FaultId::VehicleNoResponse, true);
+  OCP_INVARIANT(stats.connections_closed <= stats.connections_accepted, "only an accepted connection closes");
+  OCP_INVARIANT(!started || faults.faults().contains(FaultId::VehicleNoResponse),
+                "with no vehicle connected, VehicleNoResponse is raised");
 }
 
 Status StreamerCore::Impl::write_raw_to_vehicle(std::string bytes, std::vector<std::size_t> cuts,

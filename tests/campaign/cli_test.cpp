@@ -7,6 +7,7 @@
 #include <string>
 
 #include "campaign/profile.hpp"
+#include "child_process.hpp"
 
 namespace ocp::campaign {
 namespace {
@@ -17,14 +18,8 @@ struct Ran {
 };
 
 Ran run(const std::string& arguments) {
-  Ran ran;
-  const std::string command = std::string(OCP_CAMPAIGN_PATH) + " " + arguments + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  char buffer[4096];
-  while (const std::size_t n = std::fread(buffer, 1, sizeof buffer, pipe)) ran.output.append(buffer, n);
-  const int status = pclose(pipe);
-  ran.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return ran;
+  const ocp::test::CommandRun command = ocp::test::run_command(std::string(OCP_CAMPAIGN_PATH) + " " + arguments);
+  return Ran{command.exit_code, command.output};
 }
 
 struct BadArguments {
@@ -98,15 +93,10 @@ TEST(CampaignCli, SlurmPrintOnlyWritesAnArrayScript) {
 
 TEST(CampaignCli, SlurmWithoutSbatchNamesItAndExitsTwo) {
   const std::string out = ::testing::TempDir() + "ocp-campaign-no-sbatch";
-  // PATH without Slurm: the tool must say which command is missing (popen's /bin/sh is absolute).
-  Ran bare;
-  const std::string command = "PATH=/nonexistent " + std::string(OCP_CAMPAIGN_PATH) +
-                              " slurm --profile calm --worlds 4 --out " + out + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  char buffer[4096];
-  while (const std::size_t n = std::fread(buffer, 1, sizeof buffer, pipe)) bare.output.append(buffer, n);
-  const int status = pclose(pipe);
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 2) << bare.output;
+  // PATH without Slurm: the tool must say which command is missing (/bin/sh is absolute).
+  const ocp::test::CommandRun bare = ocp::test::run_command("PATH=/nonexistent " + std::string(OCP_CAMPAIGN_PATH) +
+                                                  " slurm --profile calm --worlds 4 --out " + out);
+  EXPECT_EQ(bare.exit_code, 2) << bare.output;
   EXPECT_NE(bare.output.find("'sbatch' is not on PATH"), std::string::npos) << bare.output;
 }
 

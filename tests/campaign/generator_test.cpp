@@ -124,13 +124,16 @@ TEST(CampaignGenerator, CalmProfileHasImpairmentsOnly) {   // and keep-alives, w
 
 // Every library scenario survives a write and a parse (the writer knows the whole format).
 TEST(CampaignGenerator, LibraryScenariosRoundTrip) {
+  std::size_t files = 0;
   for (const auto& entry : std::filesystem::directory_iterator(OCP_SCENARIO_LIBRARY_DIR)) {
+    ++files;
     const scenario::Scenario original = scenario::load_scenario(entry.path().string());
     const std::string written = scenario::write_scenario_yaml(original);
     const scenario::Scenario parsed = scenario::parse_scenario(written, entry.path().filename().string());
     EXPECT_EQ(scenario::write_scenario_yaml(parsed), written) << entry.path();
     EXPECT_EQ(parsed.expectations.size(), original.expectations.size()) << entry.path();
   }
+  EXPECT_GT(files, 0u) << "no scenario in " << OCP_SCENARIO_LIBRARY_DIR << ": the round trip proved nothing";
 }
 
 }  // namespace

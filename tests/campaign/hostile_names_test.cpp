@@ -18,6 +18,7 @@
 #include "campaign/script_names.hpp"
 #include "campaign/shell_words.hpp"
 #include "campaign/slurm.hpp"
+#include "child_process.hpp"
 
 namespace ocp::campaign {
 namespace {
@@ -38,13 +39,8 @@ struct ShellResult {
 };
 
 ShellResult run_shell(const std::string& command) {
-  ShellResult ran;
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  char buffer[4096];
-  while (const std::size_t n = std::fread(buffer, 1, sizeof buffer, pipe)) ran.output.append(buffer, n);
-  const int status = pclose(pipe);
-  ran.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return ran;
+  const ocp::test::CommandRun ran = ocp::test::run_command(command);
+  return ShellResult{ran.exit_code, ran.output};
 }
 
 void write_sandbox_file(const fs::path& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }

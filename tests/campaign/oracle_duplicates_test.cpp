@@ -7,6 +7,7 @@
 #include <algorithm>
 
 #include "campaign/oracle.hpp"
+#include "ocp/impairments.hpp"
 #include "ocp/virtual_executor.hpp"
 #include "scenario/parse.hpp"
 #include "world/world.hpp"

@@ -22,6 +22,8 @@
 #include <string>
 #include <vector>
 
+#include "child_process.hpp"
+
 namespace {
 
 const std::string harness = OCP_CONFORMANCE_PATH;
@@ -142,16 +144,12 @@ std::vector<std::string> split_tabs(const std::string& line) {
 std::vector<CoverageRun> coverage_runs() {
   std::vector<CoverageRun> runs;
   for (const std::string suite : {"vehicle", "operator"}) {
-    FILE* pipe = popen((harness + " " + suite + " --list --broken-clients 2>/dev/null").c_str(), "r");
-    if (pipe == nullptr) continue;
-    char line[4096];
-    while (std::fgets(line, sizeof line, pipe) != nullptr) {
-      std::string text(line);
-      if (!text.empty() && text.back() == '\n') text.pop_back();
+    const ocp::test::CommandRun listed = ocp::test::run_command(harness + " " + suite + " --list --broken-clients 2>/dev/null");
+    std::stringstream lines(listed.output);
+    for (std::string text; std::getline(lines, text);) {
       const auto f = split_tabs(text);
       if (f.size() == 5) runs.push_back({suite, f[0], f[1], f[2], f[3], f[4]});
     }
-    pclose(pipe);
   }
   return runs;
 }

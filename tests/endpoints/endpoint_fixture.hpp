@@ -4,7 +4,7 @@
 #include <boost/asio/io_context.hpp>
 
 #include "captured_log.hpp"
-#include "ocp/asio_executor.hpp"
+#include "ocp/asio/executor.hpp"
 #include "tcp_peers.hpp"
 #include "vehicle_peer.hpp"
 

@@ -13,14 +13,15 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
-#include <filesystem>
 #include <fstream>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
 
-#include "ocp/tcp_server.hpp"
+#include "ocp/asio/tcp_server.hpp"
+#include "child_process.hpp"
 #include "tcp_peers.hpp"
 
 extern char** environ;
@@ -35,57 +36,23 @@ namespace {
 
 constexpr std::chrono::seconds process_timeout{30};
 
+// A program under test, its output on a pipe (tests/support/child_process.hpp).
 struct Process {
-  pid_t pid = -1;
-  std::string output_path;
+  std::unique_ptr<ocp::test::ChildProcess> child;
 
   static Process spawn(const std::vector<std::string>& arguments) {
     Process process;
-    char path_template[] = "/tmp/ocp_endpoint_exe_XXXXXX";
-    const int fd = mkstemp(path_template);
-    EXPECT_GE(fd, 0);
-    process.output_path = path_template;
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_adddup2(&actions, fd, STDOUT_FILENO);
-    posix_spawn_file_actions_adddup2(&actions, fd, STDERR_FILENO);
-    std::vector<char*> argv;
-    for (const auto& argument : arguments) argv.push_back(const_cast<char*>(argument.c_str()));
-    argv.push_back(nullptr);
-    const int result = posix_spawn(&process.pid, argv[0], &actions, nullptr, argv.data(), environ);
-    EXPECT_EQ(result, 0) << "cannot start " << arguments[0];
-    posix_spawn_file_actions_destroy(&actions);
-    close(fd);
+    process.child = std::make_unique<ocp::test::ChildProcess>(arguments);
+    EXPECT_TRUE(process.child->started()) << "cannot start " << arguments[0];
     return process;
   }
-
   // Exit code, or -1 if it had to be killed after the timeout (or died by a signal).
   int wait(std::chrono::milliseconds timeout = process_timeout) {
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
-    int status = 0;
-    while (true) {
-      const pid_t done = waitpid(pid, &status, WNOHANG);
-      if (done == pid) break;
-      if (std::chrono::steady_clock::now() >= deadline) {
-        kill(pid, SIGKILL);
-        waitpid(pid, &status, 0);
-        return -1;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    const int code = child->wait_exit(timeout);
+    return code >= 0 && code < 1000 ? code : -1;
   }
-
-  std::string output() const {
-    std::ifstream file(output_path);
-    std::stringstream text;
-    text << file.rdbuf();
-    return text.str();
-  }
-
-  ~Process() {
-    if (!output_path.empty()) std::remove(output_path.c_str());
-  }
+  void signal(int number) { child->signal(number); }
+  std::string output() const { return child->output(); }
 };
 
 struct ProcessRun {
@@ -197,7 +164,7 @@ TEST(Executables, SigtermOrSighupShutsDownCleanlyWithExitZero) {
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
     ASSERT_TRUE(can_connect(port)) << process.output();
-    kill(process.pid, signal_number);
+    process.signal(signal_number);
     EXPECT_EQ(process.wait(), 0) << process.output();
     const std::string output = process.output();
     EXPECT_NE(output.find(std::string("shutting down: ") + name + " received"), std::string::npos) << output;

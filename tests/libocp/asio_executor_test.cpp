@@ -4,7 +4,7 @@
 #include <chrono>
 #include <vector>
 
-#include "ocp/asio_executor.hpp"
+#include "ocp/asio/executor.hpp"
 
 namespace ocp {
 namespace {

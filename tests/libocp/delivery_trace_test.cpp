@@ -74,27 +74,5 @@ TEST(DeliveryTrace, ParseErrorsNameFileAndLine) {
   EXPECT_NE(error_of("2000000000\n").find("is beyond"), std::string::npos);
 }
 
-TEST(DeliveryTrace, LoadsFilesAndNamesAMissingOne) {
-  const auto path = std::filesystem::temp_directory_path() / "ocp_delivery_trace_test.trace";
-  {
-    std::ofstream out(path);
-    out << "4\n8\nx\n";
-  }
-  const auto bad = DeliveryTrace::load(path.string());
-  ASSERT_FALSE(bad.ok());
-  EXPECT_EQ(bad.error().detail, path.string() + ":3: expected a whole number of milliseconds, got 'x'");
-  {
-    std::ofstream out(path);
-    out << "4\n8\n";
-  }
-  const auto good = DeliveryTrace::load(path.string());
-  ASSERT_TRUE(good.ok());
-  EXPECT_EQ(good->period(), 8ms);
-  std::filesystem::remove(path);
-  const auto missing = DeliveryTrace::load("/nonexistent/drive.trace");
-  ASSERT_FALSE(missing.ok());
-  EXPECT_EQ(missing.error().detail, "/nonexistent/drive.trace: cannot open the delivery trace: No such file or directory");
-}
-
 }  // namespace
 }  // namespace ocp

@@ -1,5 +1,6 @@
-// OCP_INVARIANT stops the process with the condition and the reason in the builds that check
-// invariants (sanitizer, fuzz), and costs nothing in release builds.
+// OCP_INVARIANT stops the process with the condition and the reason in every build, release
+// included; OCP_INVARIANT_DEEP only in the builds that check invariants (sanitizer, fuzz), and
+// costs nothing in release builds.
 #include "ocp/invariant.hpp"
 
 #include <gtest/gtest.h>
@@ -9,14 +10,18 @@
 namespace ocp {
 namespace {
 
-#if defined(OCP_INVARIANTS)
-TEST(Invariant, ABrokenInvariantStopsTheProcessAndSaysWhy) {
+TEST(Invariant, ABrokenInvariantStopsTheProcessAndSaysWhyInEveryBuild) {
   EXPECT_DEATH(OCP_INVARIANT(1 + 1 == 3, "arithmetic holds"), "invariant broken: 1 \\+ 1 == 3 \\(arithmetic holds\\)");
 }
+
+#if defined(OCP_INVARIANTS)
+TEST(Invariant, ABrokenDeepInvariantStopsTheProcessAndSaysWhy) {
+  EXPECT_DEATH(OCP_INVARIANT_DEEP(1 + 1 == 3, "arithmetic holds"), "invariant broken: 1 \\+ 1 == 3 \\(arithmetic holds\\)");
+}
 #else
-TEST(Invariant, ReleaseBuildsDoNotEvaluateTheCondition) {
+TEST(Invariant, ReleaseBuildsDoNotEvaluateADeepCondition) {
   int evaluated = 0;
-  OCP_INVARIANT(++evaluated == 0, "never checked here");
+  OCP_INVARIANT_DEEP(++evaluated == 0, "never checked here");
   EXPECT_EQ(evaluated, 0);
 }
 #endif

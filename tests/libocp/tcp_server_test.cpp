@@ -1,5 +1,5 @@
 // TcpServer on real loopback sockets: ephemeral ports, accepted streams, clear bind errors.
-#include "ocp/tcp_server.hpp"
+#include "ocp/asio/tcp_server.hpp"
 
 #include <gtest/gtest.h>
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "ocp/tcp_stream.hpp"
+#include "ocp/asio/tcp_stream.hpp"
 #include "tcp_peers.hpp"
 
 namespace ocp {

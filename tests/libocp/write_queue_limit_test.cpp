@@ -10,10 +10,10 @@
 #include <optional>
 #include <string>
 
-#include "ocp/asio_executor.hpp"
+#include "ocp/asio/executor.hpp"
 #include "ocp/framed_connection.hpp"
 #include "ocp/pipe.hpp"
-#include "ocp/tcp_stream.hpp"
+#include "ocp/asio/tcp_stream.hpp"
 #include "ocp/virtual_executor.hpp"
 #include "tcp_peers.hpp"
 

@@ -5,7 +5,7 @@
 #include <future>
 #include <thread>
 
-#include "ocp/asio_executor.hpp"
+#include "ocp/asio/executor.hpp"
 #include "scenario_test_support.hpp"
 #include "vehicle_app/tcp_runner.hpp"
 

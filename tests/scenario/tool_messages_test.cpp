@@ -14,6 +14,7 @@
 #include <sstream>
 #include <thread>
 
+#include "child_process.hpp"
 #include "scenario_test_support.hpp"
 
 namespace ocp::scenario {
@@ -27,14 +28,8 @@ struct ToolRun {
 };
 
 ToolRun run_tool_capturing(const std::string& arguments) {
-  ToolRun run;
-  FILE* pipe = popen((std::string(OCP_SCENARIO_PATH) + " " + arguments + " 2>&1").c_str(), "r");
-  if (pipe == nullptr) return run;
-  char buffer[4096];
-  for (std::size_t n; (n = fread(buffer, 1, sizeof buffer, pipe)) > 0;) run.output.append(buffer, n);
-  const int status = pclose(pipe);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
+  const ocp::test::CommandRun ran = ocp::test::run_command(std::string(OCP_SCENARIO_PATH) + " " + arguments);
+  return ToolRun{ran.exit_code, ran.output};
 }
 
 // A scratch folder per test process.
@@ -103,75 +98,7 @@ TEST_F(ToolTest, RepeatEndsWithOneSummaryPerExpectation) {
 }
 
 // The tool in a child process with its output on a pipe, to signal it mid-run.
-class Child {
- public:
-  explicit Child(const std::vector<std::string>& arguments) {
-    int fds[2];
-    if (pipe(fds) != 0) return;
-    pid_ = fork();
-    if (pid_ == 0) {
-      dup2(fds[1], STDOUT_FILENO);
-      dup2(fds[1], STDERR_FILENO);
-      close(fds[0]);
-      close(fds[1]);
-      std::vector<char*> argv;
-      for (const std::string& argument : arguments) argv.push_back(const_cast<char*>(argument.c_str()));
-      argv.push_back(nullptr);
-      execv(argv[0], argv.data());
-      _exit(127);
-    }
-    close(fds[1]);
-    out_ = fds[0];
-  }
-  ~Child() {
-    if (pid_ > 0 && exit_code_ < 0) {
-      kill(pid_, SIGKILL);
-      waitpid(pid_, nullptr, 0);
-    }
-    if (out_ >= 0) close(out_);
-  }
-
-  // Reads until `text` has appeared (true) or `limit` passed or the output ended (false).
-  bool wait_for(const std::string& text, std::chrono::seconds limit) {
-    const auto deadline = std::chrono::steady_clock::now() + limit;
-    while (output_.find(text) == std::string::npos) {
-      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-      if (left.count() <= 0 || !read_some(static_cast<int>(left.count()))) return false;
-    }
-    return true;
-  }
-  // The exit code, once it exited within `limit` (-1: it did not, or it was killed by a signal).
-  int wait_exit(std::chrono::seconds limit) {
-    const auto deadline = std::chrono::steady_clock::now() + limit;
-    while (std::chrono::steady_clock::now() < deadline) {
-      while (read_some(10)) {}
-      int status = 0;
-      if (waitpid(pid_, &status, WNOHANG) == pid_) {
-        while (read_some(0)) {}
-        exit_code_ = WIFEXITED(status) ? WEXITSTATUS(status) : 1000 + WTERMSIG(status);
-        return exit_code_;
-      }
-    }
-    return -1;
-  }
-  void signal(int number) { kill(pid_, number); }
-  const std::string& output() const { return output_; }
-
- private:
-  bool read_some(int timeout_ms) {
-    pollfd fd{out_, POLLIN, 0};
-    if (poll(&fd, 1, timeout_ms) <= 0) return false;
-    char buffer[4096];
-    const ssize_t n = read(out_, buffer, sizeof buffer);
-    if (n <= 0) return false;
-    output_.append(buffer, static_cast<std::size_t>(n));
-    return true;
-  }
-  pid_t pid_ = -1;
-  int out_ = -1;
-  int exit_code_ = -1;
-  std::string output_;
-};
+using Child = ocp::test::ChildProcess;
 
 std::string read_text(const fs::path& path) {
   std::ifstream in(path);

@@ -2,7 +2,7 @@
 // The fast JSON path stays honest: the hand-written tokenizer (json_codec_tape.cpp's fast path)
 // and RapidJSON (tokenize_with_rapidjson) are run on the same bytes and must agree — the same
 // tape, or the same error. Shared by the unit test over the checked-in corpora and the
-// fuzz_json_tape_differential target. Needs libocp/src on the include path.
+// fuzz_json_tape_differential target. Needs libocp/codec/src on the include path.
 //
 // What is compared, and the one normalisation:
 //   * Fast path alone: it may decline any document (RapidJSON then parses it), but a document

@@ -19,8 +19,8 @@
 #include <vector>
 
 #include "framed_peer.hpp"
-#include "ocp/tcp_server.hpp"
-#include "ocp/tcp_stream.hpp"
+#include "ocp/asio/tcp_server.hpp"
+#include "ocp/asio/tcp_stream.hpp"
 
 namespace ocp::testing {
 

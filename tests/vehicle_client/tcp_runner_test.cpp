@@ -10,8 +10,8 @@
 #include <memory>
 #include <vector>
 
-#include "ocp/asio_executor.hpp"
-#include "ocp/tcp_server.hpp"
+#include "ocp/asio/executor.hpp"
+#include "ocp/asio/tcp_server.hpp"
 #include "streamer_peer.hpp"
 #include "tcp_peers.hpp"
 

@@ -1,9 +1,6 @@
 // player_sim's web view and --vehicle-tcp options, run as a user would: every bad value is a
 // clear error with exit code 2.
 #include <gtest/gtest.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <fstream>
@@ -12,7 +9,7 @@
 #include <thread>
 #include <vector>
 
-extern char** environ;
+#include "child_process.hpp"
 
 // tests/CMakeLists.txt defines the path of the built player_sim.
 #if !defined(OCP_PLAYER_SIM_PATH)
@@ -30,37 +27,9 @@ struct ProgramRun {
 // Runs player_sim to completion (killed after 30 s), stdout and stderr together.
 ProgramRun run_player_sim(std::vector<std::string> arguments) {
   arguments.insert(arguments.begin(), OCP_PLAYER_SIM_PATH);
-  char path[] = "/tmp/ocp_webview_options_XXXXXX";
-  const int fd = mkstemp(path);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_adddup2(&actions, fd, STDOUT_FILENO);
-  posix_spawn_file_actions_adddup2(&actions, fd, STDERR_FILENO);
-  std::vector<char*> argv;
-  for (auto& argument : arguments) argv.push_back(argument.data());
-  argv.push_back(nullptr);
-  pid_t pid = -1;
-  ProgramRun run;
-  if (posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ) == 0) {
-    int status = 0;
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-    while (waitpid(pid, &status, WNOHANG) != pid) {
-      if (std::chrono::steady_clock::now() > deadline) {
-        kill(pid, SIGKILL);
-        waitpid(pid, &status, 0);
-        break;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  }
-  posix_spawn_file_actions_destroy(&actions);
-  close(fd);
-  std::stringstream text;
-  text << std::ifstream(path).rdbuf();
-  run.output = text.str();
-  std::remove(path);
-  return run;
+  ocp::test::ChildProcess child(arguments);
+  const int code = child.wait_exit(std::chrono::seconds(30));
+  return ProgramRun{code >= 0 && code < 1000 ? code : -1, child.output()};
 }
 
 TEST(PlayerSimOptions, BadWebviewAndVehicleTcpValuesExitTwo) {

@@ -24,6 +24,17 @@ std::uint64_t control_latency_at(const TraceRecorder& trace, SimTime time) {
   return 0;
 }
 
+// A condition that never holds: run_until_condition says so, and the world ran to the limit.
+TEST(WorldFaults, ANeverMetConditionRunsTheWorldToItsLimitAndSaysFalse) {
+  VirtualWorld sim(one_vehicle_config());
+  ASSERT_TRUE(sim.start());
+  const SimTime start = sim.now();
+  int checks = 0;
+  EXPECT_FALSE(sim.run_until_condition([&] { return ++checks < 0; }, Millis{2000}));
+  EXPECT_GT(checks, 1);
+  EXPECT_EQ(sim.now(), start + Millis{2000});
+}
+
 TEST(WorldFaults, HighLatencyFollowsTheLinkDelayAcrossTheLimit) {
   VirtualWorld sim(one_vehicle_config());
   ASSERT_TRUE(sim.start());

@@ -4,7 +4,7 @@
 
 #include <boost/asio/io_context.hpp>
 
-#include "ocp/asio_executor.hpp"
+#include "ocp/asio/executor.hpp"
 #include "world/stream_tap.hpp"
 #include "world/world.hpp"
 

@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 
+#include "ocp/invariant.hpp"
+
 namespace ocp {
 namespace {
 
@@ -170,6 +172,10 @@ const SafetyOutput& SafetyLayer::evaluate(SimTime now) {
       output_.safe_state ? ActuatorCommand{0.0, config_.safe_brake, output_.command.steer} : requested_;
   apply_limits(target, output_.safe_state, now);
   output_.evaluated_at = now;
+  OCP_INVARIANT(output_.safe_state == !reasons.empty(), "the safe state holds exactly while a safety reason does");
+  OCP_INVARIANT(!output_.safe_state || output_.command.throttle == 0.0, "no throttle in the safe state");
+  OCP_INVARIANT(!(never_received || timed_out || telemetry_fault_) || output_.drive_state == DriveState::disabled,
+                "a missing, late or faulted control stream disables driving");
   return output_;
 }
 
@@ -194,6 +200,8 @@ void SafetyLayer::apply_limits(const ActuatorCommand& target, bool safe, SimTime
                          : step_toward(command.throttle, throttle, config_.throttle_rate_per_s * dt_s);
   command.brake = step_toward(command.brake, brake, config_.brake_rate_per_s * dt_s);
   command.steer = step_toward(command.steer, steer, config_.steer_rate_per_s * dt_s);
+  OCP_INVARIANT(command.throttle >= 0.0 && command.throttle <= std::max(config_.max_throttle, 0.0) + 1e-12,
+                "throttle stays within [0, max_throttle]");
 }
 
 }  // namespace ocp

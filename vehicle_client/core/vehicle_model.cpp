@@ -5,6 +5,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "ocp/invariant.hpp"
+
 namespace ocp {
 namespace {
 
@@ -111,6 +113,8 @@ void KinematicBicycle::step(const ActuatorCommand& command, Micros dt) {
   state_.position_m += Eigen::Rotation2Dd(state_.yaw_rad) * displacement_m;
   state_.yaw_rad = std::remainder(state_.yaw_rad + yaw_change_rad, 2.0 * std::numbers::pi);
   state_.geodetic = plane_.to_geodetic(state_.position_m);
+  OCP_INVARIANT(state_.speed_mps >= 0.0 && state_.speed_mps <= params_.max_speed_mps, "speed stays in [0, max_speed]: no reverse gear");
+  OCP_INVARIANT(distance_m >= 0.0, "the odometer never runs backwards");
 }
 
 int KinematicBicycle::advance_to(SimTime now, const ActuatorCommand& command, Micros step_size) {

@@ -16,9 +16,12 @@
 
 #include "ocp/invariant.hpp"
 #include "ocp/link_messages.hpp"
-#include "world/world.hpp"
 
+// Below the World that uses it: the hand-over knows a Streamer only by a pointer, and takes
+// the receiving thread's poster as a plain function (World's StreamerThread::Poster).
 namespace ocp {
+
+class StreamerCore;
 
 // Where a handed-over message goes: to a Streamer, or to the Player from a vehicle.
 struct ToStreamer {
@@ -40,7 +43,8 @@ class LinkHandover {
   using OnOverflow = std::function<void(std::uint64_t dropped)>;
   static constexpr std::size_t default_max_queued = 1 << 18;   // > 1 s of a 1 000-vehicle fleet's link traffic
 
-  LinkHandover(StreamerThread::Poster post, Deliver deliver, OnOverflow on_overflow,
+  using Poster = std::function<void(std::function<void()>)>;
+  LinkHandover(Poster post, Deliver deliver, OnOverflow on_overflow,
                std::size_t max_queued = default_max_queued)
       : post_(std::move(post)),
         deliver_(std::move(deliver)),
@@ -84,7 +88,7 @@ class LinkHandover {
     }
   }
 
-  StreamerThread::Poster post_;
+  Poster post_;
   Deliver deliver_;
   OnOverflow on_overflow_;
   const std::size_t max_queued_;

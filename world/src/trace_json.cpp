@@ -7,6 +7,7 @@
 #include <type_traits>
 
 #include "ocp/delivery_trace.hpp"
+#include "ocp/impairments.hpp"
 #include "ocp/link_recording.hpp"
 #include "world/trace.hpp"
 

@@ -2,6 +2,8 @@
 
 #include <utility>
 
+#include "ocp/invariant.hpp"
+
 namespace ocp {
 namespace {
 
@@ -35,6 +37,7 @@ bool VirtualWorld::run_until_condition(const std::function<bool()>& condition, M
     if (condition()) return true;
   }
   executor_.run_until(end);
+  OCP_INVARIANT(executor_.now() >= end, "a run that never met its condition ran to its limit");
   return condition();
 }
 

@@ -6,6 +6,7 @@
 #include <utility>
 #include <variant>
 
+#include "ocp/invariant.hpp"
 #include "ocp/pipe.hpp"
 #include "streamer/control_ticker.hpp"
 #include "link_handover.hpp"
@@ -184,6 +185,7 @@ void World::discard_vehicles() {
   }
   by_name_.clear();
   vehicles_.clear();
+  OCP_INVARIANT(by_name_.empty() && vehicles_.empty(), "a discarded fleet leaves no vehicle behind");
 }
 
 // One hand-over per Streamer thread and one to the World's thread; messages still in flight
@@ -212,6 +214,7 @@ void World::create_link_handovers() {
                                                         overflow(fmt::format("Streamer thread {}", index))));
   }
   to_world_ = std::make_unique<LinkHandover>(post_to_world_, deliver, overflow("the Player"));
+  OCP_INVARIANT(handovers_.size() == streamer_threads_.size(), "one link hand-over per Streamer thread");
 }
 
 // Messages still in flight after stop() are dropped here.

@@ -90,7 +90,7 @@ void PlayerSimulation::attach_remote_streamer(const std::string& vehicle) {
   sim_app::UdpComEndpoint& com = *coms_.at(vehicle);
   world_.streamer(vehicle).stop();
   link.to_player().set_receiver([](LinkMessage&&) {});
-  link.to_streamer().set_receiver([&com](LinkMessage&& message) { com.send(message); });
+  link.to_streamer().set_receiver(forward_to(com));
   com.set_receiver([this, vehicle](LinkMessage&& message) { world_.player().handle_link_message(vehicle, std::move(message)); });
 }
 

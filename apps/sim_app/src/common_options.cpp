@@ -10,6 +10,7 @@
 #include "ocp/cli_paths.hpp"
 #include "ocp/number_text.hpp"
 #include "ocp/exit_codes.hpp"
+#include "sim_app/file_loaders.hpp"
 
 namespace ocp::sim_app {
 
@@ -206,7 +207,7 @@ Status finish_common_options(CommonOptions& options) {
   for (auto [path, trace] : {std::pair{&options.link_trace_up_path, &options.link_trace_up},
                              std::pair{&options.link_trace_down_path, &options.link_trace_down}}) {
     if (path->empty()) continue;
-    auto loaded = DeliveryTrace::load(*path);
+    auto loaded = load_delivery_trace(*path);
     if (!loaded) return usage_error(loaded.error().detail);
     *trace = std::make_shared<const DeliveryTrace>(std::move(loaded).value());
   }

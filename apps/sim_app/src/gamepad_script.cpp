@@ -5,6 +5,7 @@
 #include <numbers>
 #include <string_view>
 
+#include "sim_app/file_loaders.hpp"
 #include "sim_app/linux_joystick.hpp"
 
 namespace ocp::sim_app {
@@ -65,7 +66,7 @@ Result<GamepadScript> parse_gamepad_script(const std::string& text) {
     }
     return script;
   }
-  auto recording = load_recording_file(text);
+  auto recording = load_gamepad_recording(text);
   if (!recording) {
     return Error{recording.error().code,
                  "--gamepad '" + text + "': not idle, drive or a readable recording file: " +

@@ -201,7 +201,7 @@ std::uint16_t UdpComEndpoint::local_port() const {
   return failed ? 0 : local.port();
 }
 
-void UdpComEndpoint::send(const LinkMessage& message) {
+void UdpComEndpoint::send(LinkMessage message) {
   if (!peer_ || !socket_.is_open()) return;
   outgoing_.clear();
   if (!session_.established()) {

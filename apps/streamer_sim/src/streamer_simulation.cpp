@@ -94,7 +94,7 @@ void StreamerSimulation::attach_remote_operator() {
   ComChannel& link = world_.link(options_.vehicle);
   world_.player().stop();
   link.to_streamer().set_receiver([](LinkMessage&&) {});
-  link.to_player().set_receiver([this](LinkMessage&& message) { com_->send(message); });
+  link.to_player().set_receiver(forward_to(*com_));
   com_->set_receiver([this](LinkMessage&& message) { streamer().handle_link_message(std::move(message)); });
 }
 

@@ -6,8 +6,8 @@
 #include <csignal>
 #include <string>
 
-#include "ocp/asio_executor.hpp"
-#include "ocp/latency_window.hpp"
+#include "ocp/asio/executor.hpp"
+#include "sim_app/latency_window.hpp"
 #include "ocp/log.hpp"
 #include "vehicle_app/options.hpp"
 #include "vehicle_app/tcp_runner.hpp"

@@ -7,7 +7,7 @@
 #include <boost/asio/error.hpp>
 #include <charconv>
 
-#include "ocp/tcp_stream.hpp"
+#include "ocp/asio/tcp_stream.hpp"
 
 namespace ocp {
 

@@ -21,10 +21,10 @@
 #include <string_view>
 #include <vector>
 
-#include "ocp/asio_executor.hpp"
+#include "ocp/asio/executor.hpp"
 #include "ocp/error.hpp"
 #include "ocp/log.hpp"
-#include "ocp/tcp_server.hpp"
+#include "ocp/asio/tcp_server.hpp"
 #include "streamer/streamer_core.hpp"
 #include "world/world.hpp"
 

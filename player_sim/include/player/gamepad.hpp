@@ -69,7 +69,7 @@ struct Recording {
 
 // Parses the text format above; errors name the line ("line 3: unknown field 'foo'").
 Result<Recording> parse_recording(std::string_view text);
-Result<Recording> load_recording_file(const std::string& path);
+// (Reading a recording file is the app layer's job: sim_app::load_gamepad_recording.)
 // Writes the text format (round-trips through parse_recording for values it can print).
 std::string format_recording(const Recording& recording);
 

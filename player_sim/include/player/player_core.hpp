@@ -1,7 +1,7 @@
 #pragma once
 // PlayerCore: the operator station (SPEC §4, §5 player part, §6 operator faults, §7, §8).
 //
-// Sans-IO: time comes from the injected Executor, vehicles are reached through LinkDirections
+// Sans-IO: time comes from the injected Executor, vehicles are reached through Links (ocp/link.hpp)
 // (the fake com channel) and the operator TCP client through a ByteStream (pipe or socket —
 // same code). Nothing here reads a clock or opens a socket.
 //
@@ -42,7 +42,7 @@
 
 #include "ocp/byte_stream.hpp"
 #include "ocp/client_source.hpp"
-#include "ocp/com_channel.hpp"
+#include "ocp/link.hpp"
 #include "ocp/error.hpp"
 #include "ocp/event_bus.hpp"
 #include "ocp/executor.hpp"
@@ -128,7 +128,7 @@ class PlayerCore {
   // Links a Streamer. `to_streamer` must outlive the PlayerCore (or stop()). A monitor link
   // receives feedback and video but is sent no OperatorControl. Without config.fleet a second
   // vehicle is a configuration error; duplicate names are errors too.
-  [[nodiscard]] Status add_vehicle(const std::string& name, LinkDirection* to_streamer,
+  [[nodiscard]] Status add_vehicle(const std::string& name, Link* to_streamer,
                                    bool monitor = false);
   // Unlinks a vehicle while the Player is stopped, so that a caller taking back the link it
   // gave (a World whose start failed part-way) leaves no pointer to it behind. Error while

@@ -2,7 +2,7 @@
 // StreamerCore: the complete vehicle-side behaviour of the OCP Streamer (SPEC §2, §3, §5, §6,
 // §8) as a sans-IO state machine. It never touches a socket or a clock: time comes from the
 // injected Executor, the vehicle client is an ocp::ByteStream (in-memory pipe or TCP — same
-// code), and the Player is reached through an ocp::LinkDirection.
+// code), and the Player is reached through an ocp::Link.
 //
 // Call order:
 //   StreamerCore core(executor, config, logger);
@@ -78,7 +78,7 @@
 #include <vector>
 
 #include "ocp/byte_stream.hpp"
-#include "ocp/com_channel.hpp"
+#include "ocp/link.hpp"
 #include "ocp/error.hpp"
 #include "ocp/event_bus.hpp"
 #include "ocp/framed_connection.hpp"
@@ -150,7 +150,7 @@ class StreamerCore {
   void start();   // control ticker (absolute 10 ms deadlines), frame loop, cameras
   void stop();    // stops timers and closes the vehicle connection
 
-  void set_link(LinkDirection* to_player);            // where feedback, video, pongs go
+  void set_link(Link* to_player);                     // where feedback, video, pongs go
   // Before start(): tick on a ControlTicker shared with other Streamers of this executor
   // instead of a timer of its own (fleet scale; see control_ticker.hpp). Used only when its
   // period is control_period; the ticker must outlive this core. nullptr: own timer.

@@ -39,7 +39,7 @@
 #include <string_view>
 #include <vector>
 
-#include "ocp/asio_executor.hpp"
+#include "ocp/asio/executor.hpp"
 #include "ocp/error.hpp"
 #include "ocp/log.hpp"
 #include "player/player_core.hpp"

@@ -25,7 +25,7 @@
 #include "ocp/delivery_trace.hpp"
 #include "ocp/error.hpp"
 #include "ocp/log.hpp"
-#include "ocp/plugin_params.hpp"
+#include "sim_app/plugin_params.hpp"
 #include "sim_app/gamepad_script.hpp"
 #include "sim_app/simulated_world_options.hpp"
 #include "streamer/streamer_core.hpp"

@@ -16,7 +16,7 @@
 #include <optional>
 #include <string>
 
-#include "ocp/asio_executor.hpp"
+#include "ocp/asio/executor.hpp"
 #include "ocp/log.hpp"
 
 namespace ocp::sim_app {

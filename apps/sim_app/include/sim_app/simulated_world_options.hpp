@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "ocp/com_channel.hpp"
-#include "ocp/plugin_params.hpp"
+#include "sim_app/plugin_params.hpp"
 #include "sim_app/gamepad_script.hpp"
 #include "streamer/streamer_core.hpp"
 

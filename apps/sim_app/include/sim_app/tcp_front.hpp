@@ -14,10 +14,10 @@
 #include <memory>
 #include <string>
 
-#include "ocp/asio_executor.hpp"
+#include "ocp/asio/executor.hpp"
 #include "ocp/byte_stream.hpp"
 #include "ocp/log.hpp"
-#include "ocp/tcp_server.hpp"
+#include "ocp/asio/tcp_server.hpp"
 #include "world/world.hpp"
 
 namespace ocp::sim_app {

@@ -20,11 +20,12 @@
 #include <optional>
 #include <string>
 
-#include "ocp/asio_executor.hpp"
+#include "ocp/asio/executor.hpp"
 #include "ocp/com_datagram.hpp"
 #include "ocp/com_session.hpp"
 #include "ocp/error.hpp"
 #include "ocp/executor.hpp"
+#include "ocp/link.hpp"
 #include "ocp/log.hpp"
 #include "ocp/log_limiter.hpp"
 
@@ -62,12 +63,14 @@ struct UdpComCounters {
   std::uint64_t hellos_sent = 0;
 };
 
-class UdpComEndpoint {
+// The com channel over UDP as a Link (ocp/link.hpp): the second implementation beside the
+// simulated LinkDirection. The apps keep a LinkDirection in front of it (its receiver is this
+// endpoint), so the impairments still apply at the sender before a message leaves the host.
+class UdpComEndpoint final : public Link {
  public:
-  using Receiver = std::function<void(LinkMessage&&)>;
   // `streamer_side`: this end is the Streamer's (listens; accepts OperatorControl and Ping).
   UdpComEndpoint(AsioExecutor& executor, bool streamer_side, com::ComKey key, Logger logger);
-  ~UdpComEndpoint();
+  ~UdpComEndpoint() override;
   UdpComEndpoint(const UdpComEndpoint&) = delete;
   UdpComEndpoint& operator=(const UdpComEndpoint&) = delete;
 
@@ -75,9 +78,9 @@ class UdpComEndpoint {
   [[nodiscard]] Status listen(const boost::asio::ip::udp::endpoint& local);
   // Player's end: a socket on a free port, sending to `peer`.
   [[nodiscard]] Status connect(const boost::asio::ip::udp::endpoint& peer);
-  void set_receiver(Receiver receiver) { receiver_ = std::move(receiver); }
+  void set_receiver(Receiver receiver) override { receiver_ = std::move(receiver); }
   // Seals and sends; nothing while the Streamer's end has not heard from a Player yet.
-  void send(const LinkMessage& message);
+  void send(LinkMessage message) override;
   void stop();
 
   std::uint16_t local_port() const;

@@ -9,11 +9,11 @@
 #include <string>
 #include <vector>
 
-#include "ocp/asio_executor.hpp"
+#include "ocp/asio/executor.hpp"
 #include "ocp/com_channel.hpp"
-#include "ocp/latency_window.hpp"
+#include "sim_app/latency_window.hpp"
 #include "ocp/log.hpp"
-#include "ocp/plugin_params.hpp"
+#include "sim_app/plugin_params.hpp"
 #include "world/world.hpp"
 #include "sim_app/gamepad_script.hpp"
 #include "sim_app/pair_rejection_notes.hpp"

@@ -10,7 +10,7 @@
 #include <string>
 #include <string_view>
 
-#include "ocp/asio_executor.hpp"
+#include "ocp/asio/executor.hpp"
 #include "ocp/error.hpp"
 #include "ocp/log.hpp"
 #include "vehicle_client/vehicle_client.hpp"
