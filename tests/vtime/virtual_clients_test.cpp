@@ -91,6 +91,13 @@ TEST(VirtualTimeClients, PythonExampleEchoesEveryPairOnTheWorldsClock) {
               static_cast<unsigned long long>(ran.run.stats.messages));
 }
 
+std::string first_difference(const std::string& a, const std::string& b) {
+  std::size_t at = 0;
+  while (at < a.size() && at < b.size() && a[at] == b[at]) ++at;
+  const std::size_t line = a.rfind('\n', at) + 1;
+  return a.substr(line, a.find('\n', at) - line) + "\n" + b.substr(line, b.find('\n', at) - line);
+}
+
 // The same seed gives the same trace, byte for byte, every time: the client's echoes land at
 // the same virtual instants whatever the machine's load.
 TEST(VirtualTimeClients, SameSeedSameTraceTenTimes) {
@@ -102,7 +109,8 @@ TEST(VirtualTimeClients, SameSeedSameTraceTenTimes) {
       traces.insert(ran.run.result.trace_jsonl);
       lines = ran.run.result.trace_lines;
     }
-    EXPECT_EQ(traces.size(), 1u) << name << ": " << traces.size() << " different traces in 10 runs";
+    EXPECT_EQ(traces.size(), 1u) << name << ": " << traces.size() << " different traces in 10 runs; first difference:\n"
+                                 << first_difference(*traces.begin(), *traces.rbegin());
     EXPECT_GT(lines, 1000u) << name;
   }
 }
@@ -128,6 +136,18 @@ std::vector<std::int64_t> connection_times(const std::string& trace, const std::
   return times;
 }
 
+std::string lines_with(const std::string& trace, const std::string& text) {
+  std::string out;
+  std::size_t at = 0;
+  while ((at = trace.find(text, at)) != std::string::npos) {
+    const std::size_t begin = trace.rfind('\n', at) + 1;
+    const std::size_t end = trace.find('\n', at);
+    out += trace.substr(begin, end - begin) + "\n";
+    at = end;
+  }
+  return out;
+}
+
 // A keep-alive every 2 001 ms is 1 ms too slow: the Streamer closes the connection after
 // exactly 2 000 ms without a byte, every run. One every 1 999 ms keeps it.
 TEST(VirtualTimeClients, KeepAliveOneMillisecondTooSlowIsClosedAtExactlyTwoSeconds) {
@@ -143,7 +163,8 @@ TEST(VirtualTimeClients, KeepAliveOneMillisecondTooSlowIsClosedAtExactlyTwoSecon
 
   const Ran fast = run_client(world_yaml("3s", "  faults:\n    - {fault: InvalidMac, never: true, from: 5s}\n"),
                               {OCP_PYTHON3_PATH, script, "{port}", "1.999"}, {}, true);
-  EXPECT_TRUE(connection_times(fast.run.result.trace_jsonl, "closed").empty()) << "1 999 ms is within the read timeout";
+  EXPECT_TRUE(connection_times(fast.run.result.trace_jsonl, "closed").empty())
+      << "1 999 ms is within the read timeout; connection events:\n" << lines_with(fast.run.result.trace_jsonl, "\"connection\"");
 }
 
 // A static binary never loads the shim: refused within the handshake timeout, with the way out.

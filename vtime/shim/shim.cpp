@@ -585,6 +585,12 @@ int connect(int fd, const sockaddr* address, socklen_t length) {
     const in6_addr& ip = reinterpret_cast<const sockaddr_in6*>(address)->sin6_addr;
     loopback = IN6_IS_ADDR_LOOPBACK(&ip) || (IN6_IS_ADDR_V4MAPPED(&ip) && ip.s6_addr[12] == 127);
   }
+  if (loopback && result != 0) {
+    // Loopback's handshake completes in the kernel's own time: wait for it here, so that the
+    // connection exists (or was refused) at this virtual instant, whatever the machine's load.
+    pollfd done{fd, POLLOUT, 0};
+    for (int spins = 0; spins < 100'000 && REAL(poll)(&done, 1, 0) == 0; ++spins) sched_yield();
+  }
   if (loopback) {
     sockaddr_storage local{};
     socklen_t size = sizeof local;
@@ -602,6 +608,8 @@ int connect(int fd, const sockaddr* address, socklen_t length) {
           ShimMessage connected{};
           connected.kind = ShimKind::connected;
           connected.port = port;
+          connected.remote_port = address->sa_family == AF_INET ? ntohs(reinterpret_cast<const sockaddr_in*>(address)->sin_port)
+                                                                 : ntohs(reinterpret_cast<const sockaddr_in6*>(address)->sin6_port);
           send_message(connected);
         }
         break;

@@ -20,6 +20,7 @@
 #include <fstream>
 #include <map>
 #include <optional>
+#include <set>
 #include <thread>
 
 #include "proc_scan.hpp"
@@ -117,6 +118,7 @@ struct Controller::Impl {
   std::map<int, ThreadRecord> threads;            // by control connection
   std::map<pid_t, ProcessRecord> processes;
   std::map<std::uint32_t, pid_t> connected_ports; // announced by a shim
+  std::set<std::uint16_t> to_accept;              // connected to a listener of ours, not accepted yet
   std::vector<Listener> listeners;
   std::vector<std::shared_ptr<SocketStream>> streams;
   std::vector<Expected> expected;
@@ -253,11 +255,15 @@ struct Controller::Impl {
         break;
       case ShimKind::connected:
         connected_ports[message.port] = thread.pid;
+        for (const Listener& listener : listeners) {
+          if (listener.fd >= 0 && listener.port == message.remote_port) to_accept.insert(static_cast<std::uint16_t>(message.port));
+        }
         std::erase_if(unclaimed, [&](const Unclaimed& u) { return u.port == message.port; });
         trace_line("thread " + std::to_string(thread.tid) + " connected from port " + std::to_string(message.port));
         break;
       case ShimKind::closed:
         process.closed[message.port] = Clock::now();
+        to_accept.erase(static_cast<std::uint16_t>(message.port));
         trace_line("thread " + std::to_string(thread.tid) + " closed port " + std::to_string(message.port));
         break;
       case ShimKind::hello:
@@ -319,7 +325,9 @@ struct Controller::Impl {
     for (std::size_t i = 0; i < pids.size(); ++i) {
       if (!asleep_in_both(first[i], look_at_threads(pids[i]))) return false;
     }
-    return true;
+    // A process that forked just before the first look and fell asleep is asleep in both; its
+    // child is not in `pids`: the same processes must still be all there are.
+    return watched_pids() == pids;
   }
 
   std::string awake_description() {
@@ -412,7 +420,24 @@ struct Controller::Impl {
 
   // ------------------------------------------------------------ the OCP connections
 
+  // Every connection a client made at this instant (the shim announced it: the kernel may not
+  // have queued it yet under load, so wait for it, bounded).
   void accept_connections() {
+    const auto give_up = Clock::now() + std::chrono::seconds(1);
+    accept_queued();
+    while (!to_accept.empty() && Clock::now() < give_up) {
+      std::vector<pollfd> fds;
+      for (const Listener& listener : listeners) {
+        if (listener.fd >= 0) fds.push_back({listener.fd, POLLIN, 0});
+      }
+      if (fds.empty()) break;
+      (void)::poll(fds.data(), fds.size(), 1);
+      accept_queued();
+    }
+    to_accept.clear();
+  }
+
+  void accept_queued() {
     for (Listener& listener : listeners) {
       while (listener.fd >= 0) {
         sockaddr_in peer{};
@@ -420,6 +445,7 @@ struct Controller::Impl {
         const int fd = accept4(listener.fd, reinterpret_cast<sockaddr*>(&peer), &size, SOCK_NONBLOCK | SOCK_CLOEXEC);
         if (fd < 0) break;
         const std::uint16_t port = ntohs(peer.sin_port);
+        to_accept.erase(port);
         auto stream = std::make_shared<SocketStream>(executor, fd, port, "127.0.0.1 (connection " + std::to_string(++accepted) + ")");
         claim_slot(port);
         streams.push_back(stream);
@@ -514,7 +540,7 @@ struct Controller::Impl {
       if (!thread.blocked) continue;
       if (thread.deadline <= now) {
         send_to(fd, thread, ControlKind::wake);
-      } else if (delivered) {
+      } else if (delivered && thread.wait != WaitKind::sleep) {   // a sleep waits for nothing delivered
         send_to(fd, thread, ControlKind::poke);
       }
     }

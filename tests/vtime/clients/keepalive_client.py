@@ -35,7 +35,7 @@ while True:
         message = json.loads(buffer[4:4 + length])
         buffer = buffer[4 + length:]
         pair = (message["ack_time"], message["ack_time_mac"])
-    payload = json.dumps({"ack_time": pair[0], "ack_time_mac": pair[1], "vehicle_user_data": {"pos": None}}).encode()
+    payload = json.dumps({"ack_time": pair[0], "ack_time_mac": pair[1], "vehicle_user_data": {"pos": None, "user_data": {}}}).encode()
     try:
         sock.sendall(struct.pack("<I", len(payload)) + payload)
     except OSError:

@@ -58,7 +58,8 @@ struct ShimMessage {
   std::int32_t tid;
   std::uint64_t seq;
   std::int64_t deadline_us;   // virtual; no_deadline when none
-  std::uint32_t port;         // connected / closed
+  std::uint32_t port;         // connected / closed: the client's local port
+  std::uint32_t remote_port;  // connected: the port it connected to
   std::uint32_t reported;     // entries used in `written`
   WrittenCount written[max_reported];
 };
