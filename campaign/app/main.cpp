@@ -96,7 +96,7 @@ struct RunCommand {
   bool quiet = false;
   std::optional<std::string> client;   // --client: worlds in real time against this vehicle client
   std::optional<double> max_world_seconds;
-  std::string time = "virtual";          // --time: the client's clock
+  std::string time = "real";             // --time: the client's clock (virtual: docs/virtual-time.md)
   double world_timeout_seconds = 120;    // --world-timeout: wall time per virtual-time world
   std::string wait_trace;                // --wait-trace FILE: every client thread's waits
 };

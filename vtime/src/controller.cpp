@@ -272,12 +272,13 @@ struct Controller::Impl {
     (void)fd;
   }
 
-  // Reads every message waiting; with `wait_ms` > 0, first waits that long for one.
-  void pump(int wait_ms) {
+  // Reads every message waiting; with `wait_ms` > 0, first waits that long for one. True when
+  // anything came.
+  bool pump(int wait_ms) {
     std::vector<pollfd> fds;
     fds.push_back({control_fd, POLLIN, 0});
     for (const auto& [fd, thread] : threads) fds.push_back({fd, POLLIN, 0});
-    if (::poll(fds.data(), fds.size(), wait_ms) <= 0) return;
+    if (::poll(fds.data(), fds.size(), wait_ms) <= 0) return false;
     if (fds[0].revents & POLLIN) accept_threads();
     for (std::size_t i = 1; i < fds.size(); ++i) {
       if (fds[i].revents == 0) continue;
@@ -293,6 +294,7 @@ struct Controller::Impl {
         break;
       }
     }
+    return true;
   }
 
   // ------------------------------------------------------------ quiescence
@@ -328,6 +330,24 @@ struct Controller::Impl {
     // A process that forked just before the first look and fell asleep is asleep in both; its
     // child is not in `pids`: the same processes must still be all there are.
     return watched_pids() == pids;
+  }
+
+  // Why the clients are not quiescent yet, for the wait trace.
+  std::string waiting_for() {
+    std::string out;
+    for (const auto& [fd, thread] : threads) {
+      if (!thread.blocked) out += "thread " + std::to_string(thread.tid) + " (pid " + std::to_string(thread.pid) + ") runs; ";
+    }
+    if (expecting_a_greeting()) out += "a launched process has no shim yet; ";
+    if (!unclaimed.empty()) out += "a connection no shim announced; ";
+    out += "/proc: ";
+    out += awake_description();
+    out += "; watched:";
+    for (const pid_t pid : watched_pids()) {
+      out += ' ';
+      out += std::to_string(pid);
+    }
+    return out;
   }
 
   std::string awake_description() {
@@ -395,15 +415,22 @@ struct Controller::Impl {
   void settle() {
     ++stats.settles;
     int naps = 0;
+    int quiet = 0;   // 1 ms waits in a row without a message
     for (int round = 0;; ++round) {
       pump(0);
-      if (!expecting_a_greeting() && unclaimed.empty() && asleep_in_proc()) {
+      const bool all_said_so = all_blocked_by_record();
+      // /proc is looked at only when it can say yes: every thread said it waits, or the one
+      // that runs has been silent a while (it may be in a wait the shim does not wrap).
+      if ((all_said_so || quiet >= 2) && !expecting_a_greeting() && unclaimed.empty() && asleep_in_proc()) {
         pump(0);   // what a thread sent before it fell asleep
         break;
       }
-      if ((round & 15) == 15) check_limits();
-      if (!all_blocked_by_record()) {
-        pump(1);   // mostly, the next BLOCKED ends this wait at once
+      if ((round & 15) == 15) {
+        check_limits();
+        if (trace.is_open() && (round & 4095) == 4095) trace_line("still waiting for quiescence: " + waiting_for());
+      }
+      if (!all_said_so) {
+        quiet = pump(1) ? 0 : quiet + 1;   // mostly, the next BLOCKED ends this wait at once
         continue;
       }
       // Every thread said it waits, and one is not asleep yet: it is on its way.
@@ -503,9 +530,15 @@ struct Controller::Impl {
         }
         if (process.closed.erase(stream->peer_port()) > 0) expect_eof = true;
       }
+      const auto taking = Clock::now();
       const std::size_t got = stream->take(expected_bytes, expect_eof);
+      if (trace.is_open() && Clock::now() - taking > std::chrono::milliseconds(100)) {
+        trace_line("waited for the client's bytes on port " + std::to_string(stream->peer_port()) + ": expected " +
+                   std::to_string(expected_bytes) + (expect_eof ? " and its close" : "") + ", have " +
+                   std::to_string(stream->received_total()));
+      }
       stats.bytes_in += got;
-      if (got > 0 || !stream->is_open()) any = true;
+      if (stream->take_eof_news() || got > 0) any = true;
     }
     return any;
   }
@@ -559,11 +592,14 @@ struct Controller::Impl {
     std::size_t rounds_here = 0;
     SimTime last_instant = executor.now();
     while (true) {
+      const auto settling = Clock::now();
       settle();
+      settle_wall += Clock::now() - settling;
       const bool took = take_from_clients();
       executor.run_until(executor.now());
       const bool delivered = flush_to_clients();
       if (delivered || took) {
+        if ((rounds_here & 63) == 63) check_limits();
         if (++rounds_here > max_same_instant_rounds) {
           throw VirtualTimeError("the client and the simulator exchanged bytes " + std::to_string(max_same_instant_rounds) +
                                  " times without virtual time advancing");
@@ -587,8 +623,13 @@ struct Controller::Impl {
       }
       wake_due_and_poke(flush_to_clients());
     }
+    trace_line("run ended: " + std::to_string(stats.instants) + " instants, " + std::to_string(stats.settles) + " settles (" +
+               std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(settle_wall).count()) + " ms), " +
+               std::to_string(stats.proc_checks) + " /proc looks, " + std::to_string(stats.messages) + " messages, " +
+               std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - run_started).count()) + " ms wall");
     return executor.now();
   }
+  Clock::duration settle_wall{};
 };
 
 Controller::Controller(VirtualExecutor& executor, ControllerOptions options)

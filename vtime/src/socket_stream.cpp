@@ -98,6 +98,7 @@ std::size_t SocketStream::take(std::uint64_t expected, bool expect_eof) {
   const std::size_t size = got.size();
   if (!got.empty()) hand_over(std::move(got));
   if (eof_seen_) {
+    eof_news_ = true;
     open_ = false;
     hand_over_close("connection closed by peer");
   }

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include "ocp/byte_stream.hpp"
 #include "ocp/virtual_executor.hpp"
@@ -39,6 +40,8 @@ class SocketStream final : public ByteStream, public std::enable_shared_from_thi
   // client's close when `expect_eof`); hands it over at this instant. Returns the bytes read.
   std::size_t take(std::uint64_t expected, bool expect_eof);
   std::uint64_t received_total() const { return received_total_; }
+  // True once after take() saw the client's close.
+  bool take_eof_news() { return std::exchange(eof_news_, false); }
 
  private:
   void hand_over(std::string bytes);
@@ -52,6 +55,7 @@ class SocketStream final : public ByteStream, public std::enable_shared_from_thi
   bool open_ = true;            // for the simulator: false after close() or the peer's close
   bool close_requested_ = false;
   bool eof_seen_ = false;
+  bool eof_news_ = false;
   std::string outbox_;
   std::string early_;           // bytes taken before handlers were set
   bool early_close_ = false;
