@@ -18,6 +18,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <optional>
 #include <set>
@@ -128,6 +129,7 @@ struct Controller::Impl {
   std::uint64_t accepted = 0;
   std::uint64_t cpu_at_rest = 0;                  // client CPU ticks at the last quiescence
   std::map<pid_t, std::uint64_t> cpu_seen;
+  std::map<pid_t, Clock::time_point> unshimmed;   // in the client's tree, without the shim, since
 
   Impl(VirtualExecutor& executor_in, ControllerOptions options_in) : executor(executor_in), options(std::move(options_in)) {}
 
@@ -308,15 +310,42 @@ struct Controller::Impl {
 
   // The processes to look at: every one with a shim, and the launched ones and their children
   // without one yet (a shell script that runs the client, a program between exec and its hello).
-  std::vector<pid_t> watched_pids() const {
+  std::vector<pid_t> watched_pids() {
     std::vector<pid_t> pids;
     for (const auto& [pid, process] : processes) pids.push_back(pid);
+    std::map<pid_t, Clock::time_point> still_unshimmed;
     for (const Expected& launched : expected) {
       for (const pid_t pid : process_tree(launched.pid, max_processes)) {
-        if (!processes.contains(pid)) pids.push_back(pid);
+        if (processes.contains(pid)) continue;
+        pids.push_back(pid);
+        const auto seen = unshimmed.find(pid);
+        still_unshimmed[pid] = seen == unshimmed.end() ? Clock::now() : seen->second;
       }
     }
+    unshimmed = std::move(still_unshimmed);
     return pids;
+  }
+
+  // A process of the client's tree that has run without the shim for handshake_timeout (a
+  // static binary; a program the shell started that dropped LD_PRELOAD) cannot live in
+  // virtual time. (A zombie waiting for its parent is not running.)
+  void check_unshimmed() {
+    for (const auto& [pid, since] : unshimmed) {
+      if (Clock::now() - since <= options.handshake_timeout) continue;
+      char path[64];
+      std::snprintf(path, sizeof path, "/proc/%d/stat", static_cast<int>(pid));
+      std::ifstream stat(path);
+      std::string text((std::istreambuf_iterator<char>(stat)), std::istreambuf_iterator<char>());
+      const auto open_paren = text.find('(');
+      const auto close_paren = text.rfind(')');
+      if (open_paren == std::string::npos || close_paren == std::string::npos || close_paren + 2 >= text.size()) continue;
+      if (text[close_paren + 2] == 'Z' || text[close_paren + 2] == 'X') continue;
+      const std::string name = text.substr(open_paren + 1, close_paren - open_paren - 1);
+      throw VirtualTimeError("the client's process " + std::to_string(pid) + " (" + name +
+                             ") cannot run in virtual time (no shim handshake within " +
+                             std::to_string(options.handshake_timeout.count()) +
+                             " ms: a static binary, or a runtime that does not call libc for time, such as Go); use --time real");
+    }
   }
 
   bool asleep_in_proc() {
@@ -371,6 +400,7 @@ struct Controller::Impl {
   }
 
   void check_limits() {
+    check_unshimmed();
     const auto now = Clock::now();
     if (now - run_started > options.watchdog) {
       throw VirtualTimeError("the world took more than " + std::to_string(options.watchdog.count() / 1000) +
@@ -617,7 +647,7 @@ struct Controller::Impl {
       page->now_us.store(next.count(), std::memory_order_release);
       executor.run_until(next);
       if (next != last_instant) {
-        ++stats.instants;
+        if ((++stats.instants & 255) == 0) check_unshimmed();
         rounds_here = 0;
         last_instant = next;
       }
