@@ -672,8 +672,12 @@ Controller::~Controller() = default;
 std::vector<std::string> Controller::environment() const {
   std::string preload = impl_->options.shim_path;
   if (const char* existing = std::getenv("LD_PRELOAD"); existing != nullptr && *existing != '\0') preload += std::string(":") + existing;
+  // A client built with AddressSanitizer wants its runtime first among the preloaded
+  // libraries; the shim comes first, and only wraps what ASan wraps too, so the check is off.
+  std::string asan = "verify_asan_link_order=0";
+  if (const char* existing = std::getenv("ASAN_OPTIONS"); existing != nullptr && *existing != '\0') asan = std::string(existing) + ":" + asan;
   return {"LD_PRELOAD=" + preload, std::string(socket_env) + "=" + impl_->socket_path,
-          std::string(clock_env) + "=" + impl_->clock_path};
+          std::string(clock_env) + "=" + impl_->clock_path, "ASAN_OPTIONS=" + asan};
 }
 
 int Controller::listen(std::uint16_t port, AcceptHandler on_accept) {
