@@ -240,7 +240,10 @@ int run_one_world(const CampaignOptions& options, std::uint64_t index) {
 void write_campaign_results(const RunCommand& command, const CampaignOptions& options, Summary& summary) {
   FailureFilesOptions files{command.out, command.seed, command.worlds, command.profile, !command.no_shrink,
                             command.shrink_runs, std::nullopt};
-  if (options.client) files.client = FailureFilesOptions::Client{*command.client, command.max_world_seconds, options.client->max_world};
+  if (options.client) {
+    files.client = FailureFilesOptions::Client{*command.client, command.max_world_seconds, options.client->max_world, std::nullopt};
+    if (options.client->time == ClientTime::virtual_time) files.client->run = options.client;
+  }
   int shrunk = 0;
   for (WorldRecord& record : summary.records) {
     if (!record.failed() || ocp::cli::interrupt_requested()) continue;
