@@ -57,6 +57,22 @@ ClientBounds with_listener_restarts(ClientBounds bounds, const scenario::Scenari
   return bounds;
 }
 
+// A client world's run options: no trace, the Oracle and ClientWatch on its event stream.
+scenario::RunOptions judged_by(Oracle& oracle, ClientWatch& watch, const std::function<bool()>& stop) {
+  scenario::RunOptions options;
+  options.trace = false;
+  options.interrupted = stop;
+  options.on_built = [&oracle, &watch](World& built) {
+    oracle.attach(built);
+    watch.attach(built);
+  };
+  options.on_finished = [&oracle, &watch](World& built) {
+    oracle.finish(built);
+    watch.finish(built);
+  };
+  return options;
+}
+
 void take_violations(WorldOutcome& outcome, const std::vector<Violation>& violations, std::uint64_t count) {
   outcome.violations.insert(outcome.violations.end(), violations.begin(), violations.end());
   outcome.violation_count += count;
@@ -98,17 +114,7 @@ WorldOutcome check_world_with_virtual_client(const scenario::Scenario& world, st
                                              const std::function<bool()>& stop, WorldOutcome outcome) {
   Oracle oracle(world, OracleTolerances{});
   ClientWatch watch(with_listener_restarts(run.bounds, world));
-  scenario::RunOptions options;
-  options.trace = false;
-  options.interrupted = stop;
-  options.on_built = [&](World& built) {
-    oracle.attach(built);
-    watch.attach(built);
-  };
-  options.on_finished = [&](World& built) {
-    oracle.finish(built);
-    watch.finish(built);
-  };
+  const scenario::RunOptions options = judged_by(oracle, watch, stop);
   vtime::VirtualClientOptions clients;
   clients.command = run.command;
   clients.log_path = [&](const std::string& vehicle) { return client_log_path(run, index, vehicle); };
@@ -144,17 +150,7 @@ WorldOutcome check_world_with_client(const scenario::Scenario& world, std::uint6
   std::vector<LaunchedClient> clients;
   Oracle oracle(world, OracleTolerances{.real_time_slack = real_time_oracle_slack, .judge_timing = false});
   ClientWatch watch(with_listener_restarts(run.bounds, world));
-  scenario::RunOptions options;
-  options.trace = false;
-  options.interrupted = stop;
-  options.on_built = [&](World& built) {
-    oracle.attach(built);
-    watch.attach(built);
-  };
-  options.on_finished = [&](World& built) {
-    oracle.finish(built);
-    watch.finish(built);
-  };
+  const scenario::RunOptions options = judged_by(oracle, watch, stop);
   scenario::RealTimeOptions real_time;
   real_time.tcp_port = 0;
   real_time.handle_signals = false;
