@@ -98,6 +98,9 @@ struct RunCommand {
   bool quiet = false;
   std::optional<std::string> client;   // --client: worlds in real time against this vehicle client
   std::optional<double> max_world_seconds;
+  std::string time = "real";             // --time: the client's clock (virtual: docs/virtual-time.md)
+  double world_timeout_seconds = 120;    // --world-timeout: wall time per virtual-time world
+  std::string wait_trace;                // --wait-trace FILE: every client thread's waits
 };
 
 // --client's program, checked before any world starts: a command that cannot be found is a
@@ -126,6 +129,13 @@ std::optional<ClientRun> client_run_of(const RunCommand& command) {
   run.command = *command.client;
   if (command.max_world_seconds) run.max_world = ocp::Micros{static_cast<std::int64_t>(*command.max_world_seconds * 1e6)};
   run.log_dir = (fs::path(command.out) / "client-logs").string();
+  if (command.time == "virtual") {
+    run.time = ClientTime::virtual_time;
+    run.bounds = virtual_time_client_bounds();
+    run.controller.shim_path = ocp::vtime::find_shim();
+    run.controller.watchdog = std::chrono::milliseconds(static_cast<std::int64_t>(command.world_timeout_seconds * 1000));
+    run.controller.wait_trace_path = command.wait_trace;
+  }
   return run;
 }
 
@@ -197,6 +207,11 @@ bool campaign_options_of(const RunCommand& command, CampaignOptions& options) {
       std::cerr << "ocp_campaign run: " << *problem << "\n";
       return false;
     }
+    if (command.time == "virtual" && ocp::vtime::find_shim().empty()) {
+      std::cerr << "ocp_campaign run: --time virtual needs the shim libocp_vtime_shim.so (beside the program in "
+                   "../lib, or in $OCP_VTIME_SHIM); use --time real\n";
+      return false;
+    }
     std::error_code made;
     fs::create_directories(fs::path(command.out) / "client-logs", made);
   }
@@ -227,7 +242,10 @@ int run_one_world(const CampaignOptions& options, std::uint64_t index) {
 void write_campaign_results(const RunCommand& command, const CampaignOptions& options, Summary& summary) {
   FailureFilesOptions files{command.out, command.seed, command.worlds, command.profile, !command.no_shrink,
                             command.shrink_runs, std::nullopt};
-  if (options.client) files.client = FailureFilesOptions::Client{*command.client, command.max_world_seconds, options.client->max_world};
+  if (options.client) {
+    files.client = FailureFilesOptions::Client{*command.client, command.max_world_seconds, options.client->max_world, std::nullopt};
+    if (options.client->time == ClientTime::virtual_time) files.client->run = options.client;
+  }
   int shrunk = 0;
   for (WorldRecord& record : summary.records) {
     if (!record.failed() || ocp::cli::interrupt_requested()) continue;
@@ -354,8 +372,16 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 100'000))->capture_default_str();
   run_app->add_flag("-q,--quiet", run.quiet, "no progress line");
   run_app->add_option("--client", run.client,
-                      "run every world in real time against this vehicle client, a shell command line with {port} "
-                      "(also in env OCP_PORT); one process per vehicle, output in OUT/client-logs");
+                      "run every world against this vehicle client, a shell command line with {port} (also in env "
+                      "OCP_PORT); one process per vehicle, output in OUT/client-logs");
+  run_app->add_option("--time", run.time,
+                      "with --client: virtual (the client lives on the simulator's clock through a preloaded shim; the "
+                      "whole oracle; docs/virtual-time.md) or real (wall-clock worlds, timing checks off)")
+      ->check(CLI::IsMember({"virtual", "real"}))->capture_default_str();
+  run_app->add_option("--world-timeout", run.world_timeout_seconds, "with --time virtual: wall seconds a world may take")
+      ->check(ocp::cli::real(1.0, 86'400.0))->capture_default_str();
+  run_app->add_option("--wait-trace", run.wait_trace, "with --time virtual: write every client thread's waits to this file (-j 1)")
+      ->check(script_name());
   run_app->add_option("--max-world-seconds", run.max_world_seconds, "with --client: cut every world to this long")
       ->check(ocp::cli::real(1.0, 3600.0));
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "sim_app/client_process.hpp"
+#include "vtime/client_world.hpp"
 #include "world/world.hpp"
 
 namespace ocp::campaign {
@@ -14,11 +15,7 @@ namespace ocp::campaign {
 namespace {
 
 // One client process per vehicle, launched when the world's server for it listens.
-struct LaunchedClient {
-  std::string vehicle;
-  std::string log_path;
-  std::unique_ptr<sim_app::ClientProcess> process;
-};
+using vtime::LaunchedClient;
 
 std::uint16_t port_of(const std::string& address) {
   const auto colon = address.rfind(':');
@@ -60,6 +57,22 @@ ClientBounds with_listener_restarts(ClientBounds bounds, const scenario::Scenari
   return bounds;
 }
 
+// A client world's run options: no trace, the Oracle and ClientWatch on its event stream.
+scenario::RunOptions judged_by(Oracle& oracle, ClientWatch& watch, const std::function<bool()>& stop) {
+  scenario::RunOptions options;
+  options.trace = false;
+  options.interrupted = stop;
+  options.on_built = [&oracle, &watch](World& built) {
+    oracle.attach(built);
+    watch.attach(built);
+  };
+  options.on_finished = [&oracle, &watch](World& built) {
+    oracle.finish(built);
+    watch.finish(built);
+  };
+  return options;
+}
+
 void take_violations(WorldOutcome& outcome, const std::vector<Violation>& violations, std::uint64_t count) {
   outcome.violations.insert(outcome.violations.end(), violations.begin(), violations.end());
   outcome.violation_count += count;
@@ -83,6 +96,47 @@ scenario::Scenario for_external_client(scenario::Scenario world, std::uint64_t i
   return world;
 }
 
+ClientBounds virtual_time_client_bounds() {
+  ClientBounds bounds;
+  bounds.echo_current = Micros{20'000};   // two control periods
+  bounds.stale_for = Micros{20'000};
+  return bounds;
+}
+
+namespace {
+
+std::string client_log_path(const ClientRun& run, std::uint64_t index, const std::string& vehicle) {
+  return run.log_dir.empty() ? "" : run.log_dir + "/world-" + std::to_string(index) + "-" + vehicle + ".log";
+}
+
+// The world in virtual time: the whole oracle, the tight client bounds.
+WorldOutcome check_world_with_virtual_client(const scenario::Scenario& world, std::uint64_t index, const ClientRun& run,
+                                             const std::function<bool()>& stop, WorldOutcome outcome) {
+  Oracle oracle(world, OracleTolerances{});
+  ClientWatch watch(with_listener_restarts(run.bounds, world));
+  const scenario::RunOptions options = judged_by(oracle, watch, stop);
+  vtime::VirtualClientOptions clients;
+  clients.command = run.command;
+  clients.log_path = [&](const std::string& vehicle) { return client_log_path(run, index, vehicle); };
+  clients.controller = run.controller;
+  try {
+    vtime::VirtualClientRun ran = vtime::run_with_virtual_clients(world, options, clients);
+    outcome.cpu_seconds = ran.result.cpu_seconds;
+    outcome.events = oracle.events_seen();
+    outcome.liveness_checked = oracle.liveness_checked();
+    take_violations(outcome, oracle.violations(), oracle.violation_count());
+    take_violations(outcome, watch.violations(), watch.violation_count());
+    judge_clients(ran.clients, watch, ran.result.ran, outcome);
+  } catch (const scenario::HarnessError& error) {
+    outcome.error = error.what();
+  } catch (const vtime::VirtualTimeError& error) {
+    outcome.error = error.what();
+  }
+  return outcome;
+}
+
+}  // namespace
+
 WorldOutcome check_world_with_client(const scenario::Scenario& world, std::uint64_t index, const ClientRun& run,
                                      const std::function<bool()>& stop) {
   WorldOutcome outcome;
@@ -92,25 +146,16 @@ WorldOutcome check_world_with_client(const scenario::Scenario& world, std::uint6
   outcome.vehicles = static_cast<int>(world.world.vehicles.size());
   outcome.timeline_events = static_cast<int>(world.timeline.size());
   outcome.hazards = hazards_in(world);
+  if (run.time == ClientTime::virtual_time) return check_world_with_virtual_client(world, index, run, stop, std::move(outcome));
   std::vector<LaunchedClient> clients;
   Oracle oracle(world, OracleTolerances{.real_time_slack = real_time_oracle_slack, .judge_timing = false});
   ClientWatch watch(with_listener_restarts(run.bounds, world));
-  scenario::RunOptions options;
-  options.trace = false;
-  options.interrupted = stop;
-  options.on_built = [&](World& built) {
-    oracle.attach(built);
-    watch.attach(built);
-  };
-  options.on_finished = [&](World& built) {
-    oracle.finish(built);
-    watch.finish(built);
-  };
+  const scenario::RunOptions options = judged_by(oracle, watch, stop);
   scenario::RealTimeOptions real_time;
   real_time.tcp_port = 0;
   real_time.handle_signals = false;
   real_time.on_listening = [&](const std::string& vehicle, const std::string& address) {
-    LaunchedClient client{vehicle, run.log_dir.empty() ? "" : run.log_dir + "/world-" + std::to_string(index) + "-" + vehicle + ".log", nullptr};
+    LaunchedClient client{vehicle, client_log_path(run, index, vehicle), nullptr};
     auto launched = sim_app::ClientProcess::launch({"/bin/sh", "-c", run.command}, port_of(address), client.log_path);
     if (!launched) throw scenario::HarnessError("cannot start the client: " + launched.error().message());
     client.process = std::move(*launched);

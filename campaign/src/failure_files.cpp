@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -43,6 +44,7 @@ std::string replay_command(std::uint64_t index, const FailureFilesOptions& optio
     if (options.client->max_world_seconds) {
       command += " --max-world-seconds " + fmt::format("{:g}", *options.client->max_world_seconds);
     }
+    if (options.client->run) command += " --time virtual";
   }
   return command;
 }
@@ -61,7 +63,22 @@ FailureFiles write_failure_files(const Profile& profile, std::uint64_t index, co
              scenario::write_scenario_yaml(with_placeholder_expectation(world), "World " + std::to_string(index) +
                                                                                     " as generated.\nReplay: " + made.replay));
   made.files.push_back("world.yaml");
-  if (options.client) return made;
+  if (options.client) {
+    if (!options.client->run || !options.shrink) return made;
+    // Virtual time: every try is a fast, exact run of the client itself.
+    const ClientRun& run = *options.client->run;
+    const WorldChecker with_client = [&](const scenario::Scenario& candidate) {
+      return check_world_with_client(candidate, index, run, {});
+    };
+    const WorldOutcome outcome = with_client(world);
+    if (outcome.violations.empty()) return made;
+    const ShrinkResult shrunk = shrink(world, ShrinkTarget::of(outcome.violations.front()),
+                                       std::min(options.shrink_runs, client_shrink_runs), with_client);
+    write_text(dir / "shrunk.yaml", regression_yaml(shrunk, made.replay));
+    made.files.push_back("shrunk.yaml");
+    made.shrunk_events = static_cast<int>(shrunk.scenario.timeline.size());
+    return made;
+  }
   const WorldOutcome outcome = check_world(world, {true});
   if (outcome.violations.empty() || !options.shrink) return made;
   const ShrinkResult shrunk = shrink(world, ShrinkTarget::of(outcome.violations.front()), options.shrink_runs);

@@ -42,13 +42,14 @@ Scenario without_vehicle(const Scenario& in, std::size_t index) {
 
 class Shrinker {
  public:
-  Shrinker(const ShrinkTarget& target, int max_runs) : target_(target), max_runs_(max_runs) {}
+  Shrinker(const ShrinkTarget& target, int max_runs, const WorldChecker& check)
+      : target_(target), max_runs_(max_runs), check_(check) {}
 
   // Runs the candidate; keeps it when it still fails the same way.
   bool still_fails(const Scenario& candidate) {
     if (runs_ >= max_runs_) return false;
     ++runs_;
-    const WorldOutcome outcome = check_world(candidate, {target_.check == Check::determinism});
+    const WorldOutcome outcome = check_ ? check_(candidate) : check_world(candidate, {target_.check == Check::determinism});
     for (const Violation& violation : outcome.violations) {
       if (target_.matches(violation)) {
         last_ = violation;
@@ -138,14 +139,15 @@ class Shrinker {
  private:
   ShrinkTarget target_;
   int max_runs_;
+  WorldChecker check_;
   int runs_ = 0;
   Violation last_;
 };
 
 }  // namespace
 
-ShrinkResult shrink(const Scenario& failing, const ShrinkTarget& target, int max_runs) {
-  return Shrinker(target, max_runs).run(failing);
+ShrinkResult shrink(const Scenario& failing, const ShrinkTarget& target, int max_runs, const WorldChecker& check) {
+  return Shrinker(target, max_runs, check).run(failing);
 }
 
 std::string regression_yaml(const ShrinkResult& shrunk, const std::string& repro_command) {

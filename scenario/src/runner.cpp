@@ -207,4 +207,11 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options) {
   return result;
 }
 
+RunResult run_scenario_driven(const Scenario& scenario, const RunOptions& options, const VirtualDriver& drive) {
+  VirtualExecutor executor;
+  RunResult result = run_world(executor, scenario, options, true, [&](World& world, SimTime end) { return drive(world, executor, end); });
+  result.executor_events = executor.events_run();
+  return result;
+}
+
 }  // namespace ocp::scenario

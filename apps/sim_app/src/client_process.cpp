@@ -78,7 +78,8 @@ std::vector<std::string> substitute_port(const std::vector<std::string>& command
 }
 
 Result<std::unique_ptr<ClientProcess>> ClientProcess::launch(const std::vector<std::string>& command,
-                                                              std::uint16_t port, const std::string& log_path) {
+                                                              std::uint16_t port, const std::string& log_path,
+                                                              const std::vector<std::string>& extra_environment) {
   if (command.empty()) return Error{std::make_error_code(std::errc::invalid_argument), "no client command"};
   const std::vector<std::string> args = substitute_port(command, port);
   std::vector<char*> argv;
@@ -92,10 +93,19 @@ Result<std::unique_ptr<ClientProcess>> ClientProcess::launch(const std::vector<s
   // (-j N) another thread may hold the allocator's lock at the fork, so a child that called it
   // could hang before exec, and the parent with it, waiting for the status pipe below.
   std::vector<std::string> environment;
+  const auto replaced = [&](const char* entry) {
+    if (std::strncmp(entry, "OCP_PORT=", 9) == 0) return true;
+    for (const std::string& extra : extra_environment) {
+      const auto name = extra.substr(0, extra.find('=') + 1);
+      if (std::strncmp(entry, name.c_str(), name.size()) == 0) return true;
+    }
+    return false;
+  };
   for (char** entry = environ; *entry != nullptr; ++entry) {
-    if (std::strncmp(*entry, "OCP_PORT=", 9) != 0) environment.emplace_back(*entry);
+    if (!replaced(*entry)) environment.emplace_back(*entry);
   }
   environment.push_back("OCP_PORT=" + port_env);
+  environment.insert(environment.end(), extra_environment.begin(), extra_environment.end());
   std::vector<char*> envp;
   for (std::string& entry : environment) envp.push_back(entry.data());
   envp.push_back(nullptr);

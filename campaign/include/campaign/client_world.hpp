@@ -13,11 +13,18 @@
 
 #include "campaign/client_watch.hpp"
 #include "campaign/world_check.hpp"
+#include "vtime/controller.hpp"
 
 namespace ocp::campaign {
 
+enum class ClientTime { virtual_time, real_time };
+
 struct ClientRun {
   std::string command;              // a shell command line with "{port}"
+  // Virtual: the client processes live on the World's clock (vtime/, docs/virtual-time.md) and
+  // the whole oracle applies, timing included. Real: wall-clock worlds, the timing checks off.
+  ClientTime time = ClientTime::real_time;
+  vtime::ControllerOptions controller;   // virtual time: the shim, the watchdog
   std::optional<Micros> max_world;  // cut every world to this long (real time costs wall time)
   ClientBounds bounds;
   std::string log_dir;              // each client's output: <log_dir>/world-<i>-<vehicle>.log; "" → none
@@ -40,6 +47,10 @@ void add_client_hazards(scenario::Scenario& world, std::uint64_t index);
 // Which of those a world holds, read off the world itself, by name: ack_time_above_2^53,
 // streamer_close, listener_restart, user_data_over_8KiB, controller_null, control_path_fault.
 std::vector<std::string> hazards_in(const scenario::Scenario& world);
+
+// What ClientWatch allows a client in virtual time: no scheduling delays exist there, so an echo
+// is current to the tick.
+ClientBounds virtual_time_client_bounds();
 
 // Runs one client world (already prepared by for_external_client). `stop` is polled (Ctrl-C).
 // A client that cannot be started, or exits before it connects, is outcome.error.

@@ -6,10 +6,14 @@
 #include <string>
 #include <vector>
 
+#include "campaign/client_world.hpp"
 #include "campaign/profile.hpp"
 #include "ocp/time.hpp"
 
 namespace ocp::campaign {
+
+// Each try of a client world runs the client: fewer tries than for in-process worlds.
+inline constexpr int client_shrink_runs = 40;
 
 struct FailureFilesOptions {
   std::string out_dir;
@@ -18,12 +22,15 @@ struct FailureFilesOptions {
   std::string profile_argument;   // as the user gave it, for the repro command
   bool shrink = true;
   int shrink_runs = 300;
-  // A --client campaign: world.yaml is the client world, the repro command names the client,
-  // and nothing is shrunk (every try would be a real-time run).
+  // A --client campaign: world.yaml is the client world, the repro command names the client.
+  // In real time nothing is shrunk (every try would be a real-time run); in virtual time
+  // (`run` set, --time virtual) the world is shrunk with the client, at most
+  // client_shrink_runs tries, and shrunk.yaml carries the repro command.
   struct Client {
     std::string command;
     std::optional<double> max_world_seconds;   // as the user gave it
     std::optional<Micros> max_world;
+    std::optional<ClientRun> run;              // set: virtual time, shrink with it
   };
   std::optional<Client> client;
 };

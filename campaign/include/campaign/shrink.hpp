@@ -6,6 +6,7 @@
 #include <functional>
 
 #include "campaign/oracle.hpp"
+#include "campaign/world_check.hpp"
 #include "scenario/model.hpp"
 
 namespace ocp::campaign {
@@ -25,8 +26,11 @@ struct ShrinkResult {
   int runs = 0;          // worlds run while shrinking
 };
 
-// `max_runs` bounds the work (each candidate is one world run).
-ShrinkResult shrink(const scenario::Scenario& failing, const ShrinkTarget& target, int max_runs = 300);
+// `max_runs` bounds the work (each candidate is one world run). `check`: how a candidate runs
+// (empty: check_world, in-process; a client world passes its own).
+using WorldChecker = std::function<WorldOutcome(const scenario::Scenario&)>;
+ShrinkResult shrink(const scenario::Scenario& failing, const ShrinkTarget& target, int max_runs = 300,
+                    const WorldChecker& check = {});
 
 // The shrunk world as a scenario a user can commit: expectations that say what the oracle
 // found (a fault state at an instant, or the matching scenario invariant), and a header with

@@ -14,6 +14,10 @@
 #include "scenario/observer.hpp"
 #include "world/trace.hpp"
 
+namespace ocp {
+class VirtualExecutor;
+}
+
 namespace ocp::scenario {
 
 // The world refused to start (a configuration the World rejects): exit code 2, like a bad file.
@@ -67,6 +71,12 @@ struct RunResult {
 };
 
 RunResult run_scenario(const Scenario& scenario, const RunOptions& options);
+
+// Virtual time with the clock driven from outside (vtime/: external client processes on the
+// World's clock): as run_scenario, but `drive` runs the executor to `end` (absolute) and
+// returns the time it stopped at.
+using VirtualDriver = std::function<SimTime(World& world, VirtualExecutor& executor, SimTime end)>;
+RunResult run_scenario_driven(const Scenario& scenario, const RunOptions& options, const VirtualDriver& drive);
 
 // Real time (--realtime): the same World on an AsioExecutor for `duration` of wall time, with
 // CSPRNG MAC keys (not reproducible). Every vehicle with `in_process_client: false` gets a TCP

@@ -19,9 +19,12 @@ class ClientProcess {
  public:
   static constexpr const char* to_stderr = "-";
   // Output (stdout + stderr) goes to `log_path` ("" → /dev/null; to_stderr → the harness's own
-  // stderr, so that the harness's stdout carries only its report).
+  // stderr, so that the harness's stdout carries only its report). `environment` entries
+  // ("NAME=value") are added to the child's, replacing its own of that name (virtual time's
+  // LD_PRELOAD and control socket, vtime/).
   static Result<std::unique_ptr<ClientProcess>> launch(const std::vector<std::string>& command,
-                                                       std::uint16_t port, const std::string& log_path);
+                                                       std::uint16_t port, const std::string& log_path,
+                                                       const std::vector<std::string>& environment = {});
   ~ClientProcess();
   ClientProcess(const ClientProcess&) = delete;
   ClientProcess& operator=(const ClientProcess&) = delete;

@@ -1,0 +1,196 @@
+// External client processes in virtual time (vtime/, docs/virtual-time.md): the reference
+// client and the Python example live on the World's clock, a run is a pure function of its
+// seed, a timing bug is caught to the microsecond, and a client that cannot live in virtual
+// time is refused with the reason. Every run has a wall-clock watchdog (the Controller's), so
+// a broken shim fails a test instead of hanging it (std::chrono::steady_clock bounds below).
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "scenario/parse.hpp"
+#include "scenario/verdicts.hpp"
+#include "scratch_dir.hpp"
+#include "vtime/client_world.hpp"
+
+namespace ocp::vtime {
+namespace {
+
+constexpr std::chrono::milliseconds test_watchdog{90'000};
+
+std::string world_yaml(const std::string& duration, const std::string& expectations) {
+  return "seed: 7\nduration: " + duration +
+         "\nworld:\n  gamepad: drive\n  vehicles:\n    - name: truck-1\n      in_process_client: false\n"
+         "      link: {delay: 10ms, jitter: 2ms}\nexpect:\n" +
+         expectations;
+}
+
+const std::string echoing_client_expectations =
+    "  faults:\n"
+    "    - {fault: VehicleNoResponse, cleared: {after: 0s, within: 200ms}}\n"
+    "    - {fault: InvalidMac, never: true, from: 1s}\n"
+    "    - {fault: HighLatency, never: true}\n"
+    "    - {fault: NoControlMessage, never: true}\n"
+    "  thresholds:\n"
+    "    latency_ms: [\"count > 900\", \"p(50) < 60\"]\n";
+
+struct Ran {
+  VirtualClientRun run;
+  std::vector<scenario::Verdict> verdicts;
+  double wall_seconds = 0;
+};
+
+Ran run_client(const std::string& yaml, std::vector<std::string> argv, ControllerOptions controller = {},
+               bool trace = false) {
+  const scenario::Scenario world = scenario::parse_scenario(yaml, "virtual.yaml");
+  scenario::RunOptions options;
+  options.trace = trace;
+  VirtualClientOptions clients;
+  clients.argv = std::move(argv);
+  controller.shim_path = OCP_VTIME_SHIM_PATH;
+  if (controller.watchdog == ControllerOptions{}.watchdog) controller.watchdog = test_watchdog;
+  clients.controller = controller;
+  const auto start = std::chrono::steady_clock::now();
+  Ran ran;
+  ran.run = run_with_virtual_clients(world, options, clients);
+  ran.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ran.verdicts = scenario::evaluate(world, ran.run.result);
+  return ran;
+}
+
+void expect_all_pass(const Ran& ran) {
+  for (const scenario::Verdict& verdict : ran.verdicts) {
+    EXPECT_TRUE(verdict.passed) << verdict.title << ": expected " << verdict.expected << ", got " << verdict.actual;
+  }
+}
+
+std::vector<std::string> reference_client() { return {OCP_VEHICLE_CLIENT_PATH, "--no-status", "127.0.0.1:{port}"}; }
+std::vector<std::string> python_example() {
+  return {OCP_PYTHON3_PATH, std::string(OCP_EXAMPLES_DIR) + "/vehicle_client.py", "127.0.0.1:{port}"};
+}
+
+TEST(VirtualTimeClients, ReferenceClientEchoesEveryPairOnTheWorldsClock) {
+  const Ran ran = run_client(world_yaml("10s", echoing_client_expectations), reference_client());
+  EXPECT_EQ(ran.run.result.ran, Micros{10'000'000});
+  expect_all_pass(ran);
+  ASSERT_EQ(ran.run.clients.size(), 1u);
+  EXPECT_TRUE(ran.run.clients.front().process->running()) << "the client must live through the world";
+  std::printf("reference client: 10 s simulated in %.2f s wall (%.0fx), %llu instants\n", ran.wall_seconds,
+              10.0 / ran.wall_seconds, static_cast<unsigned long long>(ran.run.stats.instants));
+}
+
+TEST(VirtualTimeClients, PythonExampleEchoesEveryPairOnTheWorldsClock) {
+  const Ran ran = run_client(world_yaml("10s", echoing_client_expectations), python_example());
+  EXPECT_EQ(ran.run.result.ran, Micros{10'000'000});
+  expect_all_pass(ran);
+  std::printf("python example: 10 s simulated in %.2f s wall (%.0fx), %llu instants, %llu settles, %llu /proc looks, %llu messages\n",
+              ran.wall_seconds, 10.0 / ran.wall_seconds, static_cast<unsigned long long>(ran.run.stats.instants),
+              static_cast<unsigned long long>(ran.run.stats.settles), static_cast<unsigned long long>(ran.run.stats.proc_checks),
+              static_cast<unsigned long long>(ran.run.stats.messages));
+}
+
+std::string first_difference(const std::string& a, const std::string& b) {
+  std::size_t at = 0;
+  while (at < a.size() && at < b.size() && a[at] == b[at]) ++at;
+  const std::size_t line = a.rfind('\n', at) + 1;
+  return a.substr(line, a.find('\n', at) - line) + "\n" + b.substr(line, b.find('\n', at) - line);
+}
+
+// The same seed gives the same trace, byte for byte, every time: the client's echoes land at
+// the same virtual instants whatever the machine's load.
+TEST(VirtualTimeClients, SameSeedSameTraceTenTimes) {
+  for (const auto& [name, argv] : {std::pair{"reference client", reference_client()}, std::pair{"python example", python_example()}}) {
+    std::set<std::string> traces;
+    std::size_t lines = 0;
+    for (int run = 0; run < 10; ++run) {
+      const Ran ran = run_client(world_yaml("3s", echoing_client_expectations), argv, {}, true);
+      traces.insert(ran.run.result.trace_jsonl);
+      lines = ran.run.result.trace_lines;
+    }
+    EXPECT_EQ(traces.size(), 1u) << name << ": " << traces.size() << " different traces in 10 runs; first difference:\n"
+                                 << first_difference(*traces.begin(), *traces.rbegin());
+    EXPECT_GT(lines, 1000u) << name;
+  }
+}
+
+// A broken client fails in virtual time as in real time: a wrong MAC raises InvalidMac.
+TEST(VirtualTimeClients, BrokenReferenceClientFails) {
+  std::vector<std::string> argv = reference_client();
+  argv.insert(argv.begin() + 1, "--misbehave-corrupt-mac");
+  const Ran ran = run_client(world_yaml("3s", "  faults:\n    - {fault: InvalidMac, never: true}\n"), argv);
+  ASSERT_EQ(ran.verdicts.size(), 1u);
+  EXPECT_FALSE(ran.verdicts.front().passed) << "InvalidMac must be raised against a client that corrupts the MAC";
+}
+
+// The close and open times of the vehicle connection, from the trace.
+std::vector<std::int64_t> connection_times(const std::string& trace, const std::string& change) {
+  std::vector<std::int64_t> times;
+  std::size_t at = 0;
+  while ((at = trace.find("\"change\":\"" + change + "\"", at)) != std::string::npos) {
+    const std::size_t line = trace.rfind('\n', at) + 1;
+    times.push_back(std::stoll(trace.substr(line + 8)));   // {"t_us":N
+    ++at;
+  }
+  return times;
+}
+
+std::string lines_with(const std::string& trace, const std::string& text) {
+  std::string out;
+  std::size_t at = 0;
+  while ((at = trace.find(text, at)) != std::string::npos) {
+    const std::size_t begin = trace.rfind('\n', at) + 1;
+    const std::size_t end = trace.find('\n', at);
+    out += trace.substr(begin, end - begin) + "\n";
+    at = end;
+  }
+  return out;
+}
+
+// A keep-alive every 2 001 ms is 1 ms too slow: the Streamer closes the connection after
+// exactly 2 000 ms without a byte, every run. One every 1 999 ms keeps it.
+TEST(VirtualTimeClients, KeepAliveOneMillisecondTooSlowIsClosedAtExactlyTwoSeconds) {
+  const std::string script = std::string(OCP_VTIME_TEST_CLIENTS) + "/keepalive_client.py";
+  const Ran slow = run_client(world_yaml("3s", "  faults:\n    - {fault: InvalidMac, never: true, from: 5s}\n"),
+                              {OCP_PYTHON3_PATH, script, "{port}", "2.001"}, {}, true);
+  const std::vector<std::int64_t> opened = connection_times(slow.run.result.trace_jsonl, "opened");
+  const std::vector<std::int64_t> closed = connection_times(slow.run.result.trace_jsonl, "closed");
+  ASSERT_FALSE(opened.empty());
+  ASSERT_FALSE(closed.empty()) << "a client silent for 2 001 ms must be closed";
+  EXPECT_EQ(closed.front() - opened.front(), 2'000'000) << "closed after exactly 2 000 ms of silence";
+  EXPECT_NE(slow.run.result.trace_jsonl.find("peer.read_timeout"), std::string::npos);
+
+  const Ran fast = run_client(world_yaml("3s", "  faults:\n    - {fault: InvalidMac, never: true, from: 5s}\n"),
+                              {OCP_PYTHON3_PATH, script, "{port}", "1.999"}, {}, true);
+  EXPECT_TRUE(connection_times(fast.run.result.trace_jsonl, "closed").empty())
+      << "1 999 ms is within the read timeout; connection events:\n" << lines_with(fast.run.result.trace_jsonl, "\"connection\"");
+}
+
+// A static binary never loads the shim: refused within the handshake timeout, with the way out.
+TEST(VirtualTimeClients, StaticBinaryIsRefusedWithTheReason) {
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    (void)run_client(world_yaml("3s", echoing_client_expectations), {OCP_VTIME_STATIC_CLIENT});
+    FAIL() << "a static binary cannot run in virtual time";
+  } catch (const VirtualTimeError& error) {
+    EXPECT_NE(std::string(error.what()).find("cannot run in virtual time"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("use --time real"), std::string::npos) << error.what();
+  }
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(30));
+}
+
+// A client that never waits is found out after a bounded amount of CPU.
+TEST(VirtualTimeClients, BusyLoopIsFoundOut) {
+  ControllerOptions controller;
+  controller.busy_cpu = std::chrono::milliseconds(300);
+  try {
+    (void)run_client(world_yaml("3s", echoing_client_expectations), {OCP_PYTHON3_PATH, "-c", "while True: pass"}, controller);
+    FAIL() << "a busy loop must end the run";
+  } catch (const VirtualTimeError& error) {
+    EXPECT_NE(std::string(error.what()).find("without ever waiting"), std::string::npos) << error.what();
+  }
+}
+
+}  // namespace
+}  // namespace ocp::vtime

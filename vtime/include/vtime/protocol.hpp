@@ -1,0 +1,75 @@
+#pragma once
+// The wire between the virtual-time shim (vtime/shim, preloaded into a client process) and its
+// controller (vtime/src/controller.cpp, in the simulator). Shared by both sides, so it holds
+// only fixed-size, trivially copyable types and no library.
+//
+//   * The clock page: a small shared file the controller writes and every shim maps read-only.
+//     It holds the virtual time (microseconds since the world began) and, per OCP connection,
+//     how many bytes the controller has written to it, so a woken thread can wait until they
+//     have arrived before it looks at its sockets.
+//   * The control socket: one SOCK_SEQPACKET connection per client thread. A thread says HELLO
+//     once, CONNECTED after it connects to loopback TCP, BLOCKED(seq, deadline) when it waits,
+//     RUNNING(seq) when it left a wait the controller did not end, and CLOSED when it closes an
+//     OCP socket. The controller answers a BLOCKED with WAKE(seq) (deadline reached) or
+//     POKE(seq) (something was delivered: look again).
+#include <atomic>
+#include <cstdint>
+
+namespace ocp::vtime {
+
+inline constexpr const char* socket_env = "OCP_VTIME_SOCKET";   // the control socket's path
+inline constexpr const char* clock_env = "OCP_VTIME_CLOCK";     // the clock page's path
+
+inline constexpr std::int64_t no_deadline = INT64_MAX;
+// What the virtual clocks read at virtual time 0: MONOTONIC (and BOOTTIME, RAW, COARSE) start
+// at 10 000 s, REALTIME at 2026-01-01T00:00:00Z.
+inline constexpr std::int64_t monotonic_origin_us = 10'000'000'000;
+inline constexpr std::int64_t realtime_origin_us = 1'767'225'600'000'000;
+
+inline constexpr int max_connections = 16;   // OCP sockets per clock page / per process
+
+struct DeliveredCount {
+  std::atomic<std::uint32_t> port;        // the client's local port (0: unused)
+  std::atomic<std::uint64_t> delivered;   // bytes the controller wrote to it so far
+};
+
+struct ClockPage {
+  std::atomic<std::int64_t> now_us;
+  std::atomic<std::uint32_t> connections;
+  std::uint32_t reserved;
+  DeliveredCount delivered[max_connections];
+};
+static_assert(std::atomic<std::int64_t>::is_always_lock_free && std::atomic<std::uint64_t>::is_always_lock_free);
+
+enum class ShimKind : std::uint32_t { hello = 1, blocked = 2, running = 3, connected = 4, closed = 5 };
+enum class WaitKind : std::uint32_t { none = 0, sleep = 1, poll = 2, select = 3, epoll = 4, futex = 5, cond = 6 };
+
+struct WrittenCount {
+  std::uint32_t port;
+  std::uint64_t written;   // bytes the process wrote to that socket so far
+};
+
+inline constexpr int max_reported = 8;
+
+struct ShimMessage {
+  ShimKind kind;
+  WaitKind wait;
+  std::int32_t pid;
+  std::int32_t tid;
+  std::uint64_t seq;
+  std::int64_t deadline_us;   // virtual; no_deadline when none
+  std::uint32_t port;         // connected / closed: the client's local port
+  std::uint32_t remote_port;  // connected: the port it connected to
+  std::uint32_t reported;     // entries used in `written`
+  WrittenCount written[max_reported];
+};
+
+enum class ControlKind : std::uint32_t { wake = 1, poke = 2 };
+
+struct ControlMessage {
+  ControlKind kind;
+  std::uint32_t reserved;
+  std::uint64_t seq;   // the BLOCKED it answers
+};
+
+}  // namespace ocp::vtime

@@ -1,0 +1,710 @@
+// The virtual-time controller (controller.hpp).
+#include "vtime/controller.hpp"
+
+#include <fcntl.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/mman.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
+#include <sched.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <optional>
+#include <set>
+#include <thread>
+
+#include "proc_scan.hpp"
+#include "socket_stream.hpp"
+#include "vtime/protocol.hpp"
+
+namespace ocp::vtime {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr std::size_t max_threads = 1024;        // client threads tracked, all processes
+constexpr std::size_t max_processes = 64;
+constexpr std::size_t max_same_instant_rounds = 100'000;
+
+std::string errno_text() { return std::strerror(errno); }
+
+std::string exe_dir() {
+  char buffer[4096];
+  const ssize_t size = readlink("/proc/self/exe", buffer, sizeof buffer - 1);
+  if (size <= 0) return {};
+  std::string path(buffer, static_cast<std::size_t>(size));
+  return path.substr(0, path.rfind('/'));
+}
+
+bool is_file(const std::string& path) {
+  struct stat info{};
+  return ::stat(path.c_str(), &info) == 0 && S_ISREG(info.st_mode);
+}
+
+const char* wait_name(WaitKind kind) {
+  switch (kind) {
+    case WaitKind::sleep: return "sleep";
+    case WaitKind::poll: return "poll";
+    case WaitKind::select: return "select";
+    case WaitKind::epoll: return "epoll_wait";
+    case WaitKind::futex: return "futex";
+    case WaitKind::cond: return "cond_wait";
+    case WaitKind::none: break;
+  }
+  return "wait";
+}
+
+}  // namespace
+
+std::string find_shim() {
+  if (const char* set = std::getenv("OCP_VTIME_SHIM"); set != nullptr && *set != '\0') return is_file(set) ? set : "";
+  const std::string dir = exe_dir();
+  for (const char* relative : {"/../lib/ocp-sim/libocp_vtime_shim.so", "/../lib/libocp_vtime_shim.so", "/libocp_vtime_shim.so"}) {
+    if (is_file(dir + relative)) return dir + relative;
+  }
+  return "";
+}
+
+struct Controller::Impl {
+  struct ThreadRecord {
+    pid_t pid = 0;
+    pid_t tid = 0;
+    bool blocked = false;
+    std::uint64_t seq = 0;
+    std::int64_t deadline = no_deadline;
+    WaitKind wait = WaitKind::none;
+  };
+  struct ProcessRecord {
+    int threads = 0;
+    std::map<std::uint32_t, std::uint64_t> written;   // by the client's local port
+    std::map<std::uint32_t, Clock::time_point> closed;   // OCP sockets it closed, not yet seen
+  };
+  struct Listener {
+    int fd = -1;
+    std::uint16_t port = 0;
+    AcceptHandler on_accept;
+  };
+  struct Expected {
+    pid_t pid;
+    std::string name;
+    std::function<bool()> alive;
+    Clock::time_point launched;
+    bool greeted = false;
+  };
+  struct Unclaimed {   // an accepted connection no shim said it made (yet)
+    std::uint16_t port;
+    Clock::time_point since;
+  };
+
+  VirtualExecutor& executor;
+  ControllerOptions options;
+  ControllerStats stats;
+  std::string dir;
+  std::string socket_path;
+  std::string clock_path;
+  int control_fd = -1;
+  ClockPage* page = nullptr;
+  std::map<int, ThreadRecord> threads;            // by control connection
+  std::map<pid_t, ProcessRecord> processes;
+  std::map<std::uint32_t, pid_t> connected_ports; // announced by a shim
+  std::set<std::uint16_t> to_accept;              // connected to a listener of ours, not accepted yet
+  std::vector<Listener> listeners;
+  std::vector<std::shared_ptr<SocketStream>> streams;
+  std::vector<Expected> expected;
+  std::vector<Unclaimed> unclaimed;
+  std::ofstream trace;
+  Clock::time_point run_started;
+  std::uint64_t accepted = 0;
+  std::uint64_t cpu_at_rest = 0;                  // client CPU ticks at the last quiescence
+  std::map<pid_t, std::uint64_t> cpu_seen;
+  std::map<pid_t, Clock::time_point> unshimmed;   // in the client's tree, without the shim, since
+
+  Impl(VirtualExecutor& executor_in, ControllerOptions options_in) : executor(executor_in), options(std::move(options_in)) {}
+
+  // ------------------------------------------------------------ setup
+
+  void open() {
+    char pattern[] = "/tmp/ocp-vtime-XXXXXX";
+    if (mkdtemp(pattern) == nullptr) throw VirtualTimeError("cannot make a folder for the control socket: " + errno_text());
+    dir = pattern;
+    socket_path = dir + "/control";
+    clock_path = dir + "/clock";
+    const int clock_fd = ::open(clock_path.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+    if (clock_fd < 0 || ftruncate(clock_fd, sizeof(ClockPage)) != 0) throw VirtualTimeError("cannot make the clock page: " + errno_text());
+    void* mapped = mmap(nullptr, sizeof(ClockPage), PROT_READ | PROT_WRITE, MAP_SHARED, clock_fd, 0);
+    ::close(clock_fd);
+    if (mapped == MAP_FAILED) throw VirtualTimeError("cannot map the clock page: " + errno_text());
+    page = static_cast<ClockPage*>(mapped);
+    page->now_us.store(executor.now().count());
+    control_fd = socket(AF_UNIX, SOCK_SEQPACKET | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+    sockaddr_un address{};
+    address.sun_family = AF_UNIX;
+    std::snprintf(address.sun_path, sizeof address.sun_path, "%s", socket_path.c_str());
+    if (control_fd < 0 || bind(control_fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0 ||
+        ::listen(control_fd, 128) != 0) {
+      throw VirtualTimeError("cannot open the control socket: " + errno_text());
+    }
+    if (options.wait_trace_path.empty()) {
+      if (const char* path = std::getenv("OCP_VTIME_WAIT_TRACE"); path != nullptr) options.wait_trace_path = path;
+    }
+    if (!options.wait_trace_path.empty()) trace.open(options.wait_trace_path, std::ios::trunc);
+  }
+
+  ~Impl() {
+    for (const Listener& listener : listeners) {
+      if (listener.fd >= 0) ::close(listener.fd);
+    }
+    for (const auto& [fd, thread] : threads) ::close(fd);
+    if (control_fd >= 0) ::close(control_fd);
+    if (page != nullptr) munmap(page, sizeof(ClockPage));
+    if (!dir.empty()) {
+      ::unlink(socket_path.c_str());
+      ::unlink(clock_path.c_str());
+      ::rmdir(dir.c_str());
+    }
+  }
+
+  void trace_line(const std::string& text) {
+    if (!trace.is_open()) return;
+    trace << executor.now().count() << " µs: " << text << '\n';
+  }
+
+  int open_listener(std::uint16_t port) {
+    const int fd = socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+    const int yes = 1;
+    setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    address.sin_port = htons(port);
+    if (fd < 0 || bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0 || ::listen(fd, 16) != 0) {
+      const std::string why = errno_text();
+      if (fd >= 0) ::close(fd);
+      throw VirtualTimeError("cannot listen on 127.0.0.1:" + std::to_string(port) + ": " + why);
+    }
+    return fd;
+  }
+
+  // ------------------------------------------------------------ messages from the shims
+
+  void accept_threads() {
+    for (;;) {
+      const int fd = accept4(control_fd, nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC);
+      if (fd < 0) return;
+      if (threads.size() >= max_threads) {
+        ::close(fd);
+        throw VirtualTimeError("more than " + std::to_string(max_threads) + " client threads: the limit of virtual time");
+      }
+      threads[fd] = ThreadRecord{};
+    }
+  }
+
+  void forget_thread(int fd) {
+    const ThreadRecord thread = threads.at(fd);
+    ::close(fd);
+    threads.erase(fd);
+    if (thread.pid == 0) return;
+    auto process = processes.find(thread.pid);
+    if (process != processes.end() && --process->second.threads <= 0) processes.erase(process);
+    trace_line("pid " + std::to_string(thread.pid) + " thread " + std::to_string(thread.tid) + " left");
+  }
+
+  void on_message(int fd, ThreadRecord& thread, const ShimMessage& message) {
+    ++stats.messages;
+    if (message.kind == ShimKind::hello) {
+      thread.pid = message.pid;
+      thread.tid = message.tid;
+      if (processes.size() >= max_processes && !processes.contains(message.pid)) {
+        throw VirtualTimeError("more than " + std::to_string(max_processes) + " client processes");
+      }
+      ++processes[message.pid].threads;
+      for (Expected& launched : expected) launched.greeted = true;
+      trace_line("pid " + std::to_string(message.pid) + " thread " + std::to_string(message.tid) + " hello");
+      return;
+    }
+    ProcessRecord& process = processes[thread.pid];
+    for (std::uint32_t i = 0; i < message.reported && i < static_cast<std::uint32_t>(max_reported); ++i) {
+      std::uint64_t& written = process.written[message.written[i].port];
+      written = std::max(written, message.written[i].written);
+    }
+    switch (message.kind) {
+      case ShimKind::blocked:
+        thread.blocked = true;
+        thread.seq = message.seq;
+        thread.deadline = message.deadline_us;
+        thread.wait = message.wait;
+        if (trace.is_open()) {
+          trace_line("thread " + std::to_string(thread.tid) + " waits in " + wait_name(message.wait) +
+                     (message.deadline_us == no_deadline ? std::string(" with no deadline")
+                                                         : " until " + std::to_string(message.deadline_us) + " µs"));
+        }
+        break;
+      case ShimKind::running:
+        if (message.seq == thread.seq) thread.blocked = false;
+        trace_line("thread " + std::to_string(thread.tid) + " woke on its own");
+        break;
+      case ShimKind::connected:
+        connected_ports[message.port] = thread.pid;
+        for (const Listener& listener : listeners) {
+          if (listener.fd >= 0 && listener.port == message.remote_port) to_accept.insert(static_cast<std::uint16_t>(message.port));
+        }
+        std::erase_if(unclaimed, [&](const Unclaimed& u) { return u.port == message.port; });
+        trace_line("thread " + std::to_string(thread.tid) + " connected from port " + std::to_string(message.port));
+        break;
+      case ShimKind::closed:
+        process.closed[message.port] = Clock::now();
+        to_accept.erase(static_cast<std::uint16_t>(message.port));
+        trace_line("thread " + std::to_string(thread.tid) + " closed port " + std::to_string(message.port));
+        break;
+      case ShimKind::hello:
+        break;
+    }
+    (void)fd;
+  }
+
+  // Reads every message waiting; with `wait_ms` > 0, first waits that long for one. True when
+  // anything came.
+  bool pump(int wait_ms) {
+    std::vector<pollfd> fds;
+    fds.push_back({control_fd, POLLIN, 0});
+    for (const auto& [fd, thread] : threads) fds.push_back({fd, POLLIN, 0});
+    if (::poll(fds.data(), fds.size(), wait_ms) <= 0) return false;
+    if (fds[0].revents & POLLIN) accept_threads();
+    for (std::size_t i = 1; i < fds.size(); ++i) {
+      if (fds[i].revents == 0) continue;
+      const int fd = fds[i].fd;
+      for (;;) {
+        ShimMessage message{};
+        const ssize_t got = recv(fd, &message, sizeof message, MSG_DONTWAIT);
+        if (got == static_cast<ssize_t>(sizeof message)) {
+          on_message(fd, threads.at(fd), message);
+          continue;
+        }
+        if (got == 0 || (got < 0 && errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)) forget_thread(fd);
+        break;
+      }
+    }
+    return true;
+  }
+
+  // ------------------------------------------------------------ quiescence
+
+  bool all_blocked_by_record() const {
+    for (const auto& [fd, thread] : threads) {
+      if (!thread.blocked) return false;
+    }
+    return true;
+  }
+
+  // The processes to look at: every one with a shim, and the launched ones and their children
+  // without one yet (a shell script that runs the client, a program between exec and its hello).
+  std::vector<pid_t> watched_pids() {
+    std::vector<pid_t> pids;
+    for (const auto& [pid, process] : processes) pids.push_back(pid);
+    std::map<pid_t, Clock::time_point> still_unshimmed;
+    for (const Expected& launched : expected) {
+      for (const pid_t pid : process_tree(launched.pid, max_processes)) {
+        if (processes.contains(pid)) continue;
+        pids.push_back(pid);
+        const auto seen = unshimmed.find(pid);
+        still_unshimmed[pid] = seen == unshimmed.end() ? Clock::now() : seen->second;
+      }
+    }
+    unshimmed = std::move(still_unshimmed);
+    return pids;
+  }
+
+  // A process of the client's tree that has run without the shim for handshake_timeout (a
+  // static binary; a program the shell started that dropped LD_PRELOAD) cannot live in
+  // virtual time. (A zombie waiting for its parent is not running.)
+  void check_unshimmed() {
+    for (const auto& [pid, since] : unshimmed) {
+      if (Clock::now() - since <= options.handshake_timeout) continue;
+      char path[64];
+      std::snprintf(path, sizeof path, "/proc/%d/stat", static_cast<int>(pid));
+      std::ifstream stat(path);
+      std::string text((std::istreambuf_iterator<char>(stat)), std::istreambuf_iterator<char>());
+      const auto open_paren = text.find('(');
+      const auto close_paren = text.rfind(')');
+      if (open_paren == std::string::npos || close_paren == std::string::npos || close_paren + 2 >= text.size()) continue;
+      if (text[close_paren + 2] == 'Z' || text[close_paren + 2] == 'X') continue;
+      const std::string name = text.substr(open_paren + 1, close_paren - open_paren - 1);
+      throw VirtualTimeError("the client's process " + std::to_string(pid) + " (" + name +
+                             ") cannot run in virtual time (no shim handshake within " +
+                             std::to_string(options.handshake_timeout.count()) +
+                             " ms: a static binary, or a runtime that does not call libc for time, such as Go); use --time real");
+    }
+  }
+
+  bool asleep_in_proc() {
+    ++stats.proc_checks;
+    const std::vector<pid_t> pids = watched_pids();
+    std::vector<std::vector<ThreadLook>> first;
+    for (const pid_t pid : pids) first.push_back(look_at_threads(pid));
+    for (std::size_t i = 0; i < pids.size(); ++i) {
+      if (!asleep_in_both(first[i], look_at_threads(pids[i]))) return false;
+    }
+    // A process that forked just before the first look and fell asleep is asleep in both; its
+    // child is not in `pids`: the same processes must still be all there are.
+    return watched_pids() == pids;
+  }
+
+  // Why the clients are not quiescent yet, for the wait trace.
+  std::string waiting_for() {
+    std::string out;
+    for (const auto& [fd, thread] : threads) {
+      if (!thread.blocked) out += "thread " + std::to_string(thread.tid) + " (pid " + std::to_string(thread.pid) + ") runs; ";
+    }
+    if (expecting_a_greeting()) out += "a launched process has no shim yet; ";
+    if (!unclaimed.empty()) out += "a connection no shim announced; ";
+    out += "/proc: ";
+    out += awake_description();
+    out += "; watched:";
+    for (const pid_t pid : watched_pids()) {
+      out += ' ';
+      out += std::to_string(pid);
+    }
+    return out;
+  }
+
+  std::string awake_description() {
+    std::string out;
+    for (const pid_t pid : watched_pids()) {
+      const std::string awake = describe_awake(look_at_threads(pid));
+      if (!awake.empty()) out += (out.empty() ? "" : "; ") + std::string("pid ") + std::to_string(pid) + ": " + awake;
+    }
+    return out;
+  }
+
+  std::uint64_t client_cpu() {
+    std::uint64_t total = 0;
+    for (const pid_t pid : watched_pids()) {
+      const std::uint64_t now = cpu_ticks(pid);
+      std::uint64_t& seen = cpu_seen[pid];
+      seen = std::max(seen, now);
+    }
+    for (const auto& [pid, ticks] : cpu_seen) total += ticks;
+    return total;
+  }
+
+  void check_limits() {
+    check_unshimmed();
+    const auto now = Clock::now();
+    if (now - run_started > options.watchdog) {
+      throw VirtualTimeError("the world took more than " + std::to_string(options.watchdog.count() / 1000) +
+                             " s of wall time (watchdog); client threads awake: " + awake_description());
+    }
+    for (Expected& launched : expected) {
+      const bool silent = !launched.greeted || processes.empty();
+      if (silent && launched.alive && launched.alive() && now - launched.launched > options.handshake_timeout) {
+        throw VirtualTimeError(launched.name + " cannot run in virtual time (no shim handshake within " +
+                               std::to_string(options.handshake_timeout.count()) +
+                               " ms: a static binary, or a runtime that does not call libc for time, such as Go); use --time real");
+      }
+      if (!silent) launched.launched = now;   // the clock restarts for a later exec
+    }
+    for (const Unclaimed& connection : unclaimed) {
+      if (now - connection.since > options.handshake_timeout) {
+        throw VirtualTimeError("a process connected from port " + std::to_string(connection.port) +
+                               " without the shim: it cannot run in virtual time (a static binary, or a child that "
+                               "dropped LD_PRELOAD); use --time real");
+      }
+    }
+    static const long ticks_per_second = sysconf(_SC_CLK_TCK);
+    const std::uint64_t cpu = client_cpu();
+    if (cpu > cpu_at_rest && static_cast<double>(cpu - cpu_at_rest) / static_cast<double>(ticks_per_second) * 1000.0 >
+                                 static_cast<double>(options.busy_cpu.count())) {
+      throw VirtualTimeError("the client used " + std::to_string((cpu - cpu_at_rest) * 1000 / static_cast<std::uint64_t>(ticks_per_second)) +
+                             " ms of CPU without ever waiting (a busy loop, or a wait the shim cannot see); awake: " +
+                             awake_description());
+    }
+  }
+
+  bool expecting_a_greeting() const {
+    for (const Expected& launched : expected) {
+      if ((!launched.greeted || processes.empty()) && launched.alive && launched.alive()) return true;
+    }
+    return false;
+  }
+
+  // Waits until every client thread waits. The shim's messages say so for the waits it wraps;
+  // /proc says so for every thread, wrapped or not (a thread the record still has running is in
+  // a wait the shim cannot see: a mutex, a blocking read). Processes that exited count as waiting.
+  void settle() {
+    ++stats.settles;
+    int naps = 0;
+    int quiet = 0;   // 1 ms waits in a row without a message
+    for (int round = 0;; ++round) {
+      pump(0);
+      const bool all_said_so = all_blocked_by_record();
+      // /proc is looked at only when it can say yes: every thread said it waits, or the one
+      // that runs has been silent a while (it may be in a wait the shim does not wrap).
+      if ((all_said_so || quiet >= 2) && !expecting_a_greeting() && unclaimed.empty() && asleep_in_proc()) {
+        pump(0);   // what a thread sent before it fell asleep
+        break;
+      }
+      if ((round & 15) == 15) {
+        check_limits();
+        if (trace.is_open() && (round & 4095) == 4095) trace_line("still waiting for quiescence: " + waiting_for());
+      }
+      if (!all_said_so) {
+        quiet = pump(1) ? 0 : quiet + 1;   // mostly, the next BLOCKED ends this wait at once
+        continue;
+      }
+      // Every thread said it waits, and one is not asleep yet: it is on its way.
+      if (naps < 20) {
+        sched_yield();
+      } else {
+        const timespec nap{0, naps < 200 ? 20'000 : 500'000};
+        nanosleep(&nap, nullptr);
+      }
+      ++naps;
+    }
+    cpu_at_rest = client_cpu();
+  }
+
+  // ------------------------------------------------------------ the OCP connections
+
+  // Every connection a client made at this instant (the shim announced it: the kernel may not
+  // have queued it yet under load, so wait for it, bounded).
+  void accept_connections() {
+    const auto give_up = Clock::now() + std::chrono::seconds(1);
+    accept_queued();
+    while (!to_accept.empty() && Clock::now() < give_up) {
+      std::vector<pollfd> fds;
+      for (const Listener& listener : listeners) {
+        if (listener.fd >= 0) fds.push_back({listener.fd, POLLIN, 0});
+      }
+      if (fds.empty()) break;
+      (void)::poll(fds.data(), fds.size(), 1);
+      accept_queued();
+    }
+    to_accept.clear();
+  }
+
+  void accept_queued() {
+    for (Listener& listener : listeners) {
+      while (listener.fd >= 0) {
+        sockaddr_in peer{};
+        socklen_t size = sizeof peer;
+        const int fd = accept4(listener.fd, reinterpret_cast<sockaddr*>(&peer), &size, SOCK_NONBLOCK | SOCK_CLOEXEC);
+        if (fd < 0) break;
+        const std::uint16_t port = ntohs(peer.sin_port);
+        to_accept.erase(port);
+        auto stream = std::make_shared<SocketStream>(executor, fd, port, "127.0.0.1 (connection " + std::to_string(++accepted) + ")");
+        claim_slot(port);
+        streams.push_back(stream);
+        if (!connected_ports.contains(port)) unclaimed.push_back({port, Clock::now()});
+        trace_line("accepted a connection from port " + std::to_string(port));
+        executor.call_at(executor.now(), [on_accept = listener.on_accept, stream] { on_accept(stream); });
+      }
+    }
+  }
+
+  void claim_slot(std::uint16_t port) {
+    // A free slot (port 0), or the next one round the page.
+    std::uint32_t used = page->connections.load();
+    for (std::uint32_t i = 0; i < used; ++i) {
+      if (page->delivered[i].port.load() == 0) {
+        page->delivered[i].delivered.store(0);
+        page->delivered[i].port.store(port);
+        return;
+      }
+    }
+    if (used < static_cast<std::uint32_t>(max_connections)) {
+      page->delivered[used].delivered.store(0);
+      page->delivered[used].port.store(port);
+      page->connections.store(used + 1, std::memory_order_release);
+      return;
+    }
+    throw VirtualTimeError("more than " + std::to_string(max_connections) + " OCP connections open at once in virtual time");
+  }
+
+  void release_slot(std::uint16_t port) {
+    const std::uint32_t used = page->connections.load();
+    for (std::uint32_t i = 0; i < used; ++i) {
+      if (page->delivered[i].port.load() == port) page->delivered[i].port.store(0);
+    }
+  }
+
+  void publish_delivered(const SocketStream& stream) {
+    const std::uint32_t used = page->connections.load();
+    for (std::uint32_t i = 0; i < used; ++i) {
+      if (page->delivered[i].port.load() == stream.peer_port()) page->delivered[i].delivered.store(stream.written_total(), std::memory_order_release);
+    }
+  }
+
+  // What the clients wrote while they ran, handed to the simulator at this instant.
+  bool take_from_clients() {
+    accept_connections();
+    bool any = false;
+    for (const std::shared_ptr<SocketStream>& stream : streams) {
+      if (stream->finished()) continue;
+      std::uint64_t expected_bytes = 0;
+      bool expect_eof = false;
+      for (auto& [pid, process] : processes) {
+        if (auto found = process.written.find(stream->peer_port()); found != process.written.end()) {
+          expected_bytes = std::max(expected_bytes, found->second);
+        }
+        if (process.closed.erase(stream->peer_port()) > 0) expect_eof = true;
+      }
+      const auto taking = Clock::now();
+      const std::size_t got = stream->take(expected_bytes, expect_eof);
+      if (trace.is_open() && Clock::now() - taking > std::chrono::milliseconds(100)) {
+        trace_line("waited for the client's bytes on port " + std::to_string(stream->peer_port()) + ": expected " +
+                   std::to_string(expected_bytes) + (expect_eof ? " and its close" : "") + ", have " +
+                   std::to_string(stream->received_total()));
+      }
+      stats.bytes_in += got;
+      if (stream->take_eof_news() || got > 0) any = true;
+    }
+    return any;
+  }
+
+  // This instant's writes to the sockets; true when anything reached a client.
+  bool flush_to_clients() {
+    bool changed = false;
+    for (const std::shared_ptr<SocketStream>& stream : streams) {
+      // The count first: a woken thread waits for the bytes it announces.
+      stats.bytes_out += stream->flush(changed);
+    }
+    for (const std::shared_ptr<SocketStream>& stream : streams) publish_delivered(*stream);
+    std::erase_if(streams, [&](const std::shared_ptr<SocketStream>& stream) {
+      if (!stream->finished()) return false;
+      release_slot(stream->peer_port());
+      return true;
+    });
+    return changed;
+  }
+
+  // ------------------------------------------------------------ waking
+
+  void send_to(int fd, ThreadRecord& thread, ControlKind kind) {
+    ControlMessage message{kind, 0, thread.seq};
+    (void)send(fd, &message, sizeof message, MSG_NOSIGNAL | MSG_DONTWAIT);
+    thread.blocked = false;
+  }
+
+  void wake_due_and_poke(bool delivered) {
+    const std::int64_t now = executor.now().count();
+    for (auto& [fd, thread] : threads) {
+      if (!thread.blocked) continue;
+      if (thread.deadline <= now) {
+        send_to(fd, thread, ControlKind::wake);
+      } else if (delivered && thread.wait != WaitKind::sleep) {   // a sleep waits for nothing delivered
+        send_to(fd, thread, ControlKind::poke);
+      }
+    }
+  }
+
+  std::int64_t earliest_deadline() const {
+    std::int64_t earliest = no_deadline;
+    for (const auto& [fd, thread] : threads) {
+      if (thread.blocked) earliest = std::min(earliest, thread.deadline);
+    }
+    return earliest;
+  }
+
+  SimTime run_until(SimTime end, const std::function<bool()>& interrupted) {
+    run_started = Clock::now();
+    std::size_t rounds_here = 0;
+    SimTime last_instant = executor.now();
+    while (true) {
+      const auto settling = Clock::now();
+      settle();
+      settle_wall += Clock::now() - settling;
+      const bool took = take_from_clients();
+      executor.run_until(executor.now());
+      const bool delivered = flush_to_clients();
+      if (delivered || took) {
+        if ((rounds_here & 63) == 63) check_limits();
+        if (++rounds_here > max_same_instant_rounds) {
+          throw VirtualTimeError("the client and the simulator exchanged bytes " + std::to_string(max_same_instant_rounds) +
+                                 " times without virtual time advancing");
+        }
+        wake_due_and_poke(delivered);
+        continue;
+      }
+      if (earliest_deadline() <= executor.now().count()) {   // a timer due now (armed at this instant)
+        wake_due_and_poke(false);
+        continue;
+      }
+      if (executor.now() >= end) break;
+      if (interrupted && interrupted()) break;
+      const SimTime next = std::max(executor.now(), std::min({executor.next_deadline(), SimTime{earliest_deadline()}, end}));
+      page->now_us.store(next.count(), std::memory_order_release);
+      executor.run_until(next);
+      if (next != last_instant) {
+        if ((++stats.instants & 255) == 0) check_unshimmed();
+        rounds_here = 0;
+        last_instant = next;
+      }
+      wake_due_and_poke(flush_to_clients());
+    }
+    trace_line("run ended: " + std::to_string(stats.instants) + " instants, " + std::to_string(stats.settles) + " settles (" +
+               std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(settle_wall).count()) + " ms), " +
+               std::to_string(stats.proc_checks) + " /proc looks, " + std::to_string(stats.messages) + " messages, " +
+               std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - run_started).count()) + " ms wall");
+    return executor.now();
+  }
+  Clock::duration settle_wall{};
+};
+
+Controller::Controller(VirtualExecutor& executor, ControllerOptions options)
+    : impl_(std::make_unique<Impl>(executor, std::move(options))), stats_(impl_->stats) {
+  impl_->open();
+}
+
+Controller::~Controller() = default;
+
+std::vector<std::string> Controller::environment() const {
+  std::string preload = impl_->options.shim_path;
+  if (const char* existing = std::getenv("LD_PRELOAD"); existing != nullptr && *existing != '\0') preload += std::string(":") + existing;
+  // A client built with AddressSanitizer wants its runtime first among the preloaded
+  // libraries; the shim comes first, and only wraps what ASan wraps too, so the check is off.
+  std::string asan = "verify_asan_link_order=0";
+  if (const char* existing = std::getenv("ASAN_OPTIONS"); existing != nullptr && *existing != '\0') asan = std::string(existing) + ":" + asan;
+  return {"LD_PRELOAD=" + preload, std::string(socket_env) + "=" + impl_->socket_path,
+          std::string(clock_env) + "=" + impl_->clock_path, "ASAN_OPTIONS=" + asan};
+}
+
+int Controller::listen(std::uint16_t port, AcceptHandler on_accept) {
+  const int fd = impl_->open_listener(port);
+  sockaddr_in bound{};
+  socklen_t size = sizeof bound;
+  getsockname(fd, reinterpret_cast<sockaddr*>(&bound), &size);
+  impl_->listeners.push_back({fd, ntohs(bound.sin_port), std::move(on_accept)});
+  return static_cast<int>(impl_->listeners.size() - 1);
+}
+
+std::uint16_t Controller::port(int listener) const { return impl_->listeners.at(static_cast<std::size_t>(listener)).port; }
+
+void Controller::close_listener_for(int listener, Micros down) {
+  Impl::Listener& entry = impl_->listeners.at(static_cast<std::size_t>(listener));
+  if (entry.fd >= 0) ::close(entry.fd);
+  entry.fd = -1;
+  impl_->executor.call_after(down, [impl = impl_.get(), listener] {
+    Impl::Listener& again = impl->listeners.at(static_cast<std::size_t>(listener));
+    if (again.fd < 0) again.fd = impl->open_listener(again.port);
+  });
+}
+
+void Controller::expect_process(pid_t pid, std::string name, std::function<bool()> alive) {
+  impl_->expected.push_back({pid, std::move(name), std::move(alive), Clock::now(), false});
+}
+
+SimTime Controller::run_until(SimTime end, const std::function<bool()>& interrupted) { return impl_->run_until(end, interrupted); }
+
+}  // namespace ocp::vtime

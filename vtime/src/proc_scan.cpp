@@ -1,0 +1,122 @@
+// /proc looks at a client's threads (proc_scan.hpp).
+#include "proc_scan.hpp"
+
+#include <dirent.h>
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <cstring>
+
+namespace ocp::vtime {
+
+namespace {
+
+// A small /proc file, whole; "" when it cannot be read.
+std::string read_small(const char* path) {
+  const int fd = open(path, O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return {};
+  char buffer[1024];
+  const ssize_t got = read(fd, buffer, sizeof buffer - 1);
+  close(fd);
+  return got > 0 ? std::string(buffer, static_cast<std::size_t>(got)) : std::string();
+}
+
+// The fields after the command name (which may hold spaces and parentheses).
+std::vector<std::string> stat_fields(const std::string& text) {
+  std::vector<std::string> fields;
+  const auto close_paren = text.rfind(')');
+  if (close_paren == std::string::npos) return fields;
+  std::size_t at = close_paren + 2;
+  while (at < text.size()) {
+    const auto end = text.find(' ', at);
+    fields.push_back(text.substr(at, end == std::string::npos ? std::string::npos : end - at));
+    if (end == std::string::npos) break;
+    at = end + 1;
+  }
+  return fields;
+}
+
+}  // namespace
+
+std::vector<ThreadLook> look_at_threads(pid_t pid) {
+  std::vector<ThreadLook> threads;
+  char path[64];
+  std::snprintf(path, sizeof path, "/proc/%d/task", static_cast<int>(pid));
+  DIR* dir = opendir(path);
+  if (dir == nullptr) return threads;
+  while (const dirent* entry = readdir(dir)) {
+    if (entry->d_name[0] < '0' || entry->d_name[0] > '9') continue;
+    ThreadLook look;
+    look.tid = static_cast<pid_t>(std::atoi(entry->d_name));
+    std::snprintf(path, sizeof path, "/proc/%d/task/%d/stat", static_cast<int>(pid), static_cast<int>(look.tid));
+    const std::vector<std::string> fields = stat_fields(read_small(path));
+    if (fields.empty()) continue;   // ended meanwhile
+    look.state = fields[0].empty() ? '?' : fields[0][0];
+    std::snprintf(path, sizeof path, "/proc/%d/task/%d/schedstat", static_cast<int>(pid), static_cast<int>(look.tid));
+    const std::string schedstat = read_small(path);
+    const auto last_space = schedstat.rfind(' ');
+    look.runs = last_space == std::string::npos ? 0 : std::strtoull(schedstat.c_str() + last_space + 1, nullptr, 10);
+    threads.push_back(look);
+  }
+  closedir(dir);
+  std::sort(threads.begin(), threads.end(), [](const ThreadLook& a, const ThreadLook& b) { return a.tid < b.tid; });
+  return threads;
+}
+
+bool asleep_in_both(const std::vector<ThreadLook>& first, const std::vector<ThreadLook>& second) {
+  if (first.size() != second.size()) return false;
+  for (std::size_t i = 0; i < first.size(); ++i) {
+    const bool gone = first[i].state == 'Z' || first[i].state == 'X';
+    if (first[i].tid != second[i].tid) return false;
+    if (gone && (second[i].state == 'Z' || second[i].state == 'X')) continue;
+    if (first[i].state != 'S' || second[i].state != 'S' || first[i].runs != second[i].runs) return false;
+  }
+  return true;
+}
+
+std::vector<pid_t> process_tree(pid_t root, std::size_t limit) {
+  std::vector<pid_t> tree{root};
+  for (std::size_t next = 0; next < tree.size() && tree.size() < limit; ++next) {
+    char path[64];
+    std::snprintf(path, sizeof path, "/proc/%d/task", static_cast<int>(tree[next]));
+    DIR* dir = opendir(path);
+    if (dir == nullptr) continue;
+    while (const dirent* entry = readdir(dir)) {
+      if (entry->d_name[0] < '0' || entry->d_name[0] > '9') continue;
+      char children[320];
+      std::snprintf(children, sizeof children, "/proc/%d/task/%s/children", static_cast<int>(tree[next]), entry->d_name);
+      const std::string text = read_small(children);
+      const char* at = text.c_str();
+      char* end = nullptr;
+      for (long child = std::strtol(at, &end, 10); end != at && tree.size() < limit; child = std::strtol(at, &end, 10)) {
+        tree.push_back(static_cast<pid_t>(child));
+        at = end;
+      }
+    }
+    closedir(dir);
+  }
+  return tree;
+}
+
+std::uint64_t cpu_ticks(pid_t pid) {
+  char path[64];
+  std::snprintf(path, sizeof path, "/proc/%d/stat", static_cast<int>(pid));
+  const std::vector<std::string> fields = stat_fields(read_small(path));
+  // utime and stime are fields 14 and 15 of stat; here, after pid and comm, 11 and 12.
+  if (fields.size() < 13) return 0;
+  return std::strtoull(fields[11].c_str(), nullptr, 10) + std::strtoull(fields[12].c_str(), nullptr, 10);
+}
+
+std::string describe_awake(const std::vector<ThreadLook>& look) {
+  std::string out;
+  for (const ThreadLook& thread : look) {
+    if (thread.state == 'S' || thread.state == 'Z' || thread.state == 'X') continue;
+    if (!out.empty()) out += ", ";
+    out += "thread " + std::to_string(thread.tid) + " in state " + thread.state;
+  }
+  return out;
+}
+
+}  // namespace ocp::vtime
