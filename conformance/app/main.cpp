@@ -45,45 +45,66 @@ struct SuiteCommandLine {
 // Both suites take the same options (CLI11 binds each subcommand's copy to one variable).
 void add_suite_options(CLI::App& suite, bool is_vehicle, SuiteCommandLine& line) {
   RunOptions& options = line.options;
-  suite.add_option("--port", line.port, is_vehicle ? "Port to listen on (default: 4000 waiting for an external client; ephemeral when launching one)"
-                                                   : "Port to listen on (default: 4001 waiting for an external client; ephemeral when launching one)")
+  suite
+      .add_option(
+          "--port", line.port,
+          is_vehicle ? "Port to listen on (default: 4000 waiting for an external client; ephemeral when launching one)"
+                     : "Port to listen on (default: 4001 waiting for an external client; ephemeral when launching one)")
       ->check(CLI::Range(0, 65535));
   suite.add_flag("--restart-per-case", options.restart_per_case, "Launch a fresh client for every case");
-  suite.add_option("--jobs,-j", options.jobs, "Cases run concurrently (launched clients only; one client and port per job)")
+  suite
+      .add_option("--jobs,-j", options.jobs,
+                  "Cases run concurrently (launched clients only; one client and port per job)")
       ->check(CLI::Range(1, 16));
   CLI::Option* list = suite.add_flag("--list", line.list, "List the cases and exit");
   suite.add_flag("--markdown", line.markdown, "With --list: the Markdown table of docs/conformance.md")->needs(list);
   // One list at a time: without --list, or with another format, it is a usage error (exit 2).
-  CLI::Option* coverage =
-      suite.add_flag("--coverage", line.coverage, "With --list: the Markdown coverage table, one row per client-side requirement (source, tier, cases, broken clients)")
-          ->needs(list);
-  suite.add_flag("--broken-clients", line.broken_clients,
-                 "With --list: every broken client that must fail a case, one a line: id, tier, verdict, cases, client (tab-separated)")
+  CLI::Option* coverage = suite
+                              .add_flag("--coverage", line.coverage,
+                                        "With --list: the Markdown coverage table, one row per client-side requirement "
+                                        "(source, tier, cases, broken clients)")
+                              ->needs(list);
+  suite
+      .add_flag("--broken-clients", line.broken_clients,
+                "With --list: every broken client that must fail a case, one a line: id, tier, verdict, cases, client "
+                "(tab-separated)")
       ->needs(list)
       ->excludes(coverage);
-  suite.add_option("--cases", line.include, "Only these cases: comma-separated ids, prefixes or globs (vehicle/2,vehicle/3.3/*)");
+  suite.add_option("--cases", line.include,
+                   "Only these cases: comma-separated ids, prefixes or globs (vehicle/2,vehicle/3.3/*)");
   suite.add_option("--exclude", line.exclude, "Skip these cases (same syntax)");
   suite.add_option("--timeout-scale", options.timeout_scale, "Multiply every timeout (slow machines, sanitizers)")
       ->check(ocp::cli::real(0.1, 100.0));
-  suite.add_option("--connect-timeout-s", line.connect_timeout_s,
-                   "A launched client that has not connected this long after its launch (or exited before) stops the run: exit 2")
+  suite
+      .add_option("--connect-timeout-s", line.connect_timeout_s,
+                  "A launched client that has not connected this long after its launch (or exited before) stops the "
+                  "run: exit 2")
       ->capture_default_str()
       ->check(ocp::cli::real(0.1, 600.0));
   suite.add_option("--out", line.out_dir, "Write index.json, report.html and client logs into this directory")
       ->check(ocp::cli::writable_folder());
   suite.add_option("--junit", line.junit, "Write JUnit XML to this file")->check(ocp::cli::writable_file());
-  suite.add_option("--baseline", line.baseline_path, "Expected failures (one case id per line); the run is judged against it");
+  suite.add_option("--baseline", line.baseline_path,
+                   "Expected failures (one case id per line); the run is judged against it");
   suite.add_option("--write-baseline", line.write_baseline, "Write this run's failures as a baseline file");
   suite.add_option("command", line.command, "-- CMD ARGS…: launch the client; OCP_PORT and {port} carry the port");
   if (is_vehicle) {
     // A client whose interlock works other buttons than the reference client's is judged on
     // the §10 cases when it says which (docs/protocol.md §10), instead of "not judged".
     const std::vector<std::string> buttons(controller_buttons.begin(), controller_buttons.end());
-    suite.add_option("--enable-button", options.interlock.enable,
-                     "The gamepad button that enables your drive interlock (pressed with the sticks at rest), for the §10 cases")
-        ->capture_default_str()->check(CLI::IsMember(buttons))->group("Safety (SPEC §10)");
-    suite.add_option("--stop-button", options.interlock.stop, "The gamepad button of your emergency stop, for vehicle/10/3")
-        ->capture_default_str()->check(CLI::IsMember(buttons))->group("Safety (SPEC §10)");
+    suite
+        .add_option(
+            "--enable-button", options.interlock.enable,
+            "The gamepad button that enables your drive interlock (pressed with the sticks at rest), for the §10 cases")
+        ->capture_default_str()
+        ->check(CLI::IsMember(buttons))
+        ->group("Safety (SPEC §10)");
+    suite
+        .add_option("--stop-button", options.interlock.stop,
+                    "The gamepad button of your emergency stop, for vehicle/10/3")
+        ->capture_default_str()
+        ->check(CLI::IsMember(buttons))
+        ->group("Safety (SPEC §10)");
   }
 }
 
@@ -124,7 +145,8 @@ bool complete_run_options(SuiteCommandLine& line, bool operator_suite, Temporary
   RunOptions& options = line.options;
   options.command = line.command;
   options.connect_timeout = std::chrono::milliseconds(static_cast<std::int64_t>(line.connect_timeout_s * 1000.0));
-  options.port = static_cast<std::uint16_t>(line.port >= 0 ? line.port : (line.command.empty() ? (operator_suite ? 4001 : 4000) : 0));
+  options.port = static_cast<std::uint16_t>(
+      line.port >= 0 ? line.port : (line.command.empty() ? (operator_suite ? 4001 : 4000) : 0));
   if (line.out_dir.empty()) {
     if (!line.command.empty()) options.client_log_dir = temporary_logs.make();
     options.client_logs_kept = false;
@@ -155,7 +177,8 @@ std::string client_description(const SuiteCommandLine& line) {
 bool write_reports(const SuiteCommandLine& line, const ReportContext& context, const RunSummary& summary) {
   bool wrote = true;
   if (!line.out_dir.empty()) {
-    wrote = write_file(line.out_dir + "/index.json", index_json(context)) && write_file(line.out_dir + "/report.html", html_report(context));
+    wrote = write_file(line.out_dir + "/index.json", index_json(context)) &&
+            write_file(line.out_dir + "/report.html", html_report(context));
     std::cout << "Reports: " << line.out_dir << "/index.json, " << line.out_dir << "/report.html\n";
   }
   if (!line.junit.empty()) wrote = write_file(line.junit, junit_xml(context)) && wrote;
@@ -166,11 +189,15 @@ bool write_reports(const SuiteCommandLine& line, const ReportContext& context, c
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"OCP conformance suite: plays one side of an OCP TCP API against a client under test.", "ocp_conformance"};
+  CLI::App app{"OCP conformance suite: plays one side of an OCP TCP API against a client under test.",
+               "ocp_conformance"};
   app.require_subcommand(1);
-  CLI::App* vehicle = app.add_subcommand("vehicle", "Play the Streamer (vehicle-side API, SPEC §2/§3/§5) against a vehicle client");
-  CLI::App* operator_side = app.add_subcommand(
-      "operator", "Play the Player (operator-side :4001 API, SPEC §4) against an operator client; a real Streamer and the reference vehicle client run behind it");
+  CLI::App* vehicle =
+      app.add_subcommand("vehicle", "Play the Streamer (vehicle-side API, SPEC §2/§3/§5) against a vehicle client");
+  CLI::App* operator_side =
+      app.add_subcommand("operator",
+                         "Play the Player (operator-side :4001 API, SPEC §4) against an operator client; a real "
+                         "Streamer and the reference vehicle client run behind it");
   SuiteCommandLine line;
   for (CLI::App* suite : {vehicle, operator_side}) add_suite_options(*suite, suite == vehicle, line);
 
@@ -182,7 +209,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   const std::string suite_name = operator_suite ? "operator" : "vehicle";
-  std::vector<VehicleCase> cases = select_cases(operator_suite ? operator_cases() : vehicle_cases(), line.include, line.exclude);
+  std::vector<VehicleCase> cases =
+      select_cases(operator_suite ? operator_cases() : vehicle_cases(), line.include, line.exclude);
   if (line.list) {
     print_case_list(cases, line, operator_suite);
     return 0;
@@ -210,7 +238,8 @@ int main(int argc, char** argv) {
 
   const std::string client = client_description(line);
   std::cout << "ocp_conformance " << suite_name << ": " << cases.size() << " cases against " << client << "\n";
-  if (line.command.empty()) std::cout << "waiting for the client to connect to 127.0.0.1:" << line.options.port << " …\n";
+  if (line.command.empty())
+    std::cout << "waiting for the client to connect to 127.0.0.1:" << line.options.port << " …\n";
   line.options.on_result = [](const CaseResult& r) {
     print_case_line(std::cout, r);
     std::cout.flush();

@@ -18,7 +18,7 @@ Result<Baseline> load_baseline(const std::string& path) {
     if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
     std::istringstream words(line);
     std::string id;
-    if (words >> id) baseline.insert(id);   // "id [anything]": only the id counts
+    if (words >> id) baseline.insert(id);  // "id [anything]": only the id counts
   }
   return baseline;
 }

@@ -4,8 +4,8 @@
 
 namespace ocp::conformance {
 
-CaseContext::CaseContext(StreamerHost& host, WireLog& log,
-                         std::chrono::steady_clock::time_point deadline, double timeout_scale)
+CaseContext::CaseContext(StreamerHost& host, WireLog& log, std::chrono::steady_clock::time_point deadline,
+                         double timeout_scale)
     : host_(host), log_(log), deadline_(deadline), timeout_scale_(timeout_scale) {}
 
 void CaseContext::check_deadline() const {
@@ -19,7 +19,8 @@ void CaseContext::run_for(std::chrono::milliseconds duration) {
 }
 
 bool CaseContext::wait_until(const std::function<bool()>& done, std::chrono::milliseconds timeout) {
-  const auto scaled = std::chrono::milliseconds(static_cast<std::int64_t>(static_cast<double>(timeout.count()) * timeout_scale_));
+  const auto scaled =
+      std::chrono::milliseconds(static_cast<std::int64_t>(static_cast<double>(timeout.count()) * timeout_scale_));
   const auto now = std::chrono::steady_clock::now();
   const auto limit = std::min(now + scaled, deadline_);
   const bool ok = host_.run_until(done, std::chrono::duration_cast<std::chrono::milliseconds>(limit - now));
@@ -33,7 +34,7 @@ bool CaseContext::wait_connected(std::chrono::milliseconds timeout) {
 
 void CaseContext::restart_streamer(const StreamerSetup& setup) {
   note("Streamer restart: connection closed, listening socket reopened, new MAC key");
-  host_.stop_streamer();   // still attached: the close is in the log
+  host_.stop_streamer();  // still attached: the close is in the log
   log_.detach();
   if (auto status = host_.restart(setup); !status) {
     throw std::runtime_error("restart failed: " + status.error().message());

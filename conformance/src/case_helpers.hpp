@@ -49,9 +49,10 @@ inline Outcome grade_longest_silence(const std::string& counts, std::int64_t lon
     return failed(counts + " (the product closes the connection after 2 000 ms without a byte)");
   }
   if (longest_us > silence_margin_us) {
-    return non_strict(fmt::format("{} (under the product's 2 000 ms read timeout by only {} ms: keep-alives well inside "
-                                  "it, e.g. every 10 ms to 1 s)",
-                                  counts, (product_read_timeout_us - longest_us) / 1000));
+    return non_strict(
+        fmt::format("{} (under the product's 2 000 ms read timeout by only {} ms: keep-alives well inside "
+                    "it, e.g. every 10 ms to 1 s)",
+                    counts, (product_read_timeout_us - longest_us) / 1000));
   }
   return ok(counts);
 }
@@ -60,9 +61,7 @@ inline std::string last_close(const Observations& observed) {
   return observed.close_codes.empty() ? std::string("unknown reason") : observed.close_codes.back();
 }
 
-inline std::string describe(const AckPair& pair) {
-  return fmt::format("({}, {})", pair.ack_time, pair.ack_time_mac);
-}
+inline std::string describe(const AckPair& pair) { return fmt::format("({}, {})", pair.ack_time, pair.ack_time_mac); }
 
 // The sent pair that `pair` is a copy of, rounded through a double (same MAC, an ack_time off by
 // less than a double's step at that size, and not equal), or nullopt. A rounding client's
@@ -70,8 +69,9 @@ inline std::string describe(const AckPair& pair) {
 inline std::optional<AckPair> rounded_from(const AckPair& pair, const std::vector<SentPair>& sent) {
   for (const SentPair& candidate : sent) {
     const std::uint64_t original = candidate.ack.ack_time;
-    if (candidate.ack.ack_time_mac != pair.ack_time_mac || original == pair.ack_time || original < (1ull << 53)) continue;
-    const std::uint64_t step = std::uint64_t{1} << (std::bit_width(original) - 53);   // a double's step there
+    if (candidate.ack.ack_time_mac != pair.ack_time_mac || original == pair.ack_time || original < (1ull << 53))
+      continue;
+    const std::uint64_t step = std::uint64_t{1} << (std::bit_width(original) - 53);  // a double's step there
     const std::uint64_t off = original > pair.ack_time ? original - pair.ack_time : pair.ack_time - original;
     if (off <= step) return candidate.ack;
   }
@@ -109,7 +109,8 @@ inline std::vector<AckPair> unknown_pairs(const Observations& observed, std::int
 }
 
 // A failure over pairs nobody sent, with the cause named when one fits (ocp/pair_diagnosis.hpp).
-inline Outcome failed_with_cause(std::string actual, const std::vector<AckPair>& altered, const std::vector<AckPair>& sent) {
+inline Outcome failed_with_cause(std::string actual, const std::vector<AckPair>& altered,
+                                 const std::vector<AckPair>& sent) {
   Outcome outcome = failed(std::move(actual));
   const PairDiagnosis diagnosis = diagnose_altered_pairs(altered, sent);
   outcome.cause = diagnosis.cause;
@@ -128,8 +129,9 @@ inline Outcome failed_over_altered_pairs(std::string actual, const std::vector<A
 inline std::string list_pairs(const std::vector<AckPair>& pairs, std::size_t max = 3) {
   std::string out;
   for (std::size_t i = 0; i < pairs.size() && i < max; ++i) {
-      out += i ? ", " : ""; out += describe(pairs[i]);
-    }
+    out += i ? ", " : "";
+    out += describe(pairs[i]);
+  }
   if (pairs.size() > max) out += fmt::format(" … ({} in all)", pairs.size());
   return out;
 }
@@ -143,7 +145,8 @@ struct CraftedRun {
 };
 
 inline AckPair crafted_pair(std::uint64_t salt, std::size_t i) {
-  return AckPair{(std::uint64_t{1} << 63) + salt * 1'000'000 + i, 0x80000000u + static_cast<std::uint32_t>(salt * 1000 + i)};
+  return AckPair{(std::uint64_t{1} << 63) + salt * 1'000'000 + i,
+                 0x80000000u + static_cast<std::uint32_t>(salt * 1000 + i)};
 }
 
 inline CraftedRun send_crafted(CaseContext& context, std::size_t count, milliseconds gap, milliseconds settle,
@@ -178,8 +181,8 @@ inline Outcome grade_crafted(CaseContext& context, const CraftedRun& run, const 
                               observed.close_codes.empty() ? "?" : observed.close_codes.back()));
   }
   if (!unknown.empty()) {
-    return failed_over_altered_pairs(fmt::format("{}; echoed pairs never sent: {}", counts, list_pairs(unknown)), unknown,
-                                     observed, run.pairs);
+    return failed_over_altered_pairs(fmt::format("{}; echoed pairs never sent: {}", counts, list_pairs(unknown)),
+                                     unknown, observed, run.pairs);
   }
   if (!last) return failed(fmt::format("{}; the last pair {} was never echoed", counts, describe(run.pairs.back())));
   return ok(fmt::format("{}; last pair echoed; connection kept", counts));
@@ -208,16 +211,22 @@ inline Outcome grade_reconnect_delays(CaseContext& context, const std::function<
     const bool back = context.wait_until(
         [&] { return !Observations::from(context.entries(), break_us).opened_us.empty(); }, milliseconds(3000));
     if (!back) break;
-    delays_ms.push_back(static_cast<double>(Observations::from(context.entries(), break_us).opened_us.front() - break_us) / 1000.0);
+    delays_ms.push_back(
+        static_cast<double>(Observations::from(context.entries(), break_us).opened_us.front() - break_us) / 1000.0);
   }
   std::string list;
   for (const double d : delays_ms) list += fmt::format("{}{:.1f} ms", list.empty() ? "" : ", ", d);
-  const std::string counts = fmt::format("reconnect delays after {} server closes: {}", delays_ms.size(), list.empty() ? "none" : list);
-  if (delays_ms.size() < 3) return non_strict(counts + fmt::format("; no reconnect within 3 s after close {}", delays_ms.size() + 1));
+  const std::string counts =
+      fmt::format("reconnect delays after {} server closes: {}", delays_ms.size(), list.empty() ? "none" : list);
+  if (delays_ms.size() < 3)
+    return non_strict(counts + fmt::format("; no reconnect within 3 s after close {}", delays_ms.size() + 1));
   const double shortest = *std::min_element(delays_ms.begin(), delays_ms.end());
   const double longest = *std::max_element(delays_ms.begin(), delays_ms.end());
-  if (shortest < static_cast<double>(reconnect_min_us) / 1000.0) return non_strict(counts + " (at once: a tight reconnect loop; wait ~100 ms)");
-  if (longest > static_cast<double>(reconnect_max_us) / 1000.0) return non_strict(counts + " (seconds: the vehicle is without control, or the operator without feedback, meanwhile)");
+  if (shortest < static_cast<double>(reconnect_min_us) / 1000.0)
+    return non_strict(counts + " (at once: a tight reconnect loop; wait ~100 ms)");
+  if (longest > static_cast<double>(reconnect_max_us) / 1000.0)
+    return non_strict(counts +
+                      " (seconds: the vehicle is without control, or the operator without feedback, meanwhile)");
   return ok(counts);
 }
 

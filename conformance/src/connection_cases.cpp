@@ -79,13 +79,16 @@ Outcome single_vehicle_connection(CaseContext& context) {
   std::string first;
   for (const WireLogEntry& entry : context.entries()) {
     if (entry.kind != WireEntryKind::refused) continue;
-    if (refused++ == 0) first = fmt::format(" (the first at {:.0f} ms: {})", static_cast<double>(entry.time_us) / 1000.0, entry.text);
+    if (refused++ == 0)
+      first = fmt::format(" (the first at {:.0f} ms: {})", static_cast<double>(entry.time_us) / 1000.0, entry.text);
   }
   const Observations observed = Observations::from(context.entries());
   if (refused > 0) {
-    return failed(fmt::format("{} more connection(s) opened while one was up, refused by the Streamer{}", refused, first));
+    return failed(
+        fmt::format("{} more connection(s) opened while one was up, refused by the Streamer{}", refused, first));
   }
-  if (observed.opened_us.size() > 1) return failed(fmt::format("{} connections in 1 s; the Streamer closed none", observed.opened_us.size()));
+  if (observed.opened_us.size() > 1)
+    return failed(fmt::format("{} connections in 1 s; the Streamer closed none", observed.opened_us.size()));
   return ok("one connection for 1 s; no second connection opened");
 }
 
@@ -96,38 +99,54 @@ Outcome reconnect_delay(CaseContext& context) {
 }  // namespace
 
 void add_connection_cases(std::vector<VehicleCase>& cases) {
-  cases.push_back({{{"vehicle/3.1/1", "reconnects after the server closes; no stale pair", "seed 000 (Connect from the vehicle process), SPEC §3.1",
-                     "\"If the connection drops, reconnect from your process; when OCP accepts the next connection it clears old queued control messages\" — "
-                     "\"Treat disconnects as normal lifecycle events and reconnect after a short delay.\"",
-                     Tier::must, milliseconds(15'000),
-                     {"OK: reconnects within 5 s, then echoes pairs of the new connection only (none sent before the close)"},
-                     "broken_client.py no-reconnect (or sticky-pair)"},
-                    after_server_close},
-                   {}});
-  cases.push_back({{{"vehicle/3.1/2", "reconnects after a Streamer restart with a new MAC key; no stale pair", "SPEC §3.1, §5",
-                     "\"The 32-byte key is drawn from a CSPRNG at Streamer start\" — \"reconnect after a short delay\"; a pair of the old Streamer never validates again",
-                     Tier::must, milliseconds(15'000),
+  cases.push_back(
+      {{{"vehicle/3.1/1",
+         "reconnects after the server closes; no stale pair",
+         "seed 000 (Connect from the vehicle process), SPEC §3.1",
+         "\"If the connection drops, reconnect from your process; when OCP accepts the next connection it clears old "
+         "queued control messages\" — "
+         "\"Treat disconnects as normal lifecycle events and reconnect after a short delay.\"",
+         Tier::must,
+         milliseconds(15'000),
+         {"OK: reconnects within 5 s, then echoes pairs of the new connection only (none sent before the close)"},
+         "broken_client.py no-reconnect (or sticky-pair)"},
+        after_server_close},
+       {}});
+  cases.push_back({{{"vehicle/3.1/2",
+                     "reconnects after a Streamer restart with a new MAC key; no stale pair",
+                     "SPEC §3.1, §5",
+                     "\"The 32-byte key is drawn from a CSPRNG at Streamer start\" — \"reconnect after a short "
+                     "delay\"; a pair of the old Streamer never validates again",
+                     Tier::must,
+                     milliseconds(15'000),
                      {"OK: reconnects to the restarted Streamer within 5 s and echoes only its pairs"},
                      "broken_client.py sticky-pair (or no-reconnect)"},
                     after_restart},
                    {}});
-  cases.push_back({{{"vehicle/3.1/3", "one connection at a time", "SPEC §3.1, seed 000 (Connect from the vehicle process)",
-                     "\"OCP accepts one active vehicle-side TCP connection at a time.\" — \"One active vehicle connection at a time. "
+  cases.push_back({{{"vehicle/3.1/3",
+                     "one connection at a time",
+                     "SPEC §3.1, seed 000 (Connect from the vehicle process)",
+                     "\"OCP accepts one active vehicle-side TCP connection at a time.\" — \"One active vehicle "
+                     "connection at a time. "
                      "Decision: a second connection arriving while one is active is accepted and closed at once\"",
-                     Tier::must, milliseconds(10'000),
+                     Tier::must,
+                     milliseconds(10'000),
                      {"OK: the client keeps one connection for 1 s; no second connection is refused"},
                      "broken_client.py second-connection"},
                     single_vehicle_connection},
                    {}});
-  cases.push_back({{{"vehicle/3.1/4", "reconnects after a short delay: not at once, not after seconds",
-                     "seed 000 (Practical connection rules; the Rust example's 100 ms sleep)",
-                     "\"Treat disconnects as normal lifecycle events and reconnect after a short delay.\"",
-                     Tier::should, milliseconds(15'000),
-                     {"OK: after each of 3 server closes the client reconnects 20 ms to 1 s later",
-                      "NON-STRICT: it reconnects in under 20 ms (a tight loop) or after more than 1 s (a practical rule: SHOULD)"},
-                     "broken_client.py reconnect-at-once (NON-STRICT); broken_client.py reconnect-slowly (NON-STRICT)"},
-                    reconnect_delay},
-                   {}});
+  cases.push_back(
+      {{{"vehicle/3.1/4",
+         "reconnects after a short delay: not at once, not after seconds",
+         "seed 000 (Practical connection rules; the Rust example's 100 ms sleep)",
+         "\"Treat disconnects as normal lifecycle events and reconnect after a short delay.\"",
+         Tier::should,
+         milliseconds(15'000),
+         {"OK: after each of 3 server closes the client reconnects 20 ms to 1 s later",
+          "NON-STRICT: it reconnects in under 20 ms (a tight loop) or after more than 1 s (a practical rule: SHOULD)"},
+         "broken_client.py reconnect-at-once (NON-STRICT); broken_client.py reconnect-slowly (NON-STRICT)"},
+        reconnect_delay},
+       {}});
 }
 
 }  // namespace ocp::conformance

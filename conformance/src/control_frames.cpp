@@ -16,11 +16,10 @@ std::string crafted_controller_json(const CraftedPad& pad, bool unknown_fields) 
                          (!pad.also_pressed.empty() && name == pad.also_pressed);
     buttons += fmt::format(R"({}"{}":{})", buttons.empty() ? "" : ",", name, pressed ? "true" : "false");
   }
-  return fmt::format(
-      R"({{"buttons":{{{0}{1}}},"axes":{{"left_x":{2:.3f},"left_y":0.0,)"
-      R"("right_x":0.0,"right_y":0.0,"left_trigger":{3:.3f},"right_trigger":{4:.3f}}}{5}}})",
-      buttons, unknown_fields ? R"(,"paddle_1":true)" : "", pad.left_x, pad.left_trigger, pad.right_trigger,
-      unknown_fields ? R"(,"haptics":{"rumble":[0.1,0.2]})" : "");
+  return fmt::format(R"({{"buttons":{{{0}{1}}},"axes":{{"left_x":{2:.3f},"left_y":0.0,)"
+                     R"("right_x":0.0,"right_y":0.0,"left_trigger":{3:.3f},"right_trigger":{4:.3f}}}{5}}})",
+                     buttons, unknown_fields ? R"(,"paddle_1":true)" : "", pad.left_x, pad.left_trigger,
+                     pad.right_trigger, unknown_fields ? R"(,"haptics":{"rumble":[0.1,0.2]})" : "");
 }
 
 }  // namespace
@@ -34,7 +33,8 @@ std::string control_payload(const CraftedControl& c) {
     case CraftedController::absent:
       break;
     case CraftedController::driving:
-      controller = crafted_controller_json(CraftedPad{.a = true, .left_x = 0.25, .right_trigger = 0.5}, c.unknown_fields);
+      controller =
+          crafted_controller_json(CraftedPad{.a = true, .left_x = 0.25, .right_trigger = 0.5}, c.unknown_fields);
       break;
     case CraftedController::safe_default:
       controller = crafted_controller_json(CraftedPad{}, c.unknown_fields);
@@ -43,14 +43,14 @@ std::string control_payload(const CraftedControl& c) {
       controller = crafted_controller_json(c.pad, c.unknown_fields);
       break;
   }
-  std::string out = fmt::format(
-      R"({{{0}{1}"telemetry":{{"latency":12,"fault":{2},"fault_reason":"{3}"{4}{5}}},)"
-      R"("ack_time":{6},"ack_time_mac":{7})",
-      c.unknown_fields ? R"("protocol_revision":"2099.1","x_vendor":{"nested":[1,{"k":null}]},)" : "",
-      c.controller == CraftedController::absent ? std::string() : R"("controller":)" + controller + ",",
-      c.fault ? "true" : "false", c.fault_reason,
-      c.missing_cameras.empty() ? std::string() : R"(,"missing_cameras":)" + c.missing_cameras,
-      c.unknown_fields ? R"(,"jitter_ms":1.5)" : "", c.ack.ack_time, c.ack.ack_time_mac);
+  std::string out =
+      fmt::format(R"({{{0}{1}"telemetry":{{"latency":12,"fault":{2},"fault_reason":"{3}"{4}{5}}},)"
+                  R"("ack_time":{6},"ack_time_mac":{7})",
+                  c.unknown_fields ? R"("protocol_revision":"2099.1","x_vendor":{"nested":[1,{"k":null}]},)" : "",
+                  c.controller == CraftedController::absent ? std::string() : R"("controller":)" + controller + ",",
+                  c.fault ? "true" : "false", c.fault_reason,
+                  c.missing_cameras.empty() ? std::string() : R"(,"missing_cameras":)" + c.missing_cameras,
+                  c.unknown_fields ? R"(,"jitter_ms":1.5)" : "", c.ack.ack_time, c.ack.ack_time_mac);
   if (!c.client_user_data.empty()) out += R"(,"client_user_data":)" + c.client_user_data;
   if (c.unknown_fields) out += R"(,"future_flag":false)";
   out += "}";

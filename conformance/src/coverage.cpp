@@ -43,7 +43,8 @@ void add_broken_client_part(const CaseInfo& info, const std::string& part, std::
   if (coverage_starts_with(note, "with ")) run.cases += "," + note.substr(5);
   std::vector<std::string> clients{client};
   if (coverage_starts_with(note, "or ")) {
-    for (const std::string& alt : split_outside_parentheses(note.substr(3), ", ")) clients.push_back(alternative_client(client, alt));
+    for (const std::string& alt : split_outside_parentheses(note.substr(3), ", "))
+      clients.push_back(alternative_client(client, alt));
   }
   for (const std::string& c : clients) {
     if (!coverage_starts_with(c, "broken_client.py ") && !coverage_starts_with(c, "vehicle_client ")) continue;
@@ -56,7 +57,8 @@ void add_broken_client_part(const CaseInfo& info, const std::string& part, std::
 
 std::vector<BrokenClientRun> broken_client_runs(const CaseInfo& info) {
   std::vector<BrokenClientRun> runs;
-  for (const std::string& part : split_outside_parentheses(info.broken_by, "; ")) add_broken_client_part(info, part, runs);
+  for (const std::string& part : split_outside_parentheses(info.broken_by, "; "))
+    add_broken_client_part(info, part, runs);
   return runs;
 }
 

@@ -26,18 +26,22 @@ std::string entry_json(const WireLogEntry& e, std::int64_t origin_us) {
 
 std::string index_json(const ReportContext& report) {
   const RunSummary& summary = *report.summary;
-  std::string out = fmt::format(R"({{"suite":"{}","ocp_sim_version":"{}","client":"{}","duration_ms":{:.1f},"exit_code":{},"harness_error":"{}","interrupted":{},"cases":[)",
-                                report.suite, json_escape(build_info::version_line()), json_escape(report.client), summary.duration_ms,
-                                run_exit_code(summary, nullptr), json_escape(summary.harness_error), summary.interrupted);
+  std::string out = fmt::format(
+      R"({{"suite":"{}","ocp_sim_version":"{}","client":"{}","duration_ms":{:.1f},"exit_code":{},"harness_error":"{}","interrupted":{},"cases":[)",
+      report.suite, json_escape(build_info::version_line()), json_escape(report.client), summary.duration_ms,
+      run_exit_code(summary, nullptr), json_escape(summary.harness_error), summary.interrupted);
   bool first = true;
   for (const CaseResult& result : summary.results) {
     out += first ? "\n" : ",\n";
     first = false;
-    out += fmt::format(R"({{"id":"{}","title":"{}","tier":"{}","verdict":"{}","duration_ms":{:.1f},"source":"{}","requirement":"{}","expected":[)",
-                       json_escape(result.info.id), json_escape(result.info.title), tier_name(result.info.tier), verdict_name(result.verdict),
-                       result.duration_ms, json_escape(result.info.source), json_escape(result.info.requirement));
+    out += fmt::format(
+        R"({{"id":"{}","title":"{}","tier":"{}","verdict":"{}","duration_ms":{:.1f},"source":"{}","requirement":"{}","expected":[)",
+        json_escape(result.info.id), json_escape(result.info.title), tier_name(result.info.tier),
+        verdict_name(result.verdict), result.duration_ms, json_escape(result.info.source),
+        json_escape(result.info.requirement));
     for (std::size_t i = 0; i < result.info.expected.size(); ++i) {
-      out += i ? "," : ""; out += fmt::format(R"("{}")", json_escape(result.info.expected[i]));
+      out += i ? "," : "";
+      out += fmt::format(R"("{}")", json_escape(result.info.expected[i]));
     }
     out += fmt::format(R"(],"actual":"{}","cause":"{}","client_log":"{}","wire_log":[)", json_escape(result.actual),
                        json_escape(result.cause), json_escape(result.client_log_path));
@@ -52,7 +56,8 @@ std::string index_json(const ReportContext& report) {
         }
         continue;
       }
-      out += any ? "," : ""; out += entry_json(result.wire_log[i], origin);
+      out += any ? "," : "";
+      out += entry_json(result.wire_log[i], origin);
       any = true;
     }
     out += "]}";
@@ -62,12 +67,14 @@ std::string index_json(const ReportContext& report) {
     auto list = [](const std::vector<std::string>& ids) {
       std::string text = "[";
       for (std::size_t i = 0; i < ids.size(); ++i) {
-      text += i ? "," : ""; text += fmt::format(R"("{}")", json_escape(ids[i]));
-    }
+        text += i ? "," : "";
+        text += fmt::format(R"("{}")", json_escape(ids[i]));
+      }
       return text + "]";
     };
-    out += fmt::format(R"(,"baseline":{{"new_failures":{},"still_failing":{},"fixed":{}}})", list(report.baseline->new_failures),
-                       list(report.baseline->still_failing), list(report.baseline->fixed));
+    out += fmt::format(R"(,"baseline":{{"new_failures":{},"still_failing":{},"fixed":{}}})",
+                       list(report.baseline->new_failures), list(report.baseline->still_failing),
+                       list(report.baseline->fixed));
   }
   out += "}\n";
   return out;

@@ -10,7 +10,7 @@ namespace {
 
 using namespace detail;
 
-constexpr milliseconds silence_ms{2300};   // longer than the Player's 2 s read timeout
+constexpr milliseconds silence_ms{2300};  // longer than the Player's 2 s read timeout
 
 // The client's longest silence since `from` (a close ends it), graded at the product's line.
 Outcome grade_client_silence(CaseContext& context, std::int64_t from, const std::string& during) {
@@ -97,10 +97,13 @@ Outcome single_connection(CaseContext& context) {
   context.run_for(milliseconds(1000));
   const OperatorObservations observed = OperatorObservations::from(context.entries());
   bool locked = false;
-  for (const WireLogEntry& e : context.entries()) locked = locked || (e.kind == WireEntryKind::note && e.text.find("source locked: tcp") != std::string::npos);
-  const std::string lock = locked ? "its client data locked the tcp source" : "it sent no client data (keep-alives only: no lock)";
+  for (const WireLogEntry& e : context.entries())
+    locked = locked || (e.kind == WireEntryKind::note && e.text.find("source locked: tcp") != std::string::npos);
+  const std::string lock =
+      locked ? "its client data locked the tcp source" : "it sent no client data (keep-alives only: no lock)";
   if (observed.refused > 0) {
-    return failed(fmt::format("{} more connection(s) opened while one was up, refused by the Player; {}", observed.refused, lock));
+    return failed(fmt::format("{} more connection(s) opened while one was up, refused by the Player; {}",
+                              observed.refused, lock));
   }
   return ok("one connection; " + lock);
 }
@@ -109,67 +112,97 @@ Outcome single_connection(CaseContext& context) {
 
 void add_operator_connection_cases(std::vector<VehicleCase>& cases) {
   const StreamerSetup op = operator_setup();
-  cases.push_back({{{"operator/2/2", "keeps the connection alive while the Player is silent (2 s read timeout never fires)",
-                     "SPEC §2, §4.2",
-                     "\"Read timeout: … the timer runs whenever the connection is open and no byte has arrived for 2 000 ms … same rule "
-                     "on :4001.\" — \"[a keep-alive] resets the :4001 read timer … A read-only operator client (a dashboard) sends it "
-                     "about once a second to stay connected\"",
-                     Tier::must, milliseconds(10'000),
-                     {"OK: while the Player sends nothing for 2.3 s the client still sends (keep-alives {} or data), never silent "
-                      "for more than 1 s; connection kept",
-                      "NON-STRICT: its longest silence is over 1 s but under the product's 2 000 ms line (the margin is named)"},
-                     "broken_client.py op-no-keepalive"},
-                    keeps_connection_alive},
-                   op});
-  cases.push_back({{{"operator/2/6", "keeps sending while the pair stays unchanged (a stalled video)", "SPEC §2, §4.1, §4.2",
-                     "\"ack_time/ack_time_mac are the latest pair extracted from that vehicle's video SEI\" (no new video, no new "
-                     "pair, while the Player sends on) — \"the timer runs whenever the connection is open and no byte has arrived "
-                     "for 2 000 ms … same rule on :4001\"",
-                     Tier::must, milliseconds(10'000),
-                     {"OK: while the vehicle's video is stalled for 2.3 s (the Player sends on, the pair unchanged) the client "
-                      "still sends, never silent for more than 1 s; connection kept",
-                      "NON-STRICT: its longest silence is over 1 s but under the product's 2 000 ms line (the margin is named)"},
-                     "broken_client.py op-answer-on-change"},
-                    keeps_sending_on_an_unchanged_pair},
-                   op});
-  cases.push_back({{{"operator/4.2/3", "reconnects after the Player closes the connection; no stale pair", "SPEC §4.2, seed 000",
-                     "\"Treat disconnects as normal lifecycle events and reconnect after a short delay.\" (seed 000, for the vehicle "
-                     "side; the :4001 server follows the same rules: \"same bind rule and framing as §2, one client at a time\")",
-                     Tier::must, milliseconds(12'000),
-                     {"OK: reconnects within 5 s, then returns ≥ 5 pairs in 0.8 s, each published on the new connection (none "
-                      "remembered from the old one)"},
-                     "broken_client.py op-no-reconnect (or op-sticky)"},
-                    [](CaseContext& context) {
-                      return reconnects(context, [&] { context.host().player().close_client_connection(); }, "the Player closed the connection");
-                    }},
-                   op});
-  cases.push_back({{{"operator/4.2/7", "reconnects after a short delay: not at once, not after seconds",
-                     "seed 000 (Practical connection rules; the Rust example's 100 ms sleep), SPEC §4.2",
-                     "\"Treat disconnects as normal lifecycle events and reconnect after a short delay.\" (seed 000, for the vehicle "
-                     "side; the :4001 server follows the same rules)",
-                     Tier::should, milliseconds(15'000),
-                     {"OK: after each of 3 Player closes the client reconnects 20 ms to 1 s later",
-                      "NON-STRICT: it reconnects in under 20 ms (a tight loop) or after more than 1 s (a practical rule: SHOULD)"},
-                     "broken_client.py op-reconnect-at-once (NON-STRICT); broken_client.py op-reconnect-slowly (NON-STRICT)"},
-                    [](CaseContext& context) {
-                      return grade_reconnect_delays(context, [&context] { context.host().player().close_client_connection(); });
-                    }},
-                   op});
-  cases.push_back({{{"operator/4.2/4", "reconnects after a Player restart (new Streamer keys); no stale pair", "SPEC §4.2, §5, seed 000",
-                     "\"Treat disconnects as normal lifecycle events and reconnect after a short delay.\" — \"The 32-byte key is drawn "
-                     "from a CSPRNG at Streamer start and never leaves it.\" (pairs from before the restart never validate again)",
-                     Tier::must, milliseconds(12'000),
-                     {"OK: reconnects to the restarted Player within 5 s, then returns ≥ 5 pairs in 0.8 s, each published after the "
-                      "restart"},
-                     "broken_client.py op-sticky (or op-no-reconnect)"},
-                    [op](CaseContext& context) {
-                      return reconnects(context, [&] { context.restart_streamer(op); }, "the Player restarted");
-                    }},
-                   op});
-  cases.push_back({{{"operator/4.3/1", "one connection at a time: a single client-data source", "SPEC §4.2, §4.3, seed 002",
-                     "\"Only one operator-side client data source may be active in a session.\" — Player TCP server: \"one client at "
+  cases.push_back(
+      {{{"operator/2/2",
+         "keeps the connection alive while the Player is silent (2 s read timeout never fires)",
+         "SPEC §2, §4.2",
+         "\"Read timeout: … the timer runs whenever the connection is open and no byte has arrived for 2 000 ms … same "
+         "rule "
+         "on :4001.\" — \"[a keep-alive] resets the :4001 read timer … A read-only operator client (a dashboard) sends "
+         "it "
+         "about once a second to stay connected\"",
+         Tier::must,
+         milliseconds(10'000),
+         {"OK: while the Player sends nothing for 2.3 s the client still sends (keep-alives {} or data), never silent "
+          "for more than 1 s; connection kept",
+          "NON-STRICT: its longest silence is over 1 s but under the product's 2 000 ms line (the margin is named)"},
+         "broken_client.py op-no-keepalive"},
+        keeps_connection_alive},
+       op});
+  cases.push_back(
+      {{{"operator/2/6",
+         "keeps sending while the pair stays unchanged (a stalled video)",
+         "SPEC §2, §4.1, §4.2",
+         "\"ack_time/ack_time_mac are the latest pair extracted from that vehicle's video SEI\" (no new video, no new "
+         "pair, while the Player sends on) — \"the timer runs whenever the connection is open and no byte has arrived "
+         "for 2 000 ms … same rule on :4001\"",
+         Tier::must,
+         milliseconds(10'000),
+         {"OK: while the vehicle's video is stalled for 2.3 s (the Player sends on, the pair unchanged) the client "
+          "still sends, never silent for more than 1 s; connection kept",
+          "NON-STRICT: its longest silence is over 1 s but under the product's 2 000 ms line (the margin is named)"},
+         "broken_client.py op-answer-on-change"},
+        keeps_sending_on_an_unchanged_pair},
+       op});
+  cases.push_back(
+      {{{"operator/4.2/3",
+         "reconnects after the Player closes the connection; no stale pair",
+         "SPEC §4.2, seed 000",
+         "\"Treat disconnects as normal lifecycle events and reconnect after a short delay.\" (seed 000, for the "
+         "vehicle "
+         "side; the :4001 server follows the same rules: \"same bind rule and framing as §2, one client at a time\")",
+         Tier::must,
+         milliseconds(12'000),
+         {"OK: reconnects within 5 s, then returns ≥ 5 pairs in 0.8 s, each published on the new connection (none "
+          "remembered from the old one)"},
+         "broken_client.py op-no-reconnect (or op-sticky)"},
+        [](CaseContext& context) {
+          return reconnects(
+              context, [&] { context.host().player().close_client_connection(); }, "the Player closed the connection");
+        }},
+       op});
+  cases.push_back(
+      {{{"operator/4.2/7",
+         "reconnects after a short delay: not at once, not after seconds",
+         "seed 000 (Practical connection rules; the Rust example's 100 ms sleep), SPEC §4.2",
+         "\"Treat disconnects as normal lifecycle events and reconnect after a short delay.\" (seed 000, for the "
+         "vehicle "
+         "side; the :4001 server follows the same rules)",
+         Tier::should,
+         milliseconds(15'000),
+         {"OK: after each of 3 Player closes the client reconnects 20 ms to 1 s later",
+          "NON-STRICT: it reconnects in under 20 ms (a tight loop) or after more than 1 s (a practical rule: SHOULD)"},
+         "broken_client.py op-reconnect-at-once (NON-STRICT); broken_client.py op-reconnect-slowly (NON-STRICT)"},
+        [](CaseContext& context) {
+          return grade_reconnect_delays(context, [&context] { context.host().player().close_client_connection(); });
+        }},
+       op});
+  cases.push_back(
+      {{{"operator/4.2/4",
+         "reconnects after a Player restart (new Streamer keys); no stale pair",
+         "SPEC §4.2, §5, seed 000",
+         "\"Treat disconnects as normal lifecycle events and reconnect after a short delay.\" — \"The 32-byte key is "
+         "drawn "
+         "from a CSPRNG at Streamer start and never leaves it.\" (pairs from before the restart never validate again)",
+         Tier::must,
+         milliseconds(12'000),
+         {"OK: reconnects to the restarted Player within 5 s, then returns ≥ 5 pairs in 0.8 s, each published after "
+          "the "
+          "restart"},
+         "broken_client.py op-sticky (or op-no-reconnect)"},
+        [op](CaseContext& context) {
+          return reconnects(
+              context, [&] { context.restart_streamer(op); }, "the Player restarted");
+        }},
+       op});
+  cases.push_back({{{"operator/4.3/1",
+                     "one connection at a time: a single client-data source",
+                     "SPEC §4.2, §4.3, seed 002",
+                     "\"Only one operator-side client data source may be active in a session.\" — Player TCP server: "
+                     "\"one client at "
                      "a time (same Decision as §3.1)\": a second connection is accepted and closed at once",
-                     Tier::must, milliseconds(10'000),
+                     Tier::must,
+                     milliseconds(10'000),
                      {"OK: the client keeps one connection for 1 s; no second connection is refused"},
                      "broken_client.py op-second-connection"},
                     single_connection},

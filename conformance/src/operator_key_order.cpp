@@ -30,7 +30,8 @@ std::string reverse_vehicle_order(const std::string& json) {
     names.push_back(&member.name);
     values.push_back(&member.value);
   }
-  for (std::size_t i = names.size(); i-- > 0;) reversed.AddMember(rapidjson::Value(*names[i], allocator), rapidjson::Value(*values[i], allocator), allocator);
+  for (std::size_t i = names.size(); i-- > 0;)
+    reversed.AddMember(rapidjson::Value(*names[i], allocator), rapidjson::Value(*values[i], allocator), allocator);
   feedback->value = reversed;
   rapidjson::StringBuffer buffer;
   rapidjson::Writer<rapidjson::StringBuffer> writer(buffer);
@@ -38,7 +39,8 @@ std::string reverse_vehicle_order(const std::string& json) {
   return std::string(buffer.GetString(), buffer.GetSize());
 }
 
-bool returned_for(const OperatorObservations& observed, const std::string& vehicle, const AckPair& pair, std::int64_t since_us) {
+bool returned_for(const OperatorObservations& observed, const std::string& vehicle, const AckPair& pair,
+                  std::int64_t since_us) {
   const auto found = observed.returned.find(vehicle);
   if (found == observed.returned.end()) return false;
   for (const SentPair& back : found->second) {
@@ -56,7 +58,7 @@ Outcome grade_reordered_vehicles(CaseContext& context) {
     if (!vehicle.monitor) control.push_back(vehicle.name);
   }
   player.set_client_output_paused(true);
-  context.run_for(milliseconds(20));   // answers to the last real frames arrive
+  context.run_for(milliseconds(20));  // answers to the last real frames arrive
   const std::int64_t start = context.now_us();
   constexpr std::size_t frames = 12;
   std::map<std::string, std::vector<AckPair>> sent;
@@ -75,8 +77,10 @@ Outcome grade_reordered_vehicles(CaseContext& context) {
   context.run_for(milliseconds(300));
   player.set_client_output_paused(false);
   const OperatorObservations observed = OperatorObservations::from(context.entries());
-  const std::string what = fmt::format("{} frames with each control vehicle's own pair, every other one listing the vehicles in "
-                                       "reverse order (seed 004: a hashmap; JSON order is not significant)", frames);
+  const std::string what = fmt::format(
+      "{} frames with each control vehicle's own pair, every other one listing the vehicles in "
+      "reverse order (seed 004: a hashmap; JSON order is not significant)",
+      frames);
   for (std::size_t i = 0; i < observed.closed_us.size(); ++i) {
     if (observed.closed_us[i] >= start) return failed(what + "; the connection closed: " + observed.close_codes[i]);
   }
@@ -86,8 +90,9 @@ Outcome grade_reordered_vehicles(CaseContext& context) {
       if (other == vehicle) continue;
       for (const AckPair& p : pairs) {
         if (returned_for(observed, vehicle, p, start)) {
-          return failed(fmt::format("{}; '{}' was returned the pair {} of '{}': vehicles mapped by their position, not their name",
-                                    what, vehicle, describe(p), other));
+          return failed(fmt::format(
+              "{}; '{}' was returned the pair {} of '{}': vehicles mapped by their position, not their name", what,
+              vehicle, describe(p), other));
         }
       }
     }
@@ -98,7 +103,8 @@ Outcome grade_reordered_vehicles(CaseContext& context) {
     for (std::size_t back = 1; back <= 2 && back <= own.size(); ++back) {
       if (!returned_for(observed, vehicle, own[own.size() - back], start)) {
         return failed(fmt::format("{}; '{}' never returned its pair {} of the last frame {}", what, vehicle,
-                                  describe(own[own.size() - back]), back == 1 ? "(vehicles in reverse order)" : "(in name order)"));
+                                  describe(own[own.size() - back]),
+                                  back == 1 ? "(vehicles in reverse order)" : "(in name order)"));
       }
     }
   }

@@ -35,20 +35,26 @@ OperatorObservations OperatorObservations::from(const std::vector<WireLogEntry>&
         if (data->active_vehicle) observed.active_vehicle.push_back({e.time_us, "", *data->active_vehicle});
         for (const auto& [name, entry] : data->client_user_data) {
           if (entry.ack_time_returned && entry.ack_time_mac_returned) {
-            observed.returned[name].push_back({e.time_us, AckPair{*entry.ack_time_returned, *entry.ack_time_mac_returned}});
+            observed.returned[name].push_back(
+                {e.time_us, AckPair{*entry.ack_time_returned, *entry.ack_time_mac_returned}});
           }
           if (entry.user_data) observed.user_data.push_back({e.time_us, name, compact_json(entry.user_data->text)});
           observed.gamepad.push_back({e.time_us, name, entry.ocp_disable_gamepad});
         }
         break;
       }
-      case WireEntryKind::opened: observed.opened_us.push_back(e.time_us); break;
+      case WireEntryKind::opened:
+        observed.opened_us.push_back(e.time_us);
+        break;
       case WireEntryKind::closed:
         observed.closed_us.push_back(e.time_us);
         observed.close_codes.push_back(e.close_code);
         break;
-      case WireEntryKind::refused: ++observed.refused; break;
-      case WireEntryKind::note: break;
+      case WireEntryKind::refused:
+        ++observed.refused;
+        break;
+      case WireEntryKind::note:
+        break;
     }
   }
   return observed;
@@ -84,7 +90,8 @@ PairReturns pair_returns(const OperatorObservations& observed, const std::string
       continue;
     }
     // Behind = how long before this return a newer pair had already been published.
-    for (std::size_t i = static_cast<std::size_t>(index) + 1; i < published.size() && published[i].time_us <= back.time_us; ++i) {
+    for (std::size_t i = static_cast<std::size_t>(index) + 1;
+         i < published.size() && published[i].time_us <= back.time_us; ++i) {
       if (!(published[i].ack == back.ack)) {
         if (back.time_us - published[i].time_us > 500'000) ++returns.stale;
         break;
@@ -95,7 +102,8 @@ PairReturns pair_returns(const OperatorObservations& observed, const std::string
 }
 
 std::string PairReturns::describe(const std::string& vehicle) const {
-  return fmt::format("'{}': {} returned pairs, {} altered, {} stale (> 500 ms behind)", vehicle, count, altered.size(), stale);
+  return fmt::format("'{}': {} returned pairs, {} altered, {} stale (> 500 ms behind)", vehicle, count, altered.size(),
+                     stale);
 }
 
 StreamerSetup operator_setup() {

@@ -23,20 +23,20 @@ namespace ocp::conformance::detail {
 struct OperatorObservations {
   // Per vehicle: the pairs the Player published (VehicleOcpShared) and the client returned.
   std::map<std::string, std::vector<SentPair>> published, returned;
-  std::set<std::string> linked, monitors;   // vehicle names the Player published
+  std::set<std::string> linked, monitors;  // vehicle names the Player published
   struct Sent {
     std::int64_t time_us = 0;
     std::string vehicle;
-    std::string value;                      // user_data (compact JSON) or active_vehicle
+    std::string value;  // user_data (compact JSON) or active_vehicle
   };
-  std::vector<Sent> active_vehicle;         // every active_vehicle the client sent
-  std::vector<Sent> user_data;              // every entry's user_data
+  std::vector<Sent> active_vehicle;  // every active_vehicle the client sent
+  std::vector<Sent> user_data;       // every entry's user_data
   struct GamepadSwitch {
     std::int64_t time_us = 0;
     std::string vehicle;
-    std::optional<bool> disable;            // the entry's ocp_disable_gamepad; nullopt: absent
+    std::optional<bool> disable;  // the entry's ocp_disable_gamepad; nullopt: absent
   };
-  std::vector<GamepadSwitch> gamepad;       // one per client_user_data entry
+  std::vector<GamepadSwitch> gamepad;  // one per client_user_data entry
   std::vector<std::int64_t> client_frames_us, opened_us, closed_us;
   std::vector<std::string> close_codes;
   std::size_t drained = 0, refused = 0;
@@ -53,7 +53,7 @@ struct OperatorObservations {
 struct PairReturns {
   std::size_t count = 0, stale = 0;
   std::vector<AckPair> altered;
-  std::vector<AckPair> published;   // every pair published for the vehicle, for pair_diagnosis
+  std::vector<AckPair> published;  // every pair published for the vehicle, for pair_diagnosis
   std::string describe(const std::string& vehicle) const;
 };
 PairReturns pair_returns(const OperatorObservations& observed, const std::string& vehicle);
@@ -72,7 +72,7 @@ std::string compact_json(std::string_view json);
 struct ControlSeen {
   std::int64_t time_us = 0;
   bool controller_null = false;
-  std::optional<std::string> user_data;     // client_user_data, compact JSON
+  std::optional<std::string> user_data;  // client_user_data, compact JSON
 };
 
 // Subscribes to every control (non-monitor) vehicle's Streamer of the running World until it

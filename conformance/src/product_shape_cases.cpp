@@ -14,20 +14,23 @@ namespace {
 using namespace detail;
 
 struct ControlForm {
-  const char* name;     // what the form is, and where it is allowed
+  const char* name;  // what the form is, and where it is allowed
   void (*shape)(CraftedControl&);
 };
 
 // Every form of OcpControlMessage the product may send besides the simulator's own.
 const std::vector<ControlForm>& product_control_forms() {
   static const std::vector<ControlForm> forms{
-      {"no \"controller\" key (seed 001 schema: required is telemetry, ack_time, ack_time_mac; Rust `Option<Controller>`)",
+      {"no \"controller\" key (seed 001 schema: required is telemetry, ack_time, ack_time_mac; Rust "
+       "`Option<Controller>`)",
        [](CraftedControl& c) { c.controller = CraftedController::absent; }},
-      {"\"client_user_data\": null (SPEC §3.2: \"omitted or null when the operator sent none\"; seed 001 `Option<Value>`)",
+      {"\"client_user_data\": null (SPEC §3.2: \"omitted or null when the operator sent none\"; seed 001 "
+       "`Option<Value>`)",
        [](CraftedControl& c) { c.client_user_data = "null"; }},
       {"telemetry without \"missing_cameras\" (seed 001 schema: telemetry requires latency, fault, fault_reason only)",
        [](CraftedControl& c) { c.missing_cameras.clear(); }},
-      {"a camera lost: \"missing_cameras\": [\"rear\"], fault true, \"Camera Lost\" (SPEC §3.2, §6: CameraLost passes the controller through)",
+      {"a camera lost: \"missing_cameras\": [\"rear\"], fault true, \"Camera Lost\" (SPEC §3.2, §6: CameraLost passes "
+       "the controller through)",
        [](CraftedControl& c) {
          c.missing_cameras = R"(["rear"])";
          c.fault = true;
@@ -39,7 +42,8 @@ const std::vector<ControlForm>& product_control_forms() {
          c.client_user_data = "null";
          c.missing_cameras.clear();
        }},
-      {"a control-path fault with \"controller\": null (SPEC §3.2: with ocp_disable_gamepad the controller \"stays null\" "
+      {"a control-path fault with \"controller\": null (SPEC §3.2: with ocp_disable_gamepad the controller \"stays "
+       "null\" "
        "during a fault)",
        [](CraftedControl& c) {
          c.controller = CraftedController::null;
@@ -65,18 +69,20 @@ Outcome product_control_shapes(CaseContext& context) {
   context.run_for(milliseconds(200));
   const auto& forms = product_control_forms();
   const std::size_t rounds = 6;
-  const CraftedRun run = send_crafted(context, forms.size() * rounds, milliseconds(10), milliseconds(300), [&](std::size_t i) {
-    CraftedControl control{crafted_pair(71, i)};
-    forms[i % forms.size()].shape(control);
-    return control;
-  });
+  const CraftedRun run =
+      send_crafted(context, forms.size() * rounds, milliseconds(10), milliseconds(300), [&](std::size_t i) {
+        CraftedControl control{crafted_pair(71, i)};
+        forms[i % forms.size()].shape(control);
+        return control;
+      });
   Outcome graded = grade_crafted(context, run, fmt::format("in the product's {} other shapes", forms.size()));
   if (graded.verdict == Verdict::ok) return graded;
   // Name the form of the first frame whose pair never came back: that is where the client choked.
   const Observations observed = Observations::from(context.entries());
   for (std::size_t i = 0; i < run.pairs.size(); ++i) {
     if (first_echo(observed, run.pairs[i], run.start_us)) continue;
-    graded.actual += fmt::format("; the first frame never echoed (#{}) is the form: {}", i + 1, forms[i % forms.size()].name);
+    graded.actual +=
+        fmt::format("; the first frame never echoed (#{}) is the form: {}", i + 1, forms[i % forms.size()].name);
     break;
   }
   return graded;
@@ -85,20 +91,23 @@ Outcome product_control_shapes(CaseContext& context) {
 }  // namespace
 
 void add_product_shape_cases(std::vector<VehicleCase>& cases) {
-  cases.push_back({{{"vehicle/3.2/4", "handles every control message shape the product sends",
-                     "SPEC §3.2, §2 Decision, seed 001 (control message schema)",
-                     "\"a third-party client is graded MUST only on what the real product can send it\" — the product may omit "
-                     "\"controller\" and \"missing_cameras\" (seed 001 schema), send \"client_user_data\": null (SPEC §3.2) and a "
-                     "non-empty \"missing_cameras\" when a camera is lost (SPEC §3.2, §6), a fault with a null controller "
-                     "(SPEC §3.2) and frames up to the 16 384-byte limit (SPEC §2)",
-                     Tier::must, milliseconds(10'000),
-                     {"OK: 42 frames in the product's other shapes (no controller key; client_user_data null; no missing_cameras; "
-                      "a camera lost; all at once; a fault with controller null; a 16 384-byte frame) are accepted; the last "
-                      "pair echoed; connection kept"},
-                     "broken_client.py need-controller-key (or need-user-data-object, need-missing-cameras, no-lost-camera, "
-                     "fault-needs-controller, small-limit)"},
-                    product_control_shapes},
-                   {}});
+  cases.push_back(
+      {{{"vehicle/3.2/4",
+         "handles every control message shape the product sends",
+         "SPEC §3.2, §2 Decision, seed 001 (control message schema)",
+         "\"a third-party client is graded MUST only on what the real product can send it\" — the product may omit "
+         "\"controller\" and \"missing_cameras\" (seed 001 schema), send \"client_user_data\": null (SPEC §3.2) and a "
+         "non-empty \"missing_cameras\" when a camera is lost (SPEC §3.2, §6), a fault with a null controller "
+         "(SPEC §3.2) and frames up to the 16 384-byte limit (SPEC §2)",
+         Tier::must,
+         milliseconds(10'000),
+         {"OK: 42 frames in the product's other shapes (no controller key; client_user_data null; no missing_cameras; "
+          "a camera lost; all at once; a fault with controller null; a 16 384-byte frame) are accepted; the last "
+          "pair echoed; connection kept"},
+         "broken_client.py need-controller-key (or need-user-data-object, need-missing-cameras, no-lost-camera, "
+         "fault-needs-controller, small-limit)"},
+        product_control_shapes},
+       {}});
 }
 
 }  // namespace ocp::conformance

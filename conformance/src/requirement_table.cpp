@@ -31,20 +31,23 @@ bool requirement_run_names(const std::vector<BrokenClientRun>& runs, const std::
   return std::any_of(runs.begin(), runs.end(), [&](const BrokenClientRun& run) { return run.client == client; });
 }
 
-void check_one_requirement(const Requirement& r, const std::vector<CaseInfo>& cases, std::vector<std::string>& problems) {
+void check_one_requirement(const Requirement& r, const std::vector<CaseInfo>& cases,
+                           std::vector<std::string>& problems) {
   if (r.cases.empty()) {
     if (r.tier == Tier::must) problems.push_back(fmt::format("{} (MUST) has no case", r.id));
     if (r.not_covered.empty()) problems.push_back(fmt::format("{} has no case and does not say why", r.id));
     return;
   }
   for (const std::string& id : r.cases) {
-    if (requirement_find_case(cases, id) == nullptr) problems.push_back(fmt::format("{} names case {}, which does not exist", r.id, id));
+    if (requirement_find_case(cases, id) == nullptr)
+      problems.push_back(fmt::format("{} names case {}, which does not exist", r.id, id));
   }
   if (r.broken_by.empty()) problems.push_back(fmt::format("{} names no broken client that fails it", r.id));
   const auto runs = requirement_runs(r, cases);
   for (const std::string& client : r.broken_by) {
     if (!requirement_run_names(runs, client)) {
-      problems.push_back(fmt::format("{}: `{}` is not a broken client of its cases (so no test runs it)", r.id, client));
+      problems.push_back(
+          fmt::format("{}: `{}` is not a broken client of its cases (so no test runs it)", r.id, client));
     }
   }
 }
@@ -68,7 +71,8 @@ std::string requirement_client_cell(const Requirement& r, const std::vector<Case
 
 }  // namespace
 
-std::vector<std::string> requirement_problems(const std::vector<Requirement>& requirements, const std::vector<CaseInfo>& cases) {
+std::vector<std::string> requirement_problems(const std::vector<Requirement>& requirements,
+                                              const std::vector<CaseInfo>& cases) {
   std::vector<std::string> problems;
   std::set<std::string> ids, covered;
   for (const Requirement& r : requirements) {
@@ -77,14 +81,16 @@ std::vector<std::string> requirement_problems(const std::vector<Requirement>& re
     covered.insert(r.cases.begin(), r.cases.end());
   }
   for (const CaseInfo& info : cases) {
-    if (info.tier != Tier::info && covered.count(info.id) == 0) problems.push_back(fmt::format("case {} covers no requirement", info.id));
+    if (info.tier != Tier::info && covered.count(info.id) == 0)
+      problems.push_back(fmt::format("case {} covers no requirement", info.id));
   }
   return problems;
 }
 
 std::string requirement_table(const std::vector<Requirement>& requirements, const std::vector<CaseInfo>& cases) {
   std::string out =
-      "| id | requirement | source | tier | cases | broken client that fails it (verdict on case) |\n|---|---|---|---|---|---|\n";
+      "| id | requirement | source | tier | cases | broken client that fails it (verdict on case) "
+      "|\n|---|---|---|---|---|---|\n";
   for (const Requirement& r : requirements) {
     std::string case_cell;
     for (const std::string& id : r.cases) case_cell += fmt::format("{}`{}`", case_cell.empty() ? "" : ", ", id);

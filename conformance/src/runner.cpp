@@ -32,7 +32,7 @@ struct Shared {
   const RunOptions& options;
   std::atomic<std::size_t> next{0};
   std::vector<CaseResult> results;
-  std::size_t reported = 0;   // results[0, reported) went to on_result, in case order
+  std::size_t reported = 0;  // results[0, reported) went to on_result, in case order
   std::size_t finished = 0;
   // Per case that carries a standing rule: the first offending frame found in any case so far.
   std::vector<std::optional<StandingHit>> standing_hits;
@@ -96,15 +96,17 @@ std::string log_path(const RunOptions& options, const std::string& name) {
 // a client connected and already closed again counts, it is the case's to grade.
 void wait_for_first_connection(StreamerHost& host, ClientProcess& client, const std::string& client_log,
                                const RunOptions& options) {
-  const auto limit = std::chrono::duration_cast<std::chrono::milliseconds>(
-      std::chrono::duration<double, std::milli>(static_cast<double>(options.connect_timeout.count()) * options.timeout_scale));
+  const auto limit = std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::duration<double, std::milli>(
+      static_cast<double>(options.connect_timeout.count()) * options.timeout_scale));
   const auto connected = [&] { return host.client_connections_accepted() > 0; };
   (void)host.run_until([&] { return connected() || !client.running(); }, limit);
   if (connected()) return;
-  const std::string what = client.running()
-      ? fmt::format("did not connect to 127.0.0.1:{} within {:.1f} s of its launch (a slow starter: raise --connect-timeout-s)", host.port(),
-                    std::chrono::duration<double>(limit).count())
-      : fmt::format("{} before it connected to 127.0.0.1:{}", describe_exit_status(*client.exit_status()), host.port());
+  const std::string what = client.running() ? fmt::format(
+                                                  "did not connect to 127.0.0.1:{} within {:.1f} s of its launch (a "
+                                                  "slow starter: raise --connect-timeout-s)",
+                                                  host.port(), std::chrono::duration<double>(limit).count())
+                                            : fmt::format("{} before it connected to 127.0.0.1:{}",
+                                                          describe_exit_status(*client.exit_status()), host.port());
   const std::string output = last_lines_of(client_log, 10);
   const std::string where = options.client_logs_kept ? " (" + client_log + ")" : "";
   const std::string keep = options.client_logs_kept ? "" : "\n  (rerun with --out DIR to keep its whole output)";
@@ -133,7 +135,8 @@ CaseResult run_one(Shared& shared, StreamerHost& host, std::size_t index, std::u
     // A shared client that died is relaunched: the next cases still get graded.
     if (client && !options.restart_per_case) log.note(host.now_us(), "the client had exited: relaunched");
     client.reset();
-    const std::string path = log_path(options, options.restart_per_case ? test_case.body.info.id : fmt::format("worker-{}", worker));
+    const std::string path =
+        log_path(options, options.restart_per_case ? test_case.body.info.id : fmt::format("worker-{}", worker));
     auto launched = ClientProcess::launch(options.command, host.port(), path);
     if (!launched) throw std::runtime_error(launched.error().message());
     client = std::move(*launched);
@@ -150,8 +153,8 @@ CaseResult run_one(Shared& shared, StreamerHost& host, std::size_t index, std::u
     case_start = Clock::now();
   }
   const bool client_was_running = client && client->running();
-  const auto timeout = std::chrono::duration_cast<Clock::duration>(
-      std::chrono::duration<double, std::milli>(static_cast<double>(test_case.body.info.timeout.count()) * options.timeout_scale));
+  const auto timeout = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double, std::milli>(
+      static_cast<double>(test_case.body.info.timeout.count()) * options.timeout_scale));
   CaseContext context(host, log, case_start + timeout, options.timeout_scale);
   context.set_interlock(options.interlock);
   try {
@@ -199,7 +202,7 @@ void worker_main(Shared& shared, unsigned worker) {
       shared.fail(fmt::format("{}: harness error: {}", shared.cases[index].body.info.id, error.what()));
     }
   }
-  client.reset();   // killed on every path, also after a harness error
+  client.reset();  // killed on every path, also after a harness error
 }
 
 }  // namespace
@@ -207,7 +210,9 @@ void worker_main(Shared& shared, unsigned worker) {
 RunSummary run_cases(const std::vector<VehicleCase>& cases, const RunOptions& options) {
   const auto start = Clock::now();
   // Concurrency needs one client (and port) per worker: only with a launched client.
-  const unsigned jobs = options.command.empty() ? 1u : std::max(1u, std::min<unsigned>(options.jobs, static_cast<unsigned>(cases.size())));
+  const unsigned jobs = options.command.empty()
+                            ? 1u
+                            : std::max(1u, std::min<unsigned>(options.jobs, static_cast<unsigned>(cases.size())));
   RunOptions effective = options;
   effective.jobs = jobs;
   // Cases with a standing rule run last, so they can be reported as soon as the rest is done.
@@ -220,7 +225,7 @@ RunSummary run_cases(const std::vector<VehicleCase>& cases, const RunOptions& op
   for (unsigned w = 1; w < jobs; ++w) workers.emplace_back([&run, w] { worker_main(run, w); });
   worker_main(run, 0);
   for (std::thread& t : workers) t.join();
-  run.report_in_order(true);   // an interrupted or failed run still reports what it finished
+  run.report_in_order(true);  // an interrupted or failed run still reports what it finished
   RunSummary summary;
   summary.duration_ms = ms_since(start);
   summary.harness_error = run.harness_error;

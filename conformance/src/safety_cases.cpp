@@ -35,21 +35,25 @@ std::optional<Outcome> not_driving(const ScriptRun& run, std::int64_t at_us, con
                                    const InterlockButtons& interlock) {
   const auto before = last_report_before(run, at_us);
   if (before && driving(*before)) return std::nullopt;
-  return informational(fmt::format("not judged: the client was not driving {} ({}) after a press of '{}' with the "
-                                   "sticks at rest and half throttle: nothing to see (a client that enables with another "
-                                   "button: --enable-button NAME --stop-button NAME)",
-                                   when, before ? describe_report(*before) : std::string("no report"), interlock.enable));
+  return informational(
+      fmt::format("not judged: the client was not driving {} ({}) after a press of '{}' with the "
+                  "sticks at rest and half throttle: nothing to see (a client that enables with another "
+                  "button: --enable-button NAME --stop-button NAME)",
+                  when, before ? describe_report(*before) : std::string("no report"), interlock.enable));
 }
 
 Outcome command_timeout(CaseContext& context) {
   if (auto early = safety_prologue(context)) return *early;
   const ScriptRun run = play_safety_script(context, 101, enable_and_drive(30, context.interlock()), safety_silence);
   if (auto not_judged = safety_not_judged(run)) return *not_judged;
-  if (auto idle = not_driving(run, run.last_frame_us, "when the control messages stopped", context.interlock())) return *idle;
+  if (auto idle = not_driving(run, run.last_frame_us, "when the control messages stopped", context.interlock()))
+    return *idle;
   const Settling settled = settle_within(run, run.last_frame_us, run.end_us, safety_timeout_bound_us, in_safe_state);
-  const std::string counts = fmt::format("driving, then no control message for {} (connection open): {}", safety_ms(run.end_us - run.last_frame_us),
+  const std::string counts = fmt::format("driving, then no control message for {} (connection open): {}",
+                                         safety_ms(run.end_us - run.last_frame_us),
                                          describe_settling(settled, run.last_frame_us, "safe state with throttle 0"));
-  if (settled.checked == 0) return informational("not judged: no response after the 1 s bound (vehicle/2/7's business); " + counts);
+  if (settled.checked == 0)
+    return informational("not judged: no response after the 1 s bound (vehicle/2/7's business); " + counts);
   if (!settled.holds()) return failed(counts + " (no command timeout: still driving on the last command)");
   return ok(counts);
 }
@@ -57,7 +61,8 @@ Outcome command_timeout(CaseContext& context) {
 // Every report in range: throttle and brake 0..1, steer -1..1.
 std::optional<SafetyReport> first_out_of_range(const ScriptRun& run) {
   for (const SafetyReport& r : run.reports) {
-    if (r.throttle < 0.0 || r.throttle > 1.0 || r.brake < 0.0 || r.brake > 1.0 || r.steer < -1.0 || r.steer > 1.0) return r;
+    if (r.throttle < 0.0 || r.throttle > 1.0 || r.brake < 0.0 || r.brake > 1.0 || r.steer < -1.0 || r.steer > 1.0)
+      return r;
   }
   return std::nullopt;
 }
@@ -72,8 +77,8 @@ CraftedControl user_data_command(std::string json) {
 Outcome actuator_limits(CaseContext& context) {
   if (auto early = safety_prologue(context)) return *early;
   std::vector<SafetyPhase> phases = enable_and_drive(10, context.interlock());
-  phases.push_back({30, pad_frame(CraftedPad{.left_x = -1.0, .right_trigger = 1.0})});   // full throttle, full left
-  phases.push_back({20, pad_frame(CraftedPad{.left_x = 1.0, .left_trigger = 1.0})});     // full brake, full right
+  phases.push_back({30, pad_frame(CraftedPad{.left_x = -1.0, .right_trigger = 1.0})});  // full throttle, full left
+  phases.push_back({20, pad_frame(CraftedPad{.left_x = 1.0, .left_trigger = 1.0})});    // full brake, full right
   // Commands beyond the limits, for a client that takes them from client_user_data (SPEC §3.2).
   phases.push_back({5, user_data_command(R"({"throttle":0,"enable":true})")});
   phases.push_back({30, user_data_command(R"({"throttle":5,"brake":-3,"steer":-9,"enable":true})")});
@@ -85,14 +90,16 @@ Outcome actuator_limits(CaseContext& context) {
     throttle = std::max(throttle, std::abs(r.throttle));
     steer = std::max(steer, std::abs(r.steer));
   }
-  const std::string counts = fmt::format("{} reports during full-scale gamepad steps and user-data commands of throttle 5, brake -3, "
-                                         "steer -9 (and -4, 7, 9); largest |throttle| {:.3f}, |steer| {:.3f}",
-                                         run.reports.size(), throttle, steer);
+  const std::string counts = fmt::format(
+      "{} reports during full-scale gamepad steps and user-data commands of throttle 5, brake -3, "
+      "steer -9 (and -4, 7, 9); largest |throttle| {:.3f}, |steer| {:.3f}",
+      run.reports.size(), throttle, steer);
   if (const auto out = first_out_of_range(run)) {
     return failed(fmt::format("{}; at +{} the report says {} (outside throttle/brake 0..1, steer -1..1)", counts,
                               safety_ms(out->time_us - run.phase_start_us.front()), describe_report(*out)));
   }
-  if (throttle == 0.0 && steer == 0.0) return informational("not judged: no actuator moved (" + counts + "): no limit to see");
+  if (throttle == 0.0 && steer == 0.0)
+    return informational("not judged: no actuator moved (" + counts + "): no limit to see");
   return ok(counts + "; every one within the limits");
 }
 
@@ -121,15 +128,20 @@ Outcome drive_interlocks(CaseContext& context) {
   if (auto not_judged = safety_not_judged(run)) return *not_judged;
   const auto& start = run.phase_start_us;
   const Settling never_enabled = settle_within(run, start[0], start[1], 0, disabled_and_still);
-  const std::string first = "full throttle before any enable: " + describe_settling(never_enabled, start[0], "disabled with throttle 0");
-  if (!never_enabled.holds()) return failed(first + (never_enabled.broken ? " (no interlock: it drives without being enabled)" : ""));
-  if (auto idle = not_driving(run, start[interlock_stop_phase], "before the emergency stop", context.interlock())) return *idle;
-  const Settling stop = settle_within(run, start[interlock_stop_phase], start[interlock_after_stop_phase + 1], safety_react_bound_us,
-                                      disabled_and_still);
-  const Settling fault = settle_within(run, start[interlock_fault_phase], run.end_us, safety_react_bound_us, disabled_and_still);
-  const std::string counts = fmt::format("{}; stop button '{}', then throttle without enable: {}; fault, then throttle without enable: {}", first, context.interlock().stop,
-                                         describe_settling(stop, start[interlock_stop_phase], "disabled with throttle 0"),
-                                         describe_settling(fault, start[interlock_fault_phase], "disabled with throttle 0"));
+  const std::string first =
+      "full throttle before any enable: " + describe_settling(never_enabled, start[0], "disabled with throttle 0");
+  if (!never_enabled.holds())
+    return failed(first + (never_enabled.broken ? " (no interlock: it drives without being enabled)" : ""));
+  if (auto idle = not_driving(run, start[interlock_stop_phase], "before the emergency stop", context.interlock()))
+    return *idle;
+  const Settling stop = settle_within(run, start[interlock_stop_phase], start[interlock_after_stop_phase + 1],
+                                      safety_react_bound_us, disabled_and_still);
+  const Settling fault =
+      settle_within(run, start[interlock_fault_phase], run.end_us, safety_react_bound_us, disabled_and_still);
+  const std::string counts = fmt::format(
+      "{}; stop button '{}', then throttle without enable: {}; fault, then throttle without enable: {}", first,
+      context.interlock().stop, describe_settling(stop, start[interlock_stop_phase], "disabled with throttle 0"),
+      describe_settling(fault, start[interlock_fault_phase], "disabled with throttle 0"));
   if (!stop.holds() || !fault.holds()) return failed(counts);
   return ok(counts);
 }
@@ -158,63 +170,91 @@ Outcome fault_safe_state(CaseContext& context) {
   const ScriptRun run = play_safety_script(context, 104, fault_script(context.interlock()), milliseconds(50));
   if (auto not_judged = safety_not_judged(run)) return *not_judged;
   const auto& start = run.phase_start_us;
-  if (auto idle = not_driving(run, start[fault_default_phase], "when the fault came", context.interlock())) return *idle;
-  const Settling path = settle_within(run, start[fault_default_phase], start[fault_default_phase + 1], safety_react_bound_us, in_safe_state);
-  const Settling camera = settle_within(run, start[fault_passed_through_phase], run.end_us, safety_react_bound_us, in_safe_state);
-  const std::string counts = fmt::format("fault with the default controller: {}; fault with the controller passed through (camera lost): {}",
-                                         describe_settling(path, start[fault_default_phase], "safe state with throttle 0"),
-                                         describe_settling(camera, start[fault_passed_through_phase], "safe state with throttle 0"));
-  if (!path.holds() || !camera.holds()) return failed(counts + " (telemetry.fault must bring the safe state, whatever the controller says)");
+  if (auto idle = not_driving(run, start[fault_default_phase], "when the fault came", context.interlock()))
+    return *idle;
+  const Settling path = settle_within(run, start[fault_default_phase], start[fault_default_phase + 1],
+                                      safety_react_bound_us, in_safe_state);
+  const Settling camera =
+      settle_within(run, start[fault_passed_through_phase], run.end_us, safety_react_bound_us, in_safe_state);
+  const std::string counts =
+      fmt::format("fault with the default controller: {}; fault with the controller passed through (camera lost): {}",
+                  describe_settling(path, start[fault_default_phase], "safe state with throttle 0"),
+                  describe_settling(camera, start[fault_passed_through_phase], "safe state with throttle 0"));
+  if (!path.holds() || !camera.holds())
+    return failed(counts + " (telemetry.fault must bring the safe state, whatever the controller says)");
   return ok(counts);
 }
 
 const std::string safety_source = "SPEC §10, seed 000 (safety; Handle faults safely)";
 const std::string safety_not_judged_line =
-    "INFORMATIONAL: not judged — the client reports no safety state (docs/conformance.md, Safety report), or did not drive when enabled";
+    "INFORMATIONAL: not judged — the client reports no safety state (docs/conformance.md, Safety report), or did not "
+    "drive when enabled";
 
 }  // namespace
 
 void add_safety_cases(std::vector<VehicleCase>& cases) {
-  cases.push_back({{{"vehicle/10/1", "command timeout: no control message → safe state within 1 s", safety_source,
-                     "\"The vehicle integration should still enforce … command timeouts\" — \"Use telemetry.fault and your own watchdogs to "
+  cases.push_back({{{"vehicle/10/1",
+                     "command timeout: no control message → safe state within 1 s",
+                     safety_source,
+                     "\"The vehicle integration should still enforce … command timeouts\" — \"Use telemetry.fault and "
+                     "your own watchdogs to "
                      "decide when to hold, coast, brake, or otherwise enter a vehicle-specific safe state.\"",
-                     Tier::should, milliseconds(10'000),
-                     {"OK: enabled and driving, then control messages stop (connection open, 1.3 s): the report shows safe_state true "
+                     Tier::should,
+                     milliseconds(10'000),
+                     {"OK: enabled and driving, then control messages stop (connection open, 1.3 s): the report shows "
+                      "safe_state true "
                       "with throttle 0 within 1 s (NoControlMessage's bound, SPEC §8) and keeps it",
                       "FAILED: still driving 1 s after the last control message", safety_not_judged_line},
                      "broken_client.py no-watchdog (FAILED); vehicle_client --watchdog-ms 1500 (FAILED)"},
                     command_timeout},
                    {}});
-  cases.push_back({{{"vehicle/10/2", "actuator limits: commands beyond them never reach the actuators", safety_source,
-                     "\"The vehicle integration should still enforce actuator limits\" — axes are raw gamepad values in -1.0..1.0",
-                     Tier::should, milliseconds(10'000),
-                     {"OK: over full-scale gamepad steps and user-data commands of throttle 5, brake -3, steer -9 (and -4, 7, 9), every "
-                      "report keeps throttle and brake in 0..1 and steer in -1..1",
-                      "FAILED: a report outside those limits", safety_not_judged_line},
-                     "broken_client.py no-limits (FAILED)"},
-                    actuator_limits},
-                   {}});
-  cases.push_back({{{"vehicle/10/3", "drive interlock and emergency stop: no driving until enabled; back and faults disable", safety_source,
-                     "\"The vehicle integration should still enforce … drive-state interlocks, emergency stop behavior\"",
-                     Tier::should, milliseconds(10'000),
-                     {"OK: full throttle on a new connection leaves drive_state disabled and throttle 0; after an enable (start pressed "
-                      "with the sticks at rest), the back button and then a fault each disable within 500 ms, and throttle without a new "
-                      "enable stays at 0",
-                      "FAILED: it drives without an enable, or stays enabled after the back button or a fault", safety_not_judged_line},
-                     "broken_client.py no-interlock (FAILED)"},
-                    drive_interlocks},
-                   {}});
-  cases.push_back({{{"vehicle/10/4", "telemetry.fault → safe state, whatever the controller says", safety_source,
-                     "\"Use telemetry.fault and your own watchdogs to decide when to hold, coast, brake, or otherwise enter a "
-                     "vehicle-specific safe state. Do not rely only on the controller values\"",
-                     Tier::should, milliseconds(10'000),
-                     {"OK: driving, then fault true with the default controller, and (enabled again) fault true with the operator's "
-                      "controller passed through (a camera lost): each time safe_state true with throttle 0 within 500 ms (the "
-                      "latency_limit), kept while the fault lasts",
-                      "FAILED: no safe state, or throttle, while telemetry.fault is true", safety_not_judged_line},
-                     "broken_client.py ignore-fault (FAILED)"},
-                    fault_safe_state},
-                   {}});
+  cases.push_back(
+      {{{"vehicle/10/2",
+         "actuator limits: commands beyond them never reach the actuators",
+         safety_source,
+         "\"The vehicle integration should still enforce actuator limits\" — axes are raw gamepad values in -1.0..1.0",
+         Tier::should,
+         milliseconds(10'000),
+         {"OK: over full-scale gamepad steps and user-data commands of throttle 5, brake -3, steer -9 (and -4, 7, 9), "
+          "every "
+          "report keeps throttle and brake in 0..1 and steer in -1..1",
+          "FAILED: a report outside those limits", safety_not_judged_line},
+         "broken_client.py no-limits (FAILED)"},
+        actuator_limits},
+       {}});
+  cases.push_back(
+      {{{"vehicle/10/3",
+         "drive interlock and emergency stop: no driving until enabled; back and faults disable",
+         safety_source,
+         "\"The vehicle integration should still enforce … drive-state interlocks, emergency stop behavior\"",
+         Tier::should,
+         milliseconds(10'000),
+         {"OK: full throttle on a new connection leaves drive_state disabled and throttle 0; after an enable (start "
+          "pressed "
+          "with the sticks at rest), the back button and then a fault each disable within 500 ms, and throttle without "
+          "a new "
+          "enable stays at 0",
+          "FAILED: it drives without an enable, or stays enabled after the back button or a fault",
+          safety_not_judged_line},
+         "broken_client.py no-interlock (FAILED)"},
+        drive_interlocks},
+       {}});
+  cases.push_back(
+      {{{"vehicle/10/4",
+         "telemetry.fault → safe state, whatever the controller says",
+         safety_source,
+         "\"Use telemetry.fault and your own watchdogs to decide when to hold, coast, brake, or otherwise enter a "
+         "vehicle-specific safe state. Do not rely only on the controller values\"",
+         Tier::should,
+         milliseconds(10'000),
+         {"OK: driving, then fault true with the default controller, and (enabled again) fault true with the "
+          "operator's "
+          "controller passed through (a camera lost): each time safe_state true with throttle 0 within 500 ms (the "
+          "latency_limit), kept while the fault lasts",
+          "FAILED: no safe state, or throttle, while telemetry.fault is true", safety_not_judged_line},
+         "broken_client.py ignore-fault (FAILED)"},
+        fault_safe_state},
+       {}});
 }
 
 }  // namespace ocp::conformance

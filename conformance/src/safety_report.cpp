@@ -43,12 +43,14 @@ std::optional<SafetyReport> read_safety_report(std::string_view payload, std::in
   const auto vud = doc.FindMember("vehicle_user_data");
   if (vud == doc.MemberEnd() || !vud->value.IsObject()) return no_safety_report(problem, "no vehicle_user_data");
   const auto user = vud->value.FindMember("user_data");
-  if (user == vud->value.MemberEnd() || !user->value.IsObject()) return no_safety_report(problem, "user_data is not an object");
+  if (user == vud->value.MemberEnd() || !user->value.IsObject())
+    return no_safety_report(problem, "user_data is not an object");
   const rapidjson::Value& fields = user->value;
   SafetyReport report;
   report.time_us = time_us;
   const auto safe = fields.FindMember("safe_state");
-  if (safe == fields.MemberEnd() || !safe->value.IsBool()) return no_safety_report(problem, "user_data has no bool safe_state");
+  if (safe == fields.MemberEnd() || !safe->value.IsBool())
+    return no_safety_report(problem, "user_data has no bool safe_state");
   report.safe_state = safe->value.GetBool();
   const auto drive = fields.FindMember("drive_state");
   const bool named = drive != fields.MemberEnd() && drive->value.IsString();
@@ -57,7 +59,8 @@ std::optional<SafetyReport> read_safety_report(std::string_view payload, std::in
     return no_safety_report(problem, "user_data has no drive_state \"enabled\" or \"disabled\"");
   }
   report.enabled = state == "enabled";
-  if (!safety_number_field(fields, "throttle", report.throttle, problem) || !safety_number_field(fields, "brake", report.brake, problem) ||
+  if (!safety_number_field(fields, "throttle", report.throttle, problem) ||
+      !safety_number_field(fields, "brake", report.brake, problem) ||
       !safety_number_field(fields, "steer", report.steer, problem)) {
     return std::nullopt;
   }
@@ -85,11 +88,13 @@ ScriptRun play_safety_script(CaseContext& context, std::uint64_t salt, const std
   run.last_frame_us = crafted.start_us;
   std::size_t first = 0;
   for (const SafetyPhase& phase : phases) {
-    const std::int64_t sent = first < crafted.pairs.size() && phase.frames > 0 ? safety_sent_time(observed, crafted.pairs[first]) : -1;
+    const std::int64_t sent =
+        first < crafted.pairs.size() && phase.frames > 0 ? safety_sent_time(observed, crafted.pairs[first]) : -1;
     run.phase_start_us.push_back(sent >= 0 ? sent : run.end_us);
     first += phase.frames;
   }
-  for (const AckPair& pair : crafted.pairs) run.last_frame_us = std::max(run.last_frame_us, safety_sent_time(observed, pair));
+  for (const AckPair& pair : crafted.pairs)
+    run.last_frame_us = std::max(run.last_frame_us, safety_sent_time(observed, pair));
   collect_safety_reports(observed, run.phase_start_us.empty() ? crafted.start_us : run.phase_start_us.front(), run);
   return run;
 }
@@ -114,17 +119,19 @@ std::optional<Outcome> safety_prologue(CaseContext& context) {
   context.run_for(milliseconds(200));
   ScriptRun probe;
   collect_safety_reports(Observations::from(context.entries()), start, probe);
-  if (probe.responses == 0) return std::nullopt;   // nothing to tell yet: the script decides
+  if (probe.responses == 0) return std::nullopt;  // nothing to tell yet: the script decides
   return safety_not_judged(probe);
 }
 
 std::optional<Outcome> safety_not_judged(const ScriptRun& run) {
   if (!run.reports.empty()) return std::nullopt;
-  const std::string why = run.responses == 0 ? std::string("no response during the script")
-                                             : fmt::format("none of {} responses carries a safety report ({})", run.responses, run.missing);
-  return informational("not judged: " + why +
-                       "; a client that reports safe_state, drive_state, throttle, brake and steer in vehicle_user_data.user_data "
-                       "is graded on SPEC §10 (docs/conformance.md, Safety report)");
+  const std::string why =
+      run.responses == 0 ? std::string("no response during the script")
+                         : fmt::format("none of {} responses carries a safety report ({})", run.responses, run.missing);
+  return informational(
+      "not judged: " + why +
+      "; a client that reports safe_state, drive_state, throttle, brake and steer in vehicle_user_data.user_data "
+      "is graded on SPEC §10 (docs/conformance.md, Safety report)");
 }
 
 Settling settle_within(const ScriptRun& run, std::int64_t from_us, std::int64_t to_us, std::int64_t bound_us,
@@ -142,13 +149,15 @@ Settling settle_within(const ScriptRun& run, std::int64_t from_us, std::int64_t 
 }
 
 std::string describe_settling(const Settling& settling, std::int64_t from_us, const std::string& what) {
-  const std::string reached = settling.reached_after_us
-                                  ? fmt::format("{} after {:.0f} ms", what, static_cast<double>(*settling.reached_after_us) / 1000.0)
-                                  : fmt::format("never {}", what);
+  const std::string reached =
+      settling.reached_after_us
+          ? fmt::format("{} after {:.0f} ms", what, static_cast<double>(*settling.reached_after_us) / 1000.0)
+          : fmt::format("never {}", what);
   if (settling.checked == 0) return reached + " (no report after the bound to check)";
   if (!settling.broken) return fmt::format("{}, kept in all {} reports after the bound", reached, settling.checked);
   return fmt::format("{}, but at +{:.0f} ms the report says {}", reached,
-                     static_cast<double>(settling.broken->time_us - from_us) / 1000.0, describe_report(*settling.broken));
+                     static_cast<double>(settling.broken->time_us - from_us) / 1000.0,
+                     describe_report(*settling.broken));
 }
 
 std::optional<SafetyReport> last_report_before(const ScriptRun& run, std::int64_t time_us) {

@@ -28,7 +28,7 @@ namespace ocp::conformance::detail {
 struct SafetyReport {
   std::int64_t time_us = 0;
   bool safe_state = false;
-  bool enabled = false;   // drive_state "enabled"
+  bool enabled = false;  // drive_state "enabled"
   double throttle = 0.0;
   double brake = 0.0;
   double steer = 0.0;
@@ -46,12 +46,12 @@ struct SafetyPhase {
 };
 
 struct ScriptRun {
-  std::vector<std::int64_t> phase_start_us;   // per phase: its first frame written (end_us if none was)
-  std::int64_t last_frame_us = 0;             // the last frame of the script written
-  std::int64_t end_us = 0;                    // the end of the silence after it
-  std::vector<SafetyReport> reports;          // from the first phase on, in arrival order
-  std::size_t responses = 0;                  // responses in that time (in the case's window)
-  std::string missing;                        // why the first of them carried no report
+  std::vector<std::int64_t> phase_start_us;  // per phase: its first frame written (end_us if none was)
+  std::int64_t last_frame_us = 0;            // the last frame of the script written
+  std::int64_t end_us = 0;                   // the end of the silence after it
+  std::vector<SafetyReport> reports;         // from the first phase on, in arrival order
+  std::size_t responses = 0;                 // responses in that time (in the case's window)
+  std::string missing;                       // why the first of them carried no report
 };
 
 // Plays the phases, then `silence` without any frame (the connection stays open), and reads
@@ -71,9 +71,9 @@ std::optional<Outcome> safety_prologue(CaseContext& context);
 // Does the rule hold from `from_us` + `bound_us` to `to_us`? The client has `bound_us` to get
 // there; from then on every report must keep it.
 struct Settling {
-  std::optional<std::int64_t> reached_after_us;   // first report keeping the rule, after from_us
-  std::size_t checked = 0;                        // reports from from_us + bound_us to to_us
-  std::optional<SafetyReport> broken;             // the first of them that breaks the rule
+  std::optional<std::int64_t> reached_after_us;  // first report keeping the rule, after from_us
+  std::size_t checked = 0;                       // reports from from_us + bound_us to to_us
+  std::optional<SafetyReport> broken;            // the first of them that breaks the rule
   bool holds() const { return checked > 0 && !broken; }
 };
 Settling settle_within(const ScriptRun& run, std::int64_t from_us, std::int64_t to_us, std::int64_t bound_us,

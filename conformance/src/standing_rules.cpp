@@ -8,10 +8,14 @@ namespace {
 // How bad a verdict is, for "the worse of two".
 int standing_severity(Verdict verdict) {
   switch (verdict) {
-    case Verdict::ok: return 0;
-    case Verdict::informational: return 1;
-    case Verdict::non_strict: return 2;
-    case Verdict::failed: return 3;
+    case Verdict::ok:
+      return 0;
+    case Verdict::informational:
+      return 1;
+    case Verdict::non_strict:
+      return 2;
+    case Verdict::failed:
+      return 3;
   }
   return 3;
 }
@@ -28,7 +32,8 @@ std::optional<StandingHit> first_standing_violation(const StandingRule& rule, co
     if (entry.kind != WireEntryKind::in) continue;
     std::optional<StandingFinding> finding = rule(entry);
     if (!finding) continue;
-    StandingHit hit{case_index, case_id, entry.time_us, std::move(*finding), entry.text.substr(0, standing_frame_excerpt)};
+    StandingHit hit{case_index, case_id, entry.time_us, std::move(*finding),
+                    entry.text.substr(0, standing_frame_excerpt)};
     if (entry.text.size() > standing_frame_excerpt) hit.frame += fmt::format("… ({} bytes)", entry.text.size());
     if (entry.drained) hit.frame = fmt::format("(drained: length prefix {})", entry.length_prefix);
     // A failure is the first worth naming; a NON-STRICT one only until a failure turns up.
@@ -51,8 +56,9 @@ void apply_standing_hit(CaseResult& result, const StandingHit& hit) {
   if (standing_severity(hit.finding.verdict) <= standing_severity(result.verdict)) return;
   result.verdict = hit.finding.verdict;
   const std::string where = hit.case_id == result.info.id ? std::string("this case") : "case " + hit.case_id;
-  result.actual += fmt::format("; checked on every client frame of the run: {} in {} at {:.1f} ms; first offending frame: {}",
-                               hit.finding.problem, where, static_cast<double>(hit.time_us) / 1000.0, hit.frame);
+  result.actual +=
+      fmt::format("; checked on every client frame of the run: {} in {} at {:.1f} ms; first offending frame: {}",
+                  hit.finding.problem, where, static_cast<double>(hit.time_us) / 1000.0, hit.frame);
 }
 
 }  // namespace ocp::conformance

@@ -6,9 +6,7 @@
 namespace ocp::conformance {
 
 StreamerHost::StreamerHost(LogSink sink)
-    : executor_(io_),
-      sink_(std::move(sink)),
-      server_(io_, [this](std::shared_ptr<ByteStream> stream) {
+    : executor_(io_), sink_(std::move(sink)), server_(io_, [this](std::shared_ptr<ByteStream> stream) {
         // Between two cases there is no Streamer: the client is turned away and retries.
         if (world_ && operator_side_) {
           world_->player().accept_client_connection(std::move(stream));
@@ -92,7 +90,8 @@ bool StreamerHost::client_connected() {
 
 std::uint64_t StreamerHost::client_connections_accepted() {
   if (!world_) return 0;
-  return operator_side_ ? world_->player().stats().client_connections_accepted : streamer().stats().connections_accepted;
+  return operator_side_ ? world_->player().stats().client_connections_accepted
+                        : streamer().stats().connections_accepted;
 }
 
 EventBus& StreamerHost::client_events() { return operator_side_ ? world_->player().events() : streamer().events(); }

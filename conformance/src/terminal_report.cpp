@@ -26,8 +26,8 @@ std::string verdict_counts(const RunSummary& summary) {
   }
   return fmt::format("{} case{} in {:.1f} s: {} OK, {} NON-STRICT, {} INFORMATIONAL, {} FAILED ({} of them MUST)",
                      summary.results.size(), summary.results.size() == 1 ? "" : "s", summary.duration_ms / 1000.0,
-                     counts[Verdict::ok], counts[Verdict::non_strict], counts[Verdict::informational], counts[Verdict::failed],
-                     must_failed);
+                     counts[Verdict::ok], counts[Verdict::non_strict], counts[Verdict::informational],
+                     counts[Verdict::failed], must_failed);
 }
 
 std::string interrupted_text(const RunSummary& summary) {
@@ -39,7 +39,8 @@ std::vector<NamedCause> named_causes(const RunSummary& summary) {
   std::vector<NamedCause> causes;
   for (const CaseResult& result : summary.results) {
     if (result.cause.empty()) continue;
-    auto found = std::find_if(causes.begin(), causes.end(), [&](const NamedCause& c) { return c.cause == result.cause; });
+    auto found =
+        std::find_if(causes.begin(), causes.end(), [&](const NamedCause& c) { return c.cause == result.cause; });
     if (found == causes.end()) found = causes.insert(causes.end(), NamedCause{result.cause, {}});
     found->case_ids.push_back(result.info.id);
   }

@@ -13,8 +13,9 @@ std::vector<VehicleCase> vehicle_cases() {
   add_product_shape_cases(cases);
   add_safety_cases(cases);
   // Stable order by id (section, then number) whatever the files add.
-  std::stable_sort(cases.begin(), cases.end(),
-                   [](const VehicleCase& a, const VehicleCase& b) { return case_id_before(a.body.info.id, b.body.info.id); });
+  std::stable_sort(cases.begin(), cases.end(), [](const VehicleCase& a, const VehicleCase& b) {
+    return case_id_before(a.body.info.id, b.body.info.id);
+  });
   return cases;
 }
 

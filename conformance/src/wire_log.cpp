@@ -9,12 +9,18 @@ namespace ocp::conformance {
 
 std::string_view wire_entry_kind_name(WireEntryKind kind) {
   switch (kind) {
-    case WireEntryKind::out: return "out";
-    case WireEntryKind::in: return "in";
-    case WireEntryKind::opened: return "open";
-    case WireEntryKind::closed: return "close";
-    case WireEntryKind::refused: return "refuse";
-    case WireEntryKind::note: return "note";
+    case WireEntryKind::out:
+      return "out";
+    case WireEntryKind::in:
+      return "in";
+    case WireEntryKind::opened:
+      return "open";
+    case WireEntryKind::closed:
+      return "close";
+    case WireEntryKind::refused:
+      return "refuse";
+    case WireEntryKind::note:
+      return "note";
   }
   return "?";
 }
@@ -68,9 +74,15 @@ void WireLog::attach(EventBus& bus, Wire wire) {
             entry.time_us = event.time.count();
             entry.text = std::string(body.peer);
             switch (body.change) {
-              case ConnectionChange::opened: entry.kind = WireEntryKind::opened; break;
-              case ConnectionChange::closed: entry.kind = WireEntryKind::closed; break;
-              case ConnectionChange::refused: entry.kind = WireEntryKind::refused; break;
+              case ConnectionChange::opened:
+                entry.kind = WireEntryKind::opened;
+                break;
+              case ConnectionChange::closed:
+                entry.kind = WireEntryKind::closed;
+                break;
+              case ConnectionChange::refused:
+                entry.kind = WireEntryKind::refused;
+                break;
             }
             if (body.reason != nullptr) {
               entry.close_code = error_code_id(body.reason->code);

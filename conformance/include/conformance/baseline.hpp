@@ -15,7 +15,7 @@ namespace ocp::conformance {
 using Baseline = std::set<std::string>;
 
 Result<Baseline> load_baseline(const std::string& path);
-std::string baseline_text(const std::vector<CaseResult>& results);   // the failures of a run
+std::string baseline_text(const std::vector<CaseResult>& results);  // the failures of a run
 
 struct BaselineDiff {
   std::vector<std::string> new_failures;   // failed now, not in the baseline

@@ -20,8 +20,7 @@ struct CaseTimeout : std::runtime_error {
 
 class CaseContext {
  public:
-  CaseContext(StreamerHost& host, WireLog& log, std::chrono::steady_clock::time_point deadline,
-              double timeout_scale);
+  CaseContext(StreamerHost& host, WireLog& log, std::chrono::steady_clock::time_point deadline, double timeout_scale);
 
   StreamerHost& host() { return host_; }
   // The client's interlock buttons (RunOptions::interlock), for the §10 cases' scripts.

@@ -19,8 +19,8 @@ enum class CraftedController { driving, null, safe_default, absent, pad };
 // false, sticks 0). Raw values as the product sends them: triggers -1 (released) to 1.
 // The 15 buttons of a controller, in the order of seed 001.
 inline constexpr std::array<std::string_view, 15> controller_buttons{
-    "a", "b", "x", "y", "left_bumper", "right_bumper", "back", "start", "guide",
-    "left_thumb", "right_thumb", "dpad_up", "dpad_right", "dpad_down", "dpad_left"};
+    "a",     "b",          "x",           "y",       "left_bumper", "right_bumper", "back",     "start",
+    "guide", "left_thumb", "right_thumb", "dpad_up", "dpad_right",  "dpad_down",    "dpad_left"};
 
 // How the vehicle's drive interlock is worked from the gamepad: the reference client enables
 // with start (sticks at rest) and stops with back; a client with its own convention names its
@@ -32,9 +32,9 @@ struct InterlockButtons {
 
 struct CraftedPad {
   bool a = false;
-  bool start = false;   // the reference client's enable button
-  bool back = false;    // its emergency stop
-  std::string also_pressed = "";   // one more button by name (an interlock's own), "" for none
+  bool start = false;             // the reference client's enable button
+  bool back = false;              // its emergency stop
+  std::string also_pressed = "";  // one more button by name (an interlock's own), "" for none
   double left_x = 0.0;
   double left_trigger = -1.0;
   double right_trigger = -1.0;
@@ -45,12 +45,12 @@ struct CraftedControl {
   explicit CraftedControl(AckPair pair) : ack(pair) {}
   AckPair ack;
   CraftedController controller = CraftedController::driving;
-  CraftedPad pad;                 // with CraftedController::pad
+  CraftedPad pad;  // with CraftedController::pad
   bool fault = false;
   std::string fault_reason;
-  std::string client_user_data;   // raw JSON value; empty → field omitted
-  std::string missing_cameras = "[]";   // raw JSON value of telemetry.missing_cameras; empty → omitted
-  bool unknown_fields = false;    // extra fields at top level, in telemetry and in controller
+  std::string client_user_data;        // raw JSON value; empty → field omitted
+  std::string missing_cameras = "[]";  // raw JSON value of telemetry.missing_cameras; empty → omitted
+  bool unknown_fields = false;         // extra fields at top level, in telemetry and in controller
 };
 
 // The JSON text (u64 / u32 written as integers, never through a double).

@@ -25,9 +25,9 @@ namespace ocp::conformance {
 struct BrokenClientRun {
   std::string case_id;
   Tier tier = Tier::must;
-  std::string client;          // "broken_client.py MODE" or "vehicle_client ARGS"
-  std::string verdict;         // what it must get: "FAILED" or "NON-STRICT"
-  std::string cases;           // --cases for the run: the case, plus any "with" cases
+  std::string client;   // "broken_client.py MODE" or "vehicle_client ARGS"
+  std::string verdict;  // what it must get: "FAILED" or "NON-STRICT"
+  std::string cases;    // --cases for the run: the case, plus any "with" cases
 };
 
 // Every broken client the case names, each alternative separately.

@@ -29,21 +29,21 @@ struct SentPair {
 
 struct Response {
   std::int64_t time_us = 0;
-  std::optional<AckPair> ack;      // nullopt: drained, or did not decode
+  std::optional<AckPair> ack;  // nullopt: drained, or did not decode
   bool drained = false;
   std::uint32_t length_prefix = 0;
-  std::string_view payload;        // points into the wire log
+  std::string_view payload;  // points into the wire log
 };
 
 struct Observations {
   std::vector<SentPair> sent;
-  std::vector<Response> responses;        // in the window (see above): what cases grade
-  std::vector<Response> before_control;   // written before the client read a control message
+  std::vector<Response> responses;       // in the window (see above): what cases grade
+  std::vector<Response> before_control;  // written before the client read a control message
   // Every response, in or out of the window, in arrival order: for the rules that hold for
   // every frame the client sends (framing, the response schema).
   std::vector<Response> all_responses;
   std::vector<std::int64_t> opened_us;
-  std::vector<std::string> close_codes;   // every close, in order ("peer.read_timeout", …)
+  std::vector<std::string> close_codes;  // every close, in order ("peer.read_timeout", …)
   std::vector<std::int64_t> closed_us;
 
   // Entries at or after `since_us`; the window is worked out on the whole log first, so a

@@ -14,9 +14,9 @@ namespace ocp::conformance {
 
 struct ReportContext {
   std::string suite = "vehicle";
-  std::string client;            // the command, or "external client on port N"
+  std::string client;  // the command, or "external client on port N"
   RunSummary const* summary = nullptr;
-  BaselineDiff const* baseline = nullptr;   // null: no baseline given
+  BaselineDiff const* baseline = nullptr;  // null: no baseline given
 };
 
 // "16 cases in 21.3 s: 12 OK, 1 NON-STRICT, 0 INFORMATIONAL, 3 FAILED (3 of them MUST)".

@@ -13,13 +13,13 @@
 namespace ocp::conformance {
 
 struct Requirement {
-  std::string id;                         // "V-3.3-echo-exact": V/O, SPEC section, short name
-  std::string text;                       // the requirement, one line
-  std::string source;                     // "SPEC §3.3", "seed 000 (Practical connection rules)"
-  Tier tier = Tier::must;                 // per SPEC §2's Decision: MUST only on what the product can send
-  std::vector<std::string> cases;         // case ids that cover it
-  std::vector<std::string> broken_by;     // "broken_client.py MODE" / "vehicle_client --misbehave-…"
-  std::string not_covered;                // when `cases` is empty: why (a MUST row may not have one)
+  std::string id;                      // "V-3.3-echo-exact": V/O, SPEC section, short name
+  std::string text;                    // the requirement, one line
+  std::string source;                  // "SPEC §3.3", "seed 000 (Practical connection rules)"
+  Tier tier = Tier::must;              // per SPEC §2's Decision: MUST only on what the product can send
+  std::vector<std::string> cases;      // case ids that cover it
+  std::vector<std::string> broken_by;  // "broken_client.py MODE" / "vehicle_client --misbehave-…"
+  std::string not_covered;             // when `cases` is empty: why (a MUST row may not have one)
 };
 
 const std::vector<Requirement>& vehicle_requirements();
@@ -29,7 +29,8 @@ const std::vector<Requirement>& operator_requirements();
 // case; a requirement without a case and without a reason; a covered requirement naming no
 // broken client, or one its cases do not name; a case id that does not exist; a MUST or SHOULD
 // case no requirement covers; a duplicate requirement id.
-std::vector<std::string> requirement_problems(const std::vector<Requirement>& requirements, const std::vector<CaseInfo>& cases);
+std::vector<std::string> requirement_problems(const std::vector<Requirement>& requirements,
+                                              const std::vector<CaseInfo>& cases);
 
 // --list --coverage: the Markdown table, one row per requirement (requirement, source, tier,
 // cases, broken clients with the verdict each gets).

@@ -16,17 +16,17 @@
 namespace ocp::conformance {
 
 struct RunOptions {
-  std::vector<std::string> command;   // empty: wait for an external client on `port`
-  std::uint16_t port = 4000;          // with a command: 0 = ephemeral (one per worker)
+  std::vector<std::string> command;  // empty: wait for an external client on `port`
+  std::uint16_t port = 4000;         // with a command: 0 = ephemeral (one per worker)
   bool restart_per_case = false;
   unsigned jobs = 1;
   double timeout_scale = 1.0;
   // A launched client that has not connected this long after its launch (or exited before it
   // did) cannot be graded: the run stops with a harness error (exit 2). Scaled by timeout_scale.
   std::chrono::milliseconds connect_timeout{3'000};
-  std::string client_log_dir;         // launched clients' output (one file each); "" → /dev/null
-  bool client_logs_kept = true;       // false: a temporary folder, quoted from but never named
-  InterlockButtons interlock;         // how the §10 cases enable and stop the client's drive
+  std::string client_log_dir;    // launched clients' output (one file each); "" → /dev/null
+  bool client_logs_kept = true;  // false: a temporary folder, quoted from but never named
+  InterlockButtons interlock;    // how the §10 cases enable and stop the client's drive
   // Progress: each result in case order (with jobs > 1 a result waits for the cases before it).
   std::function<void(const CaseResult&)> on_result;
   // Ctrl-C: polled while cases wait; true stops the run. The case in progress gets no verdict.
@@ -34,10 +34,10 @@ struct RunOptions {
 };
 
 struct RunSummary {
-  std::vector<CaseResult> results;    // in case order
+  std::vector<CaseResult> results;  // in case order
   double duration_ms = 0.0;
-  std::string harness_error;          // non-empty: the run could not be done (exit 2)
-  bool interrupted = false;           // stopped by Ctrl-C: `results` holds the cases finished before
+  std::string harness_error;  // non-empty: the run could not be done (exit 2)
+  bool interrupted = false;   // stopped by Ctrl-C: `results` holds the cases finished before
   std::size_t cases_selected = 0;
 };
 

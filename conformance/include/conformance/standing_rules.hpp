@@ -15,11 +15,11 @@
 namespace ocp::conformance {
 
 struct StandingHit {
-  std::size_t case_index = 0;   // in run order: of two hits the earlier case's is first
-  std::string case_id;          // where the frame was sent
-  std::int64_t time_us = 0;     // on that case's timeline (µs since its host started)
+  std::size_t case_index = 0;  // in run order: of two hits the earlier case's is first
+  std::string case_id;         // where the frame was sent
+  std::int64_t time_us = 0;    // on that case's timeline (µs since its host started)
   StandingFinding finding;
-  std::string frame;            // the start of the offending frame's payload
+  std::string frame;  // the start of the offending frame's payload
 };
 
 // The first frame of `entries` that `rule` finds fault with, or nullopt.

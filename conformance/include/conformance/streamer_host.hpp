@@ -33,13 +33,13 @@ namespace ocp::conformance {
 // One vehicle the Player is linked to in `ocp_conformance operator` runs.
 struct HostedVehicle {
   std::string name;
-  bool monitor = false;   // watch-only link (SPEC §7): feedback and video, no control
+  bool monitor = false;  // watch-only link (SPEC §7): feedback and video, no control
 };
 
 struct StreamerSetup {
   std::uint64_t ack_time_offset = std::uint64_t{1} << 53;  // SPEC §5: conformance uses ≥ 2^53
-  bool control_paused = false;   // paused before any client can connect
-  std::size_t write_queue_limit_bytes = 256 * 1024;   // a client that never reads is cut off sooner
+  bool control_paused = false;                             // paused before any client can connect
+  std::size_t write_queue_limit_bytes = 256 * 1024;        // a client that never reads is cut off sooner
   // `ocp_conformance operator`: the port is the Player's :4001 operator API (SPEC §4.2) and the
   // vehicle side is the reference VehicleClient, in-process, so the latency loop turns.
   bool operator_side = false;
@@ -66,9 +66,9 @@ class StreamerHost {
   [[nodiscard]] Status restart(const StreamerSetup& setup);
 
   bool has_streamer() const { return world_ != nullptr; }
-  StreamerCore& streamer();                              // host_vehicle_name's
-  StreamerCore& streamer(std::string_view vehicle);      // a vehicle of the fleet
-  std::vector<HostedVehicle> vehicles() const;           // of the running World
+  StreamerCore& streamer();                          // host_vehicle_name's
+  StreamerCore& streamer(std::string_view vehicle);  // a vehicle of the fleet
+  std::vector<HostedVehicle> vehicles() const;       // of the running World
   PlayerCore& player();
   bool operator_side() const { return operator_side_; }
   // The client under test is connected (vehicle API or operator API, by the setup).

@@ -10,7 +10,7 @@ namespace ocp::conformance {
 
 struct VehicleCase {
   Case body;
-  StreamerSetup setup;   // how the Streamer is started for this case
+  StreamerSetup setup;  // how the Streamer is started for this case
 };
 
 std::vector<VehicleCase> vehicle_cases();

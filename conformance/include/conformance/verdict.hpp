@@ -10,9 +10,9 @@ enum class Tier { must, should, info };
 // FAILED: the requirement is broken.
 enum class Verdict { ok, non_strict, informational, failed };
 
-std::string_view tier_name(Tier tier);           // "MUST" | "SHOULD" | "INFO"
-std::string_view verdict_name(Verdict verdict);  // "OK" | "NON-STRICT" | "INFORMATIONAL" | "FAILED"
-std::string_view verdict_slug(Verdict verdict);  // "ok" | "non-strict" | … (CSS classes, baselines)
+std::string_view tier_name(Tier tier);                        // "MUST" | "SHOULD" | "INFO"
+std::string_view verdict_name(Verdict verdict);               // "OK" | "NON-STRICT" | "INFORMATIONAL" | "FAILED"
+std::string_view verdict_slug(Verdict verdict);               // "ok" | "non-strict" | … (CSS classes, baselines)
 bool parse_verdict(std::string_view text, Verdict& verdict);  // name or slug
 
 }  // namespace ocp::conformance

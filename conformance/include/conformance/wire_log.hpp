@@ -17,13 +17,13 @@ enum class WireEntryKind { out, in, opened, closed, refused, note };
 std::string_view wire_entry_kind_name(WireEntryKind kind);  // "out" | "in" | "open" | …
 
 struct WireLogEntry {
-  std::int64_t time_us = 0;        // the host executor's µs (one timeline per host)
+  std::int64_t time_us = 0;  // the host executor's µs (one timeline per host)
   WireEntryKind kind = WireEntryKind::note;
-  std::uint32_t length_prefix = 0; // out / in
-  bool drained = false;            // in: oversized frame the Streamer skipped
-  std::optional<AckPair> ack;      // the pair the frame carries, when it decodes
-  std::string text;                // payload (out / in), peer + reason (connections), note
-  std::string close_code;          // closed: "peer.read_timeout", "local.shut_down", …
+  std::uint32_t length_prefix = 0;  // out / in
+  bool drained = false;             // in: oversized frame the Streamer skipped
+  std::optional<AckPair> ack;       // the pair the frame carries, when it decodes
+  std::string text;                 // payload (out / in), peer + reason (connections), note
+  std::string close_code;           // closed: "peer.read_timeout", "local.shut_down", …
 };
 
 // A flooding client could grow a log without bound: past this many entries only a count is
