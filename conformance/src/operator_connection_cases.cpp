@@ -110,8 +110,10 @@ Outcome single_connection(CaseContext& context) {
 
 }  // namespace
 
-void add_operator_connection_cases(std::vector<VehicleCase>& cases) {
-  const StreamerSetup op = operator_setup();
+namespace {
+
+// The Player silent or its pair unchanged: the client must still send.
+void add_keep_alive_cases(std::vector<VehicleCase>& cases, const StreamerSetup& op) {
   cases.push_back(
       {{{"operator/2/2",
          "keeps the connection alive while the Player is silent (2 s read timeout never fires)",
@@ -144,6 +146,11 @@ void add_operator_connection_cases(std::vector<VehicleCase>& cases) {
          "broken_client.py op-answer-on-change"},
         keeps_sending_on_an_unchanged_pair},
        op});
+}
+
+// The Player closes or restarts: reconnect after a short delay, with no stale pair; and one
+// connection at a time.
+void add_reconnect_cases(std::vector<VehicleCase>& cases, const StreamerSetup& op) {
   cases.push_back(
       {{{"operator/4.2/3",
          "reconnects after the Player closes the connection; no stale pair",
@@ -207,6 +214,14 @@ void add_operator_connection_cases(std::vector<VehicleCase>& cases) {
                      "broken_client.py op-second-connection"},
                     single_connection},
                    op});
+}
+
+}  // namespace
+
+void add_operator_connection_cases(std::vector<VehicleCase>& cases) {
+  const StreamerSetup op = operator_setup();
+  add_keep_alive_cases(cases, op);
+  add_reconnect_cases(cases, op);
 }
 
 }  // namespace ocp::conformance

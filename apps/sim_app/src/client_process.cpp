@@ -6,7 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-extern char** environ;   // POSIX: the process environment (unistd.h declares it only with _GNU_SOURCE)
+extern char** environ;  // POSIX: the process environment (unistd.h declares it only with _GNU_SOURCE)
 
 #include <array>
 #include <atomic>
@@ -47,7 +47,8 @@ std::string describe_exit_status(int status) {
   if (status <= 128) return "exited with code " + std::to_string(status);
   const int signal_number = status - 128;
   const char* name = sigabbrev_np(signal_number);
-  return "was killed by signal " + std::to_string(signal_number) + (name ? std::string(" (SIG") + name + ")" : std::string());
+  return "was killed by signal " + std::to_string(signal_number) +
+         (name ? std::string(" (SIG") + name + ")" : std::string());
 }
 
 std::string last_lines_of(const std::string& path, std::size_t count) {
@@ -56,7 +57,7 @@ std::string last_lines_of(const std::string& path, std::size_t count) {
   std::deque<std::string> lines;
   std::string line;
   while (std::getline(in, line)) {
-    if (line.size() > 300) line = line.substr(0, 300) + " …";   // a client may write anything
+    if (line.size() > 300) line = line.substr(0, 300) + " …";  // a client may write anything
     lines.push_back(std::move(line));
     if (lines.size() > count) lines.pop_front();
   }
@@ -77,21 +78,13 @@ std::vector<std::string> substitute_port(const std::vector<std::string>& command
   return out;
 }
 
-Result<std::unique_ptr<ClientProcess>> ClientProcess::launch(const std::vector<std::string>& command,
-                                                              std::uint16_t port, const std::string& log_path,
-                                                              const std::vector<std::string>& extra_environment) {
-  if (command.empty()) return Error{std::make_error_code(std::errc::invalid_argument), "no client command"};
-  const std::vector<std::string> args = substitute_port(command, port);
-  std::vector<char*> argv;
-  for (const std::string& arg : args) argv.push_back(const_cast<char*>(arg.c_str()));
-  argv.push_back(nullptr);
-  const std::string port_env = std::to_string(port);
-  const std::string out_path = log_path.empty() ? "/dev/null" : log_path;
+namespace {
 
-  // The child's environment is built here, before fork: between fork and exec the child may
-  // only make async-signal-safe calls. setenv allocates, and in a multi-threaded harness
-  // (-j N) another thread may hold the allocator's lock at the fork, so a child that called it
-  // could hang before exec, and the parent with it, waiting for the status pipe below.
+// The child's environment, built before fork: between fork and exec the child may only make
+// async-signal-safe calls. setenv allocates, and in a multi-threaded harness (-j N) another
+// thread may hold the allocator's lock at the fork, so a child that called it could hang
+// before exec, and the parent with it, waiting for the status pipe.
+std::vector<std::string> child_environment(std::uint16_t port, const std::vector<std::string>& extra_environment) {
   std::vector<std::string> environment;
   const auto replaced = [&](const char* entry) {
     if (std::strncmp(entry, "OCP_PORT=", 9) == 0) return true;
@@ -104,8 +97,55 @@ Result<std::unique_ptr<ClientProcess>> ClientProcess::launch(const std::vector<s
   for (char** entry = environ; *entry != nullptr; ++entry) {
     if (!replaced(*entry)) environment.emplace_back(*entry);
   }
-  environment.push_back("OCP_PORT=" + port_env);
+  environment.push_back("OCP_PORT=" + std::to_string(port));
   environment.insert(environment.end(), extra_environment.begin(), extra_environment.end());
+  return environment;
+}
+
+// The child, between fork and exec (async-signal-safe calls only): its own process group, gone
+// with the harness, no inherited descriptors, output to the log; an exec failure is written to
+// the status pipe.
+[[noreturn]] void exec_child(char* const* argv, char* const* envp, const std::string& log_path, int status_write_end) {
+  setpgid(0, 0);
+  // Even if the harness dies without cleaning up (a crash, SIGKILL), the client goes too.
+  // (The launching worker thread outlives its clients: it kills them before it returns.)
+  prctl(PR_SET_PDEATHSIG, SIGKILL);
+  if (getppid() == 1) _exit(127);
+  // The harness's sockets (listening socket, connections) must not live on in the client:
+  // an inherited listener would keep the port busy across a Streamer restart.
+  const long max_fd = sysconf(_SC_OPEN_MAX);
+  for (int fd = 3; fd < (max_fd > 0 ? max_fd : 1024); ++fd) {
+    if (fd != status_write_end) close(fd);
+  }
+  const bool to_own_stderr = log_path == ClientProcess::to_stderr;
+  const int fd =
+      to_own_stderr ? -1 : open(log_path.empty() ? "/dev/null" : log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  if (to_own_stderr) {
+    dup2(STDERR_FILENO, STDOUT_FILENO);
+  } else if (fd >= 0) {
+    dup2(fd, STDOUT_FILENO);
+    dup2(fd, STDERR_FILENO);
+    close(fd);
+  }
+  const int null_in = open("/dev/null", O_RDONLY);
+  if (null_in >= 0) dup2(null_in, STDIN_FILENO);
+  execvpe(argv[0], argv, envp);
+  const int error = errno;
+  (void)!write(status_write_end, &error, sizeof error);
+  _exit(127);
+}
+
+}  // namespace
+
+Result<std::unique_ptr<ClientProcess>> ClientProcess::launch(const std::vector<std::string>& command,
+                                                             std::uint16_t port, const std::string& log_path,
+                                                             const std::vector<std::string>& extra_environment) {
+  if (command.empty()) return Error{std::make_error_code(std::errc::invalid_argument), "no client command"};
+  const std::vector<std::string> args = substitute_port(command, port);
+  std::vector<char*> argv;
+  for (const std::string& arg : args) argv.push_back(const_cast<char*>(arg.c_str()));
+  argv.push_back(nullptr);
+  std::vector<std::string> environment = child_environment(port, extra_environment);
   std::vector<char*> envp;
   for (std::string& entry : environment) envp.push_back(entry.data());
   envp.push_back(nullptr);
@@ -122,32 +162,8 @@ Result<std::unique_ptr<ClientProcess>> ClientProcess::launch(const std::vector<s
     return Error{std::error_code(errno, std::generic_category()), "fork failed"};
   }
   if (pid == 0) {
-    setpgid(0, 0);
-    // Even if the harness dies without cleaning up (a crash, SIGKILL), the client goes too.
-    // (The launching worker thread outlives its clients: it kills them before it returns.)
-    prctl(PR_SET_PDEATHSIG, SIGKILL);
-    if (getppid() == 1) _exit(127);
     close(status_pipe[0]);
-    // The harness's sockets (listening socket, connections) must not live on in the client:
-    // an inherited listener would keep the port busy across a Streamer restart.
-    const long max_fd = sysconf(_SC_OPEN_MAX);
-    for (int fd = 3; fd < (max_fd > 0 ? max_fd : 1024); ++fd) {
-      if (fd != status_pipe[1]) close(fd);
-    }
-    const int fd = log_path == to_stderr ? -1 : open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (log_path == to_stderr) {
-      dup2(STDERR_FILENO, STDOUT_FILENO);
-    } else if (fd >= 0) {
-      dup2(fd, STDOUT_FILENO);
-      dup2(fd, STDERR_FILENO);
-      close(fd);
-    }
-    const int null_in = open("/dev/null", O_RDONLY);
-    if (null_in >= 0) dup2(null_in, STDIN_FILENO);
-    execvpe(argv[0], argv.data(), envp.data());
-    const int error = errno;
-    (void)!write(status_pipe[1], &error, sizeof error);
-    _exit(127);
+    exec_child(argv.data(), envp.data(), log_path, status_pipe[1]);
   }
   setpgid(pid, pid);  // also from the parent: no race with kill before the child ran
   remember(pid);
