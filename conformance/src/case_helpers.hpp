@@ -1,5 +1,4 @@
 #pragma once
-#include <bit>
 // Shared pieces of the vehicle case bodies (private to the library).
 #include <fmt/format.h>
 
@@ -62,28 +61,6 @@ inline std::string last_close(const Observations& observed) {
 }
 
 inline std::string describe(const AckPair& pair) { return fmt::format("({}, {})", pair.ack_time, pair.ack_time_mac); }
-
-// The sent pair that `pair` is a copy of, rounded through a double (same MAC, an ack_time off by
-// less than a double's step at that size, and not equal), or nullopt. A rounding client's
-// responses are echoes it got wrong, not pairs it made up.
-inline std::optional<AckPair> rounded_from(const AckPair& pair, const std::vector<SentPair>& sent) {
-  for (const SentPair& candidate : sent) {
-    const std::uint64_t original = candidate.ack.ack_time;
-    if (candidate.ack.ack_time_mac != pair.ack_time_mac || original == pair.ack_time || original < (1ull << 53))
-      continue;
-    const std::uint64_t step = std::uint64_t{1} << (std::bit_width(original) - 53);  // a double's step there
-    const std::uint64_t off = original > pair.ack_time ? original - pair.ack_time : pair.ack_time - original;
-    if (off <= step) return candidate.ack;
-  }
-  return std::nullopt;
-}
-
-// The client must be connected before anything else is graded.
-inline bool connected(CaseContext& context, Outcome& outcome) {
-  if (context.wait_connected()) return true;
-  outcome = failed("the client did not connect within 10 s");
-  return false;
-}
 
 // First response at or after `after_us` carrying exactly `pair`, or nullptr.
 inline const Response* first_echo(const Observations& observed, const AckPair& pair, std::int64_t after_us) {
@@ -199,8 +176,6 @@ inline constexpr std::int64_t reconnect_max_us = 1'000'000;
 
 // `close` ends the client's connection from the server side (the Streamer's or the Player's).
 inline Outcome grade_reconnect_delays(CaseContext& context, const std::function<void()>& close) {
-  Outcome outcome;
-  if (!connected(context, outcome)) return outcome;
   std::vector<double> delays_ms;
   for (int round = 0; round < 3; ++round) {
     context.run_for(milliseconds(200));

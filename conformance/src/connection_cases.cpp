@@ -46,8 +46,6 @@ std::vector<AckPair> pairs_sent(CaseContext& context) {
 }
 
 Outcome after_server_close(CaseContext& context) {
-  Outcome outcome;
-  if (!connected(context, outcome)) return outcome;
   context.run_for(milliseconds(400));
   const auto old_pairs = pairs_sent(context);
   const std::int64_t break_us = context.now_us();
@@ -57,8 +55,6 @@ Outcome after_server_close(CaseContext& context) {
 }
 
 Outcome after_restart(CaseContext& context) {
-  Outcome outcome;
-  if (!connected(context, outcome)) return outcome;
   context.run_for(milliseconds(400));
   const auto old_pairs = pairs_sent(context);
   const std::int64_t break_us = context.now_us();
@@ -72,8 +68,6 @@ Outcome after_restart(CaseContext& context) {
 // and closes it at once, so a client that opens one next to the working connection (a
 // "health probe", a second thread) has half of its traffic cut off.
 Outcome single_vehicle_connection(CaseContext& context) {
-  Outcome outcome;
-  if (!connected(context, outcome)) return outcome;
   context.run_for(milliseconds(1000));
   std::size_t refused = 0;
   std::string first;

@@ -5,6 +5,7 @@
 
 #include "case_helpers.hpp"
 #include "conformance/vehicle_cases.hpp"
+#include "ocp/pair_diagnosis.hpp"
 
 namespace ocp::conformance {
 namespace {
@@ -19,8 +20,6 @@ constexpr std::int64_t stale_limit_us = 500'000;
 constexpr milliseconds long_connection{10'500};
 
 Outcome latest_pair(CaseContext& context) {
-  Outcome outcome;
-  if (!connected(context, outcome)) return outcome;
   context.run_for(long_connection);
   const Observations observed = Observations::from(context.entries());
   if (observed.sent.empty()) return failed("no control frame was sent (harness)");
@@ -57,8 +56,6 @@ Outcome latest_pair(CaseContext& context) {
 }
 
 Outcome ack_u64(CaseContext& context) {
-  Outcome outcome;
-  if (!connected(context, outcome)) return outcome;
   context.run_for(milliseconds(600));
   const std::int64_t normal_end = context.now_us();
   // Extremes the Streamer's clock will not reach in a short run: hand-made frames.
@@ -128,8 +125,6 @@ const char* const nagle_cause =
 // Irregular gaps (2–25 ms, fixed sequence) separate a client that echoes at once from one
 // that answers on its own timer: only the first keeps a small delay whatever the cadence.
 Outcome echo_delay(CaseContext& context) {
-  Outcome outcome;
-  if (!connected(context, outcome)) return outcome;
   context.run_for(milliseconds(300));
   static constexpr int gaps_ms[] = {3, 17, 7, 23, 2, 11, 19, 5, 13, 25, 4, 9};
   std::vector<AckPair> pairs;
@@ -171,8 +166,6 @@ Outcome echo_delay(CaseContext& context) {
 }
 
 Outcome no_pair_before_control(CaseContext& context) {
-  Outcome outcome;
-  if (!connected(context, outcome)) return outcome;
   context.run_for(milliseconds(400));  // control output paused from the start (setup)
   context.streamer().set_control_output_paused(false);
   const std::int64_t resumed = context.now_us();
@@ -195,9 +188,12 @@ Outcome no_pair_before_control(CaseContext& context) {
   // messages with pairs no one sent: name that cause, since the pairs are not made up.
   std::vector<AckPair> made_up;
   std::optional<std::pair<AckPair, AckPair>> rounded;  // (what it wrote, what was sent)
+  std::vector<AckPair> sent;
+  for (const SentPair& one : observed.sent) sent.push_back(one.ack);
   for (const AckPair& pair : early) {
-    if (const auto source = rounded_from(pair, observed.sent)) {
-      if (!rounded) rounded.emplace(pair, *source);
+    const PairJudgement judged = judge_altered_pair(pair, sent);  // the one rule (ocp/pair_diagnosis.hpp)
+    if (judged.cause == PairCause::rounded_through_double) {
+      if (!rounded) rounded.emplace(pair, *judged.nearest_issued);
     } else {
       made_up.push_back(pair);
     }

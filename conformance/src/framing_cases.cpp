@@ -11,8 +11,6 @@ namespace {
 using namespace detail;
 
 Outcome valid_responses(CaseContext& context) {
-  Outcome outcome;
-  if (!connected(context, outcome)) return outcome;
   context.run_for(milliseconds(1000));
   const Observations observed = Observations::from(context.entries());
   std::size_t drained = 0, valid = 0;
@@ -33,8 +31,6 @@ Outcome valid_responses(CaseContext& context) {
 }
 
 Outcome split_frames(CaseContext& context) {
-  Outcome outcome;
-  if (!connected(context, outcome)) return outcome;
   context.run_for(milliseconds(200));
   context.streamer().set_control_output_paused(true);
   const std::int64_t start = context.now_us();
@@ -98,8 +94,6 @@ Outcome split_frames(CaseContext& context) {
 }
 
 Outcome coalesced_frames(CaseContext& context) {
-  Outcome outcome;
-  if (!connected(context, outcome)) return outcome;
   context.run_for(milliseconds(200));
   context.streamer().set_control_output_paused(true);
   const std::int64_t start = context.now_us();
@@ -133,8 +127,6 @@ Outcome coalesced_frames(CaseContext& context) {
 }
 
 Outcome oversized_inbound(CaseContext& context) {
-  Outcome outcome;
-  if (!connected(context, outcome)) return outcome;
   context.run_for(milliseconds(200));
   context.streamer().set_control_output_paused(true);
   const std::size_t closes_before = Observations::from(context.entries()).closed_us.size();
@@ -152,8 +144,6 @@ Outcome oversized_inbound(CaseContext& context) {
 }
 
 Outcome responds_while_paused(CaseContext& context) {
-  Outcome outcome;
-  if (!connected(context, outcome)) return outcome;
   context.run_for(milliseconds(300));
   const std::size_t closes_before = Observations::from(context.entries()).closed_us.size();
   context.streamer().set_control_output_paused(true);

@@ -12,8 +12,6 @@ using namespace detail;
 
 Outcome crafted_case(CaseContext& context, std::uint64_t salt, const std::string& what,
                      const std::function<void(CraftedControl&)>& shape) {
-  Outcome outcome;
-  if (!connected(context, outcome)) return outcome;
   context.run_for(milliseconds(200));
   const CraftedRun run = send_crafted(context, 30, milliseconds(10), milliseconds(300), [&](std::size_t i) {
     CraftedControl control{crafted_pair(salt, i)};
@@ -74,8 +72,6 @@ std::string check_user_data(std::string_view payload, bool& user_data_not_object
 }
 
 Outcome user_data_schema(CaseContext& context) {
-  Outcome outcome;
-  if (!connected(context, outcome)) return outcome;
   context.run_for(milliseconds(1000));
   const Observations observed = Observations::from(context.entries());
   std::size_t checked = 0, with_data = 0, not_object = 0;

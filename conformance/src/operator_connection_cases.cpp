@@ -30,8 +30,6 @@ Outcome grade_client_silence(CaseContext& context, std::int64_t from, const std:
 }
 
 Outcome keeps_connection_alive(CaseContext& context) {
-  Outcome outcome;
-  if (!connected(context, outcome)) return outcome;
   context.run_for(milliseconds(300));
   const std::int64_t from = context.now_us();
   context.note("Player output paused: no VehicleOcpShared for 2.3 s");
@@ -46,8 +44,6 @@ Outcome keeps_connection_alive(CaseContext& context) {
 // video is stalled (no SEI, so no new pair), as when a camera stalls or the vehicle is gone. A
 // client that answers only a changed pair goes silent, and the 2 s read timeout closes it.
 Outcome keeps_sending_on_an_unchanged_pair(CaseContext& context) {
-  Outcome outcome;
-  if (!connected(context, outcome)) return outcome;
   context.run_for(milliseconds(300));
   StreamerCore& streamer = context.host().streamer();
   const std::vector<CameraConfig> cameras = streamer.config().cameras;
@@ -63,8 +59,6 @@ Outcome keeps_sending_on_an_unchanged_pair(CaseContext& context) {
 // Closes (or restarts the Player), then grades the new connection: reconnected, and every pair
 // it returns was published on the new connection (none remembered from before).
 Outcome reconnects(CaseContext& context, const std::function<void()>& cut, const std::string& what) {
-  Outcome outcome;
-  if (!connected(context, outcome)) return outcome;
   context.run_for(milliseconds(500));
   const std::int64_t cut_us = context.now_us();
   cut();
@@ -92,8 +86,6 @@ Outcome reconnects(CaseContext& context, const std::function<void()>& cut, const
 // One connection at a time (SPEC §4.2): a second one is refused, so an application that opens
 // two (a dashboard next to the control connection) has two would-be sources, one of them cut off.
 Outcome single_connection(CaseContext& context) {
-  Outcome outcome;
-  if (!connected(context, outcome)) return outcome;
   context.run_for(milliseconds(1000));
   const OperatorObservations observed = OperatorObservations::from(context.entries());
   bool locked = false;

@@ -19,8 +19,6 @@ using namespace detail;
 constexpr std::int64_t settle_us = 100'000;
 
 Outcome user_data_reaches_vehicle(CaseContext& context) {
-  Outcome outcome;
-  if (!connected(context, outcome)) return outcome;
   const VehicleWireWatch watch(context.host());
   context.run_for(milliseconds(1000));
   const OperatorObservations observed = OperatorObservations::from(context.entries());
@@ -59,8 +57,6 @@ Outcome user_data_reaches_vehicle(CaseContext& context) {
 }
 
 Outcome disable_gamepad(CaseContext& context) {
-  Outcome outcome;
-  if (!connected(context, outcome)) return outcome;
   const VehicleWireWatch watch(context.host());
   context.run_for(milliseconds(1000));
   const OperatorObservations observed = OperatorObservations::from(context.entries());
@@ -96,8 +92,6 @@ Outcome disable_gamepad(CaseContext& context) {
 }
 
 Outcome selects_active_vehicle(CaseContext& context) {
-  Outcome outcome;
-  if (!connected(context, outcome)) return outcome;
   context.run_for(milliseconds(1000));
   const OperatorObservations observed = OperatorObservations::from(context.entries());
   const std::size_t control = observed.linked.size() - observed.monitors.size();

@@ -99,8 +99,6 @@ Outcome product_shared_shapes(CaseContext& context) {
 // SPEC §7 with one vehicle: active_vehicle "may be omitted"; when sent it must still name the
 // linked vehicle, or that one vehicle raises VehicleControlInactive and gets no gamepad input.
 Outcome single_vehicle_active(CaseContext& context) {
-  Outcome outcome;
-  if (!connected(context, outcome)) return outcome;
   context.run_for(milliseconds(1000));
   const OperatorObservations observed = OperatorObservations::from(context.entries());
   for (const auto& a : observed.active_vehicle) {

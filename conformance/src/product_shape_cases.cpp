@@ -64,8 +64,6 @@ const std::vector<ControlForm>& product_control_forms() {
 }
 
 Outcome product_control_shapes(CaseContext& context) {
-  Outcome outcome;
-  if (!connected(context, outcome)) return outcome;
   context.run_for(milliseconds(200));
   const auto& forms = product_control_forms();
   const std::size_t rounds = 6;

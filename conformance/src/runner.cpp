@@ -26,6 +26,16 @@ double ms_since(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
+// Every case grades a connected client, so its body starts only once the client is connected
+// (10 s at most). A client that never connects fails a MUST or SHOULD case; an INFO case only
+// observes, so for it there is nothing measured.
+Outcome play(const VehicleCase& test_case, CaseContext& context) {
+  if (context.wait_connected()) return test_case.body.run(context);
+  if (test_case.body.info.tier == Tier::info)
+    return {Verdict::informational, "the client did not connect within 10 s: nothing measured", {}};
+  return {Verdict::failed, "the client did not connect within 10 s", {}};
+}
+
 struct Shared {
   Shared(const std::vector<VehicleCase>& all, const RunOptions& run_options) : cases(all), options(run_options) {}
   const std::vector<VehicleCase>& cases;
@@ -158,7 +168,7 @@ CaseResult run_one(Shared& shared, StreamerHost& host, std::size_t index, std::u
   CaseContext context(host, log, case_start + timeout, options.timeout_scale);
   context.set_interlock(options.interlock);
   try {
-    const Outcome outcome = test_case.body.run(context);
+    const Outcome outcome = play(test_case, context);
     result.verdict = outcome.verdict;
     result.actual = outcome.actual;
     result.cause = outcome.cause;

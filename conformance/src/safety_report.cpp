@@ -113,8 +113,6 @@ void collect_safety_reports(const Observations& observed, std::int64_t from_us, 
 }
 
 std::optional<Outcome> safety_prologue(CaseContext& context) {
-  Outcome outcome;
-  if (!connected(context, outcome)) return outcome;
   const std::int64_t start = context.now_us();
   context.run_for(milliseconds(200));
   ScriptRun probe;

@@ -239,5 +239,33 @@ TEST(Observations, WindowOpensAtTheClientsFirstControlMessageOnEachConnection) {
   EXPECT_EQ(pairs(late.responses), (std::vector<std::uint64_t>{100, 9, 200, 8}));
 }
 
+// The runner starts a case's body only once the client is connected. A client that never
+// connects fails a MUST case, and leaves an INFO case with nothing measured; no body runs.
+TEST(Runner, ACaseBodyStartsOnlyWithAConnectedClient) {
+  bool body_ran = false;
+  const auto body = [&body_ran](CaseContext&) {
+    body_ran = true;
+    return Outcome{Verdict::ok, "ran", {}};
+  };
+  std::vector<VehicleCase> cases;
+  for (const Tier tier : {Tier::must, Tier::info}) {
+    CaseInfo info;
+    info.id = tier == Tier::must ? "test/1/1" : "test/1/2";
+    info.tier = tier;
+    info.timeout = std::chrono::milliseconds(20'000);  // scaled below: 1 s, after the 0.5 s wait
+    cases.push_back({{info, body}, {}});
+  }
+  RunOptions options;
+  options.port = 0;             // an external client that never comes
+  options.timeout_scale = 0.05;  // the connection wait: 10 s → 0.5 s
+  const RunSummary summary = run_cases(cases, options);
+  ASSERT_EQ(summary.results.size(), 2u) << summary.harness_error;
+  EXPECT_FALSE(body_ran);
+  EXPECT_EQ(summary.results[0].verdict, Verdict::failed);
+  EXPECT_EQ(summary.results[0].actual, "the client did not connect within 10 s");
+  EXPECT_EQ(summary.results[1].verdict, Verdict::informational);
+  EXPECT_EQ(summary.results[1].actual, "the client did not connect within 10 s: nothing measured");
+}
+
 }  // namespace
 }  // namespace ocp::conformance

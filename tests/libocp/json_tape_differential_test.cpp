@@ -59,7 +59,9 @@ TEST(JsonTapeDifferential, EveryCorpusFileGivesTheSameTapeOrTheSameError) {
 // Every corpus document also compares equal when cut short at each byte: most cuts are errors
 // on both sides, which must agree in code and detail.
 TEST(JsonTapeDifferential, EveryPrefixOfTheDifferentialCorpusAgrees) {
-  for (const fs::path& path : files_under(corpus_root / "fuzz_json_tape_differential")) {
+  const std::vector<fs::path> documents = files_under(corpus_root / "fuzz_json_tape_differential");
+  EXPECT_GT(documents.size(), 0u) << "an empty corpus: the comparison proved nothing";
+  for (const fs::path& path : documents) {
     const std::string document = read_file(path);
     for (std::size_t length = 0; length < document.size() && length < 2048; ++length) {
       const auto result = compare_json_tokenizers(std::string_view(document).substr(0, length));

@@ -93,7 +93,9 @@ TEST_F(ScenarioLinkTrace, ATunnelQueuesThenDrops) {
                       "expect:\n  thresholds:\n    lost_to_player: [\"count > 0\"]\n    latency_ms: [\"max > 400\"]\n");
   const Scenario scenario = load_scenario(path("story.yaml"));
   const RunResult run = run_scenario(scenario, RunOptions{});
-  for (const Verdict& verdict : evaluate(scenario, run)) {
+  const std::vector<Verdict> verdicts = evaluate(scenario, run);
+  EXPECT_GT(verdicts.size(), 0u) << "no verdict: the expectations proved nothing";
+  for (const Verdict& verdict : verdicts) {
     EXPECT_TRUE(verdict.passed) << verdict.title << ": expected " << verdict.expected << ", actual " << verdict.actual;
   }
 }

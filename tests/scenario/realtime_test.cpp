@@ -52,7 +52,9 @@ expect:
   options.trace = false;
   const RunResult run = run_scenario_realtime(scenario, options, real_time);
   vehicle.join();
-  for (const Verdict& verdict : evaluate(scenario, run)) {
+  const std::vector<Verdict> verdicts = evaluate(scenario, run);
+  EXPECT_GT(verdicts.size(), 0u) << "no verdict: the expectations proved nothing";
+  for (const Verdict& verdict : verdicts) {
     EXPECT_TRUE(verdict.passed) << verdict.title << "\n  expected " << verdict.expected << "\n  actual   " << verdict.actual;
   }
   EXPECT_GE(run.wall_seconds, 2.0);

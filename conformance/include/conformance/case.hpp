@@ -44,7 +44,7 @@ using StandingRule = std::function<std::optional<StandingFinding>(const WireLogE
 
 struct Case {
   CaseInfo info;
-  std::function<Outcome(CaseContext&)> run;
+  std::function<Outcome(CaseContext&)> run;  // starts once the client is connected (runner.cpp)
   StandingRule standing = {};  // empty: the case grades only its own window
 };
 
