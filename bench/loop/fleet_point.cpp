@@ -23,6 +23,7 @@
 #include "ocp/virtual_executor.hpp"
 #include "process_usage.hpp"
 #include "stats.hpp"
+#include "thread_usage.hpp"
 #include "sim_app/tcp_front.hpp"
 #include "vehicle_app/tcp_runner.hpp"
 #include "world/world.hpp"
@@ -87,37 +88,68 @@ void take_figures(FleetPointResult& result, const FleetRecorder& recorder) {
   for (std::size_t id = 0; id < fault_count; ++id) result.faults_raised[id] = recorder.faults_raised()[id];
 }
 
-// N reference clients on one thread with its own io_context, as one client process would be.
+// The point's measured window: wall time, the process's CPU and each thread's share.
+class MeasuredWindow {
+ public:
+  MeasuredWindow() : threads_(sample_threads()), cpu_start_(process_cpu_seconds()), wall_start_(Clock::now()) {}
+  // Writes wall_s, cpu_s, rss_end_kib and the threads into `result`.
+  void finish(FleetPointResult& result) const {
+    result.wall_s = std::chrono::duration<double>(Clock::now() - wall_start_).count();
+    result.cpu_s = process_cpu_seconds() - cpu_start_;
+    result.rss_end_kib = resident_kib();
+    const std::vector<ThreadSample> used = thread_usage_between(threads_, sample_threads());
+    result.thread_count = static_cast<int>(std::min(used.size(), std::size(result.threads)));
+    std::copy_n(used.begin(), result.thread_count, result.threads);
+  }
+
+ private:
+  std::vector<ThreadSample> threads_;
+  double cpu_start_;
+  Clock::time_point wall_start_;
+};
+
+// N reference clients spread over `threads` threads (vehicle i's client on thread i % threads),
+// each thread with its own io_context, as that many client processes would be. One thread for
+// a whole fleet was the saturated one (issue #41: at 1 000 vehicles it needs several cores).
 class ClientFleet {
  public:
-  explicit ClientFleet(std::vector<std::uint16_t> ports) {
-    thread_ = std::thread([this, ports = std::move(ports)] {
-      prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
-      prctl(PR_SET_NAME, "fleet-clients", 0UL, 0UL, 0UL);
-      boost::asio::io_context io;
-      AsioExecutor executor(io);
-      std::vector<std::unique_ptr<VehicleClient>> clients;
-      std::vector<std::unique_ptr<TcpRunner>> runners;
-      for (const std::uint16_t port : ports) {
-        clients.push_back(std::make_unique<VehicleClient>(executor, VehicleClientConfig{}, Logger(executor, "vehicle", {})));
-        TcpRunnerConfig config;
-        config.server.port = port;
-        runners.push_back(std::make_unique<TcpRunner>(executor, *clients.back(), config, Logger(executor, "tcp", {})));
-        runners.back()->start();
-      }
-      while (!stop_) io.run_for(std::chrono::milliseconds(50));
-      for (auto& runner : runners) runner->stop();
-    });
+  ClientFleet(const std::vector<std::uint16_t>& ports, int threads) {
+    const std::size_t count = static_cast<std::size_t>(std::max(1, threads));
+    std::vector<std::vector<std::uint16_t>> ports_of(count);
+    for (std::size_t vehicle = 0; vehicle < ports.size(); ++vehicle) ports_of[vehicle % count].push_back(ports[vehicle]);
+    for (std::size_t index = 0; index < count; ++index) {
+      threads_.emplace_back([this, index, mine = std::move(ports_of[index])] { run(index, mine); });
+    }
   }
   ~ClientFleet() { stop(); }
   void stop() {
     stop_ = true;
-    if (thread_.joinable()) thread_.join();
+    for (auto& thread : threads_) {
+      if (thread.joinable()) thread.join();
+    }
   }
 
  private:
+  void run(std::size_t index, const std::vector<std::uint16_t>& ports) {
+    prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
+    name_this_thread(fmt::format("clients-{}", index).c_str());
+    boost::asio::io_context io;
+    AsioExecutor executor(io);
+    std::vector<std::unique_ptr<VehicleClient>> clients;
+    std::vector<std::unique_ptr<TcpRunner>> runners;
+    for (const std::uint16_t port : ports) {
+      clients.push_back(std::make_unique<VehicleClient>(executor, VehicleClientConfig{}, Logger(executor, "vehicle", {})));
+      TcpRunnerConfig config;
+      config.server.port = port;
+      runners.push_back(std::make_unique<TcpRunner>(executor, *clients.back(), config, Logger(executor, "tcp", {})));
+      runners.back()->start();
+    }
+    while (!stop_) io.run_for(std::chrono::milliseconds(50));
+    for (auto& runner : runners) runner->stop();
+  }
+
   std::atomic<bool> stop_{false};
-  std::thread thread_;
+  std::vector<std::thread> threads_;
 };
 
 // The threads the Streamers live on (World::set_streamer_threads): each its own io_context
@@ -144,9 +176,10 @@ class StreamerThreads {
 
   void start() {
     for (auto& worker : workers_) {
-      worker->thread = std::thread([io = &worker->io] {
+      const std::string name = fmt::format("streamers-{}", &worker - workers_.data());
+      worker->thread = std::thread([io = &worker->io, name] {
         prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
-        prctl(PR_SET_NAME, "fleet-streamers", 0UL, 0UL, 0UL);   // perf --sort comm
+        name_this_thread(name.c_str());   // the per-thread report, perf --sort comm
         auto work = boost::asio::make_work_guard(*io);
         io->run();
       });
@@ -220,7 +253,7 @@ FleetPointResult run_loopback(const FleetPointOptions& options, FleetPointResult
   }
   if (threaded) recorders = recorders_per_thread(world, names, streamer_threads.size());
   streamer_threads.start();
-  ClientFleet clients(ports);
+  ClientFleet clients(ports, options.client_threads);
   auto shut_down = [&] {
     clients.stop();
     streamer_threads.stop();   // before the World stops: its Streamers are theirs until then
@@ -242,14 +275,11 @@ FleetPointResult run_loopback(const FleetPointOptions& options, FleetPointResult
     return result;
   }
   io.run_for(seconds_to_micros(options.warm_up_s));
-  const double cpu_start = process_cpu_seconds();
-  const auto wall_start = Clock::now();
+  const MeasuredWindow window;
   for (auto& recorder : recorders) recorder->start_recording();
   io.run_for(seconds_to_micros(options.window_s));
   for (auto& recorder : recorders) recorder->stop_recording();
-  result.wall_s = std::chrono::duration<double>(Clock::now() - wall_start).count();
-  result.cpu_s = process_cpu_seconds() - cpu_start;
-  result.rss_end_kib = resident_kib();
+  window.finish(result);
   result.window_s = result.wall_s;
   shut_down();
   for (std::size_t index = 1; index < recorders.size(); ++index) recorders.front()->merge(*recorders[index]);
@@ -287,14 +317,11 @@ FleetPointResult run_virtual(const FleetPointOptions& options, FleetPointResult 
     return result;
   }
   executor.run_for(seconds_to_micros(options.warm_up_s));
-  const double cpu_start = process_cpu_seconds();
-  const auto wall_start = Clock::now();
+  const MeasuredWindow window;
   if (recorder) recorder->start_recording();
   executor.run_for(seconds_to_micros(options.window_s));
   if (recorder) recorder->stop_recording();
-  result.wall_s = std::chrono::duration<double>(Clock::now() - wall_start).count();
-  result.cpu_s = process_cpu_seconds() - cpu_start;
-  result.rss_end_kib = resident_kib();
+  window.finish(result);
   result.window_s = options.window_s;
   world.stop();
   if (recorder) {
@@ -333,6 +360,10 @@ FleetPointResult run_fleet_point(const FleetPointOptions& options) {
   result.observed = options.observe;
   result.control_tick_slots = static_cast<int>(options.control_tick_slots);
   result.streamer_threads = options.mode == FleetMode::loopback ? options.streamer_threads : 0;
+  result.client_threads = options.mode == FleetMode::loopback ? std::max(1, options.client_threads) : 0;
+  // The main thread runs the World: the Player (and, with no Streamer threads, the Streamers;
+  // in virtual time the whole fleet).
+  const ScopedThreadName main_thread(options.mode == FleetMode::loopback ? "player" : "world");
   result = options.mode == FleetMode::loopback ? run_loopback(options, result) : run_virtual(options, result);
   if (result.ok && options.mode == FleetMode::loopback && options.kernel_floor_s > 0) add_kernel_floor(options, result);
   if (result.ok) {
