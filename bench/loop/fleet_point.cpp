@@ -115,41 +115,56 @@ class ClientFleet {
  public:
   ClientFleet(const std::vector<std::uint16_t>& ports, int threads) {
     const std::size_t count = static_cast<std::size_t>(std::max(1, threads));
+    for (std::size_t index = 0; index < count; ++index) workers_.push_back(std::make_unique<Worker>());
     std::vector<std::vector<std::uint16_t>> ports_of(count);
     for (std::size_t vehicle = 0; vehicle < ports.size(); ++vehicle) ports_of[vehicle % count].push_back(ports[vehicle]);
     for (std::size_t index = 0; index < count; ++index) {
-      threads_.emplace_back([this, index, mine = std::move(ports_of[index])] { run(index, mine); });
+      workers_[index]->thread = std::thread([worker = workers_[index].get(), index, mine = std::move(ports_of[index])] {
+        worker->run(index, mine);
+      });
     }
   }
   ~ClientFleet() { stop(); }
+  // The runners stop on their own threads, then each io_context.
   void stop() {
-    stop_ = true;
-    for (auto& thread : threads_) {
-      if (thread.joinable()) thread.join();
+    for (auto& worker : workers_) {
+      boost::asio::post(worker->io, [worker = worker.get()] {
+        for (auto& runner : worker->runners) runner->stop();
+        worker->work.reset();
+        worker->io.stop();
+      });
+    }
+    for (auto& worker : workers_) {
+      if (worker->thread.joinable()) worker->thread.join();
     }
   }
 
  private:
-  void run(std::size_t index, const std::vector<std::uint16_t>& ports) {
-    prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
-    name_this_thread(fmt::format("clients-{}", index).c_str());
-    boost::asio::io_context io;
-    AsioExecutor executor(io);
+  struct Worker {
+    // Concurrency hint 1: one thread runs it (the stop() post is the only cross-thread call).
+    boost::asio::io_context io{1};
+    boost::asio::executor_work_guard<boost::asio::io_context::executor_type> work = boost::asio::make_work_guard(io);
     std::vector<std::unique_ptr<VehicleClient>> clients;
     std::vector<std::unique_ptr<TcpRunner>> runners;
-    for (const std::uint16_t port : ports) {
-      clients.push_back(std::make_unique<VehicleClient>(executor, VehicleClientConfig{}, Logger(executor, "vehicle", {})));
-      TcpRunnerConfig config;
-      config.server.port = port;
-      runners.push_back(std::make_unique<TcpRunner>(executor, *clients.back(), config, Logger(executor, "tcp", {})));
-      runners.back()->start();
-    }
-    while (!stop_) io.run_for(std::chrono::milliseconds(50));
-    for (auto& runner : runners) runner->stop();
-  }
+    std::thread thread;
 
-  std::atomic<bool> stop_{false};
-  std::vector<std::thread> threads_;
+    void run(std::size_t index, const std::vector<std::uint16_t>& ports) {
+      prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
+      name_this_thread(fmt::format("clients-{}", index).c_str());
+      AsioExecutor executor(io);
+      for (const std::uint16_t port : ports) {
+        clients.push_back(std::make_unique<VehicleClient>(executor, VehicleClientConfig{}, Logger(executor, "vehicle", {})));
+        TcpRunnerConfig config;
+        config.server.port = port;
+        runners.push_back(std::make_unique<TcpRunner>(executor, *clients.back(), config, Logger(executor, "tcp", {})));
+        runners.back()->start();
+      }
+      io.run();
+      runners.clear();   // before the executor they use goes
+      clients.clear();
+    }
+  };
+  std::vector<std::unique_ptr<Worker>> workers_;
 };
 
 // The threads the Streamers live on (World::set_streamer_threads): each its own io_context
