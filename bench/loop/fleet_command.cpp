@@ -48,8 +48,9 @@ CLI::App* add_fleet_command(CLI::App& app, FleetOptions& options) {
                     "loopback: threads the Streamers are spread over; the Player keeps the main thread (0: all on it)")
       ->capture_default_str()->check(CLI::Range(0, 64));
   fleet->add_option("--client-threads", options.client_threads,
-                    "loopback: threads the reference clients are spread over, each with its own io_context")
-      ->capture_default_str()->check(CLI::Range(1, 64));
+                    "loopback: threads the reference clients are spread over, each with its own io_context\n"
+                    "(0: each client on its own Streamer's thread, both ends of its traffic on one thread)")
+      ->capture_default_str()->check(CLI::Range(0, 64));
   fleet->add_option("--tick-slots", options.tick_slots,
                     "loopback: one shared control ticker per thread with this many slots over the 10 ms period (0: a timer per Streamer)")
       ->capture_default_str()->check(CLI::Range(0, 10000));

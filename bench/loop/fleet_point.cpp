@@ -108,13 +108,42 @@ class MeasuredWindow {
   Clock::time_point wall_start_;
 };
 
+// Reference clients (VehicleClient + TcpRunner), each connecting to one port, on one executor
+// or several: ClientFleet's threads hold one set each; with --client-threads 0 one set holds
+// every client, each on its own Streamer's executor, added before those executors run (the
+// traffic's two ends then share a thread, as in the kernel floor, and a frame wakes no other
+// thread).
+class ClientSet {
+ public:
+  void add(AsioExecutor& executor, std::uint16_t port) {
+    clients_.push_back(std::make_unique<VehicleClient>(executor, VehicleClientConfig{}, Logger(executor, "vehicle", {})));
+    TcpRunnerConfig config;
+    config.server.port = port;
+    runners_.push_back(std::make_unique<TcpRunner>(executor, *clients_.back(), config, Logger(executor, "tcp", {})));
+    runners_.back()->start();
+  }
+  // On the executors' threads, or once they have stopped.
+  void stop() {
+    for (auto& runner : runners_) runner->stop();
+  }
+  void clear() {
+    runners_.clear();   // before the clients they drive
+    clients_.clear();
+  }
+
+ private:
+  std::vector<std::unique_ptr<VehicleClient>> clients_;
+  std::vector<std::unique_ptr<TcpRunner>> runners_;
+};
+
 // N reference clients spread over `threads` threads (vehicle i's client on thread i % threads),
 // each thread with its own io_context, as that many client processes would be. One thread for
 // a whole fleet was the saturated one (issue #41: at 1 000 vehicles it needs several cores).
 class ClientFleet {
  public:
   ClientFleet(const std::vector<std::uint16_t>& ports, int threads) {
-    const std::size_t count = static_cast<std::size_t>(std::max(1, threads));
+    if (threads <= 0) return;   // the clients are on the Streamers' executors (ClientSet)
+    const std::size_t count = static_cast<std::size_t>(threads);
     for (std::size_t index = 0; index < count; ++index) workers_.push_back(std::make_unique<Worker>());
     std::vector<std::vector<std::uint16_t>> ports_of(count);
     for (std::size_t vehicle = 0; vehicle < ports.size(); ++vehicle) ports_of[vehicle % count].push_back(ports[vehicle]);
@@ -129,7 +158,7 @@ class ClientFleet {
   void stop() {
     for (auto& worker : workers_) {
       boost::asio::post(worker->io, [worker = worker.get()] {
-        for (auto& runner : worker->runners) runner->stop();
+        worker->clients.stop();
         worker->work.reset();
         worker->io.stop();
       });
@@ -144,24 +173,16 @@ class ClientFleet {
     // Concurrency hint 1: one thread runs it (the stop() post is the only cross-thread call).
     boost::asio::io_context io{1};
     boost::asio::executor_work_guard<boost::asio::io_context::executor_type> work = boost::asio::make_work_guard(io);
-    std::vector<std::unique_ptr<VehicleClient>> clients;
-    std::vector<std::unique_ptr<TcpRunner>> runners;
+    ClientSet clients;
     std::thread thread;
 
     void run(std::size_t index, const std::vector<std::uint16_t>& ports) {
       prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
       name_this_thread(fmt::format("clients-{}", index).c_str());
       AsioExecutor executor(io);
-      for (const std::uint16_t port : ports) {
-        clients.push_back(std::make_unique<VehicleClient>(executor, VehicleClientConfig{}, Logger(executor, "vehicle", {})));
-        TcpRunnerConfig config;
-        config.server.port = port;
-        runners.push_back(std::make_unique<TcpRunner>(executor, *clients.back(), config, Logger(executor, "tcp", {})));
-        runners.back()->start();
-      }
+      for (const std::uint16_t port : ports) clients.add(executor, port);
       io.run();
-      runners.clear();   // before the executor they use goes
-      clients.clear();
+      clients.clear();   // before the executor they use goes
     }
   };
   std::vector<std::unique_ptr<Worker>> workers_;
@@ -250,9 +271,13 @@ FleetPointResult run_loopback(const FleetPointOptions& options, FleetPointResult
                                [&io](std::function<void()> task) { boost::asio::post(io, std::move(task)); });
   }
   std::vector<std::unique_ptr<sim_app::TcpFront>> fronts;
+  ClientSet hosted;   // --client-threads 0; after the executors and fronts: goes first
   std::vector<std::uint16_t> ports;
+  auto executor_of = [&](std::size_t vehicle) -> AsioExecutor& {
+    return threaded ? streamer_threads.executor_of(vehicle) : executor;
+  };
   for (std::size_t vehicle = 0; vehicle < names.size(); ++vehicle) {
-    AsioExecutor& front_executor = threaded ? streamer_threads.executor_of(vehicle) : executor;
+    AsioExecutor& front_executor = executor_of(vehicle);
     fronts.push_back(sim_app::vehicle_api_front(front_executor, world, names[vehicle], Logger(front_executor, "front", {})));
     if (auto status = fronts.back()->listen(TcpServerOptions{0, false}); !status) {
       fail(result, "listen: " + status.error().detail);
@@ -267,11 +292,15 @@ FleetPointResult run_loopback(const FleetPointOptions& options, FleetPointResult
     return result;
   }
   if (threaded) recorders = recorders_per_thread(world, names, streamer_threads.size());
+  if (options.client_threads == 0) {
+    for (std::size_t vehicle = 0; vehicle < names.size(); ++vehicle) hosted.add(executor_of(vehicle), ports[vehicle]);
+  }
   streamer_threads.start();
   ClientFleet clients(ports, options.client_threads);
   auto shut_down = [&] {
     clients.stop();
     streamer_threads.stop();   // before the World stops: its Streamers are theirs until then
+    hosted.stop();
     for (auto& front : fronts) front->stop();
     world.stop();
   };
@@ -375,7 +404,7 @@ FleetPointResult run_fleet_point(const FleetPointOptions& options) {
   result.observed = options.observe;
   result.control_tick_slots = static_cast<int>(options.control_tick_slots);
   result.streamer_threads = options.mode == FleetMode::loopback ? options.streamer_threads : 0;
-  result.client_threads = options.mode == FleetMode::loopback ? std::max(1, options.client_threads) : 0;
+  result.client_threads = options.mode == FleetMode::loopback ? options.client_threads : 0;
   // The main thread runs the World: the Player (and, with no Streamer threads, the Streamers;
   // in virtual time the whole fleet).
   const ScopedThreadName main_thread(options.mode == FleetMode::loopback ? "player" : "world");

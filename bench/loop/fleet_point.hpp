@@ -26,7 +26,8 @@ struct FleetPointOptions {
   // Loopback: threads the Streamers are spread over (World::set_streamer_threads); the Player
   // stays on the main thread, the clients on their own. 0: everything on the main thread.
   int streamer_threads = 2;
-  // Loopback: threads the reference clients are spread over, each with its own io_context.
+  // Loopback: threads the reference clients are spread over, each with its own io_context;
+  // 0: each client on its own Streamer's executor.
   int client_threads = 2;
   // WorldConfig::control_tick_slots: one shared control ticker per executor with this many
   // slots over the 10 ms period (0: a timer per Streamer). Loopback only: in virtual time the
