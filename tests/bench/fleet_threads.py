@@ -4,7 +4,7 @@
   fleet_threads.py OCP_BENCH
 
 A tiny run, one loopback point with 2 Streamer threads and 3 client threads and one virtual
-point: the loopback point names the Player's thread, each Streamer thread and each client
+point, then a loopback point with the clients on the Streamer's thread (--client-threads 0): the loopback point names the Player's thread, each Streamer thread and each client
 thread exactly once; no thread used more than a core; the threads' CPU adds up to the process's
 (getrusage); the text report has the table and names the busiest thread. A report check, not a
 timing test: every bound holds on a loaded machine. Prints ✓/✗ per check; exit 1 if one fails.
@@ -24,19 +24,40 @@ def check(name, ok, detail=""):
         failures.append(name)
 
 
-def main():
-    bench = sys.argv[1]
+def run_fleet(bench, arguments):
+    """(the report as JSON, the text) of one tiny `ocp_bench fleet` run; None if it failed."""
     with tempfile.TemporaryDirectory(prefix="fleet_threads.") as scratch:
         json_path = pathlib.Path(scratch) / "fleet.json"
         result = subprocess.run(
-            [bench, "fleet", "--loopback", "4", "--virtual", "2", "--window-s", "0.5", "--simulated-s", "0.2",
-             "--warm-up-s", "0.2", "--streamer-threads", "2", "--client-threads", "3", "--no-kernel-floor",
-             "--no-codec-floor", "--json", str(json_path)],
+            [bench, "fleet", "--window-s", "0.5", "--simulated-s", "0.2", "--warm-up-s", "0.2", "--no-kernel-floor",
+             "--no-codec-floor", "--json", str(json_path)] + arguments,
             capture_output=True, text=True, timeout=90, stdin=subprocess.DEVNULL)
-        check("exit 0", result.returncode == 0, f"exit {result.returncode}\n{result.stdout}\n{result.stderr}")
+        check(f"{' '.join(arguments)}: exit 0", result.returncode == 0,
+              f"exit {result.returncode}\n{result.stdout}\n{result.stderr}")
         if result.returncode != 0:
-            return
-        report = json.loads(json_path.read_text())
+            return None
+        return json.loads(json_path.read_text()), result
+
+
+def clients_on_streamer_threads(bench):
+    """--client-threads 0: the clients run on the Streamers' threads, so no client thread exists."""
+    ran = run_fleet(bench, ["--loopback", "4", "--virtual", "0", "--streamer-threads", "1", "--client-threads", "0"])
+    if ran is None:
+        return
+    point = ran[0]["points"][0]
+    names = sorted(thread["name"] for thread in point["threads"])
+    check("--client-threads 0: only the Player's and the Streamers' threads", names == ["player", "streamers-0"],
+          str(names))
+    check("--client-threads 0: every client connected and answered", point["ok"] and point["connections"] == 4
+          and point["responses"] > 0, json.dumps(point))
+
+
+def main():
+    bench = sys.argv[1]
+    ran = run_fleet(bench, ["--loopback", "4", "--virtual", "2", "--streamer-threads", "2", "--client-threads", "3"])
+    if ran is None:
+        return
+    report, result = ran
     loopback, virtual = report["points"]
     check("both points ok", loopback["ok"] and virtual["ok"], json.dumps(report))
     check("client_threads recorded", loopback["client_threads"] == 3, str(loopback["client_threads"]))
@@ -71,6 +92,7 @@ def main():
 
     for line in ("loopback N=4: each thread over the", "busiest: ", "clients-2", "streamers-1", "player"):
         check(f"text report has '{line}'", line in result.stdout, result.stdout)
+    clients_on_streamer_threads(bench)
 
 
 if __name__ == "__main__":
