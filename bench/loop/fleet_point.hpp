@@ -28,7 +28,7 @@ struct FleetPointOptions {
   int streamer_threads = 2;
   // Loopback: threads the reference clients are spread over, each with its own io_context;
   // 0: each client on its own Streamer's executor.
-  int client_threads = 2;
+  int client_threads = 1;
   // WorldConfig::control_tick_slots: one shared control ticker per executor with this many
   // slots over the 10 ms period (0: a timer per Streamer). Loopback only: in virtual time the
   // reference clients' keep-alive timers (response_period = 10 ms) fire just before control

@@ -52,6 +52,18 @@ def clients_on_streamer_threads(bench):
           and point["responses"] > 0, json.dumps(point))
 
 
+def client_threads_follow_streamer_threads(bench):
+    """Without --client-threads there are as many client threads as Streamer threads."""
+    ran = run_fleet(bench, ["--loopback", "3", "--virtual", "0", "--streamer-threads", "3"])
+    if ran is None:
+        return
+    point = ran[0]["points"][0]
+    clients = sorted(thread["name"] for thread in point["threads"] if thread["name"].startswith("clients-"))
+    check("default: client threads as many as --streamer-threads",
+          point["client_threads"] == 3 and clients == ["clients-0", "clients-1", "clients-2"],
+          f"client_threads {point['client_threads']}, threads {clients}")
+
+
 def main():
     bench = sys.argv[1]
     ran = run_fleet(bench, ["--loopback", "4", "--virtual", "2", "--streamer-threads", "2", "--client-threads", "3"])
@@ -93,6 +105,7 @@ def main():
     for line in ("loopback N=4: each thread over the", "busiest: ", "clients-2", "streamers-1", "player"):
         check(f"text report has '{line}'", line in result.stdout, result.stdout)
     clients_on_streamer_threads(bench)
+    client_threads_follow_streamer_threads(bench)
 
 
 if __name__ == "__main__":
