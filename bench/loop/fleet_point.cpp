@@ -249,6 +249,22 @@ std::vector<std::unique_ptr<FleetRecorder>> recorders_per_thread(World& world, c
   return recorders;
 }
 
+// Runs the main io_context until every client has connected or options.connect_timeout_s has
+// passed; the connections counted.
+std::uint64_t wait_for_connections(boost::asio::io_context& io, const std::vector<std::unique_ptr<FleetRecorder>>& recorders,
+                                   const FleetPointOptions& options) {
+  auto connections = [&recorders] {
+    std::uint64_t total = 0;
+    for (const auto& recorder : recorders) total += recorder->connections();
+    return total;
+  };
+  const auto give_up = Clock::now() + std::chrono::duration<double>(options.connect_timeout_s);
+  while (connections() < static_cast<std::uint64_t>(options.vehicles) && Clock::now() < give_up) {
+    io.run_for(std::chrono::milliseconds(100));
+  }
+  return connections();
+}
+
 FleetPointResult run_loopback(const FleetPointOptions& options, FleetPointResult result) {
   prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
   // One malloc arena for every thread of the point. Link messages are built on one thread and
@@ -304,18 +320,10 @@ FleetPointResult run_loopback(const FleetPointOptions& options, FleetPointResult
     for (auto& front : fronts) front->stop();
     world.stop();
   };
-  auto connections = [&recorders] {
-    std::uint64_t total = 0;
-    for (const auto& recorder : recorders) total += recorder->connections();
-    return total;
-  };
-  const auto give_up = Clock::now() + std::chrono::duration<double>(options.connect_timeout_s);
-  while (connections() < static_cast<std::uint64_t>(options.vehicles) && Clock::now() < give_up) {
-    io.run_for(std::chrono::milliseconds(100));
-  }
-  if (connections() < static_cast<std::uint64_t>(options.vehicles)) {
+  if (const std::uint64_t connected = wait_for_connections(io, recorders, options);
+      connected < static_cast<std::uint64_t>(options.vehicles)) {
     shut_down();
-    fail(result, fmt::format("only {} of {} clients connected", connections(), options.vehicles));
+    fail(result, fmt::format("only {} of {} clients connected", connected, options.vehicles));
     return result;
   }
   io.run_for(seconds_to_micros(options.warm_up_s));
