@@ -13,6 +13,7 @@
 #include <optional>
 
 #include "fleet_point.hpp"
+#include "fleet_threads_report.hpp"
 #include "json_text.hpp"
 #include "kernel_floor.hpp"
 #include "ocp/faults.hpp"
@@ -46,6 +47,11 @@ CLI::App* add_fleet_command(CLI::App& app, FleetOptions& options) {
   fleet->add_option("--streamer-threads", options.streamer_threads,
                     "loopback: threads the Streamers are spread over; the Player keeps the main thread (0: all on it)")
       ->capture_default_str()->check(CLI::Range(0, 64));
+  fleet->add_option("--client-threads", options.client_threads,
+                    "loopback: threads the reference clients are spread over, each with its own io_context\n"
+                    "(default: as many as --streamer-threads, at least 1; 0: each client on its own Streamer's thread,\n"
+                    "both ends of its traffic on one thread)")
+      ->check(CLI::Range(0, 64));
   fleet->add_option("--tick-slots", options.tick_slots,
                     "loopback: one shared control ticker per thread with this many slots over the 10 ms period (0: a timer per Streamer)")
       ->capture_default_str()->check(CLI::Range(0, 10000));
@@ -184,6 +190,11 @@ double ticks_run_share(const FleetPointResult& point) {
   return due > 0 ? std::min(1.0, static_cast<double>(point.ticks) / due) : 0.0;
 }
 
+// The point's CPU (all threads) per control tick that ran, in µs; 0 when none ran.
+double cpu_us_per_vehicle_tick(const FleetPointResult& point) {
+  return point.ticks ? point.cpu_s * 1e6 / static_cast<double>(point.ticks) : 0.0;
+}
+
 void print_point(std::ostream& out, const FleetPointResult& point) {
   if (!point.ok) {
     out << fmt::format("{:<9} {:>6}  failed: {}\n", fleet_mode_name(point.mode), point.vehicles, point.error);
@@ -211,10 +222,11 @@ void print_floors(std::ostream& out, const std::vector<FleetPointResult>& points
       out << fmt::format(
           "{}: kernel TCP alone (one thread, {:.0f}-byte frames out, {:.0f} back, no simulator): {:.1f} µs CPU per "
           "vehicle-tick = {:.3g} CPU s/s of {} cores ({:.0f} %); the point used {:.3g} CPU s/s and ran {:.1f} % of its ticks, "
-          "{:.1f} µs CPU per vehicle-tick run\n",
+          "{:.1f} µs CPU per vehicle-tick run ({:.1f}× the floor)\n",
           name, point.control_bytes, point.response_bytes, point.kernel_floor_us_per_vehicle_tick,
           point.kernel_floor_cpu_per_s, cores, 100.0 * point.kernel_floor_cpu_per_s / cores, point.cpu_per_simulated_s,
-          100.0 * ticks_run_share(point), point.ticks ? point.cpu_s * 1e6 / static_cast<double>(point.ticks) : 0.0);
+          100.0 * ticks_run_share(point), cpu_us_per_vehicle_tick(point),
+          cpu_us_per_vehicle_tick(point) / point.kernel_floor_us_per_vehicle_tick);
     } else if (point.codec_floor_measured) {
       out << fmt::format(
           "{}: codec alone (control encode + decode, response encode + decode, MAC issue + verify): {:.2f} µs CPU per "
@@ -240,17 +252,20 @@ std::string point_json(const FleetPointResult& point) {
   }
   faults += "}";
   return fmt::format(
-      R"({{"mode":"{}","vehicles":{},"streamer_threads":{},"tick_slots":{},"observed":{},"ok":{},"error":{},"window_s":{},"wall_s":{},"cpu_s":{},"cpu_per_simulated_s":{},)"
+      R"({{"mode":"{}","vehicles":{},"streamer_threads":{},"client_threads":{},"tick_slots":{},"observed":{},"ok":{},"error":{},"window_s":{},"wall_s":{},"cpu_s":{},"cpu_per_simulated_s":{},)"
       R"("simulated_per_wall_s":{},"rss_base_kib":{},"rss_end_kib":{},"kib_per_vehicle":{},"marginal_kib_per_vehicle":{},"tick_lateness_us":{{"p50":{},"p99":{},"max":{},"count":{}}},"ticks_run_share":{},)"
       R"("echo_delay_us":{{"p50":{},"p99":{},"count":{}}},"responses":{},"connections":{},"faults_raised":{},)"
+      R"("cpu_us_per_vehicle_tick":{},"threads":{},)"
       R"("control_bytes":{},"response_bytes":{},"kernel_floor_cpu_per_s":{},"kernel_floor_us_per_vehicle_tick":{},"kernel_floor_error":{},)"
       R"("codec_floor_cpu_per_simulated_s":{},"codec_floor_us_per_vehicle_cycle":{},"codec_floor_error":{}}})",
-      fleet_mode_name(point.mode), point.vehicles, point.streamer_threads, point.control_tick_slots, point.observed, point.ok, json_string(point.error), json_number(point.window_s),
+      fleet_mode_name(point.mode), point.vehicles, point.streamer_threads, point.client_threads, point.control_tick_slots, point.observed, point.ok, json_string(point.error), json_number(point.window_s),
       json_number(point.wall_s), json_number(point.cpu_s), json_number(point.cpu_per_simulated_s),
       json_number(point.simulated_per_wall_s), json_number(point.rss_base_kib), json_number(point.rss_end_kib),
       json_number(point.kib_per_vehicle), json_number(point.marginal_kib_per_vehicle), json_number(point.tick_p50_us), json_number(point.tick_p99_us),
       json_number(point.tick_max_us), point.ticks, json_number(ticks_run_share(point)), json_number(point.echo_p50_us), json_number(point.echo_p99_us),
-      point.echoes, point.responses, point.connections, faults, json_number(point.control_bytes),
+      point.echoes, point.responses, point.connections, faults,
+      optional_number(point.mode == FleetMode::loopback && point.ticks > 0, cpu_us_per_vehicle_tick(point)),
+      threads_json(point), json_number(point.control_bytes),
       json_number(point.response_bytes), optional_number(point.kernel_floor_measured, point.kernel_floor_cpu_per_s),
       optional_number(point.kernel_floor_measured, point.kernel_floor_us_per_vehicle_tick),
       optional_string(point.kernel_floor_error), optional_number(point.codec_floor_measured, point.codec_floor_cpu_per_s),
@@ -335,12 +350,14 @@ int run_fleet(const FleetOptions& options) {
   for (const int vehicles : options.loopback_vehicles) {
     if (vehicles == 0) continue;
     plan.push_back({FleetMode::loopback, vehicles, options.warm_up_s, options.window_s, 60.0, true, options.streamer_threads,
-                    static_cast<std::size_t>(options.tick_slots), options.kernel_floor ? floor_s : 0.0, 0.0});
+                    options.client_threads.value_or(std::max(1, options.streamer_threads)),
+                    static_cast<std::size_t>(options.tick_slots),
+                    options.kernel_floor ? floor_s : 0.0, 0.0});
   }
   for (const int vehicles : options.virtual_vehicles) {
     if (vehicles == 0) continue;
-    plan.push_back({FleetMode::virtual_time, vehicles, options.warm_up_s, options.simulated_s, 60.0, !options.unobserved, 0, 0, 0.0,
-                    options.codec_floor ? floor_s : 0.0});
+    plan.push_back({FleetMode::virtual_time, vehicles, options.warm_up_s, options.simulated_s, 60.0, !options.unobserved, 0, 0, 0,
+                    0.0, options.codec_floor ? floor_s : 0.0});
   }
   const int cores = usable_cores();
   // Ctrl-C ends the curve after the points measured so far (the one in progress is killed);
@@ -363,6 +380,7 @@ int run_fleet(const FleetOptions& options) {
   const bool interrupted = ocp::cli::interrupt_requested();
   if (interrupted) std::cout << "interrupted: " << points.size() << " of " << plan.size() << " points measured before Ctrl-C\n";
   print_floors(std::cout, points, cores);
+  for (const auto& point : points) print_thread_table(std::cout, point);
   if (options.unobserved) std::cout << "* unobserved: no event subscription, so no latency or fault figures\n";
   int exit_code = interrupted ? ocp::cli::exit_interrupted : ocp::cli::exit_ok;
   if (!options.json_path.empty()) {

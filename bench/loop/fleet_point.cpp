@@ -23,6 +23,7 @@
 #include "ocp/virtual_executor.hpp"
 #include "process_usage.hpp"
 #include "stats.hpp"
+#include "thread_usage.hpp"
 #include "sim_app/tcp_front.hpp"
 #include "vehicle_app/tcp_runner.hpp"
 #include "world/world.hpp"
@@ -87,37 +88,104 @@ void take_figures(FleetPointResult& result, const FleetRecorder& recorder) {
   for (std::size_t id = 0; id < fault_count; ++id) result.faults_raised[id] = recorder.faults_raised()[id];
 }
 
-// N reference clients on one thread with its own io_context, as one client process would be.
-class ClientFleet {
+// The point's measured window: wall time, the process's CPU and each thread's share.
+class MeasuredWindow {
  public:
-  explicit ClientFleet(std::vector<std::uint16_t> ports) {
-    thread_ = std::thread([this, ports = std::move(ports)] {
-      prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
-      prctl(PR_SET_NAME, "fleet-clients", 0UL, 0UL, 0UL);
-      boost::asio::io_context io;
-      AsioExecutor executor(io);
-      std::vector<std::unique_ptr<VehicleClient>> clients;
-      std::vector<std::unique_ptr<TcpRunner>> runners;
-      for (const std::uint16_t port : ports) {
-        clients.push_back(std::make_unique<VehicleClient>(executor, VehicleClientConfig{}, Logger(executor, "vehicle", {})));
-        TcpRunnerConfig config;
-        config.server.port = port;
-        runners.push_back(std::make_unique<TcpRunner>(executor, *clients.back(), config, Logger(executor, "tcp", {})));
-        runners.back()->start();
-      }
-      while (!stop_) io.run_for(std::chrono::milliseconds(50));
-      for (auto& runner : runners) runner->stop();
-    });
-  }
-  ~ClientFleet() { stop(); }
-  void stop() {
-    stop_ = true;
-    if (thread_.joinable()) thread_.join();
+  MeasuredWindow() : threads_(sample_threads()), cpu_start_(process_cpu_seconds()), wall_start_(Clock::now()) {}
+  // Writes wall_s, cpu_s, rss_end_kib and the threads into `result`.
+  void finish(FleetPointResult& result) const {
+    result.wall_s = std::chrono::duration<double>(Clock::now() - wall_start_).count();
+    result.cpu_s = process_cpu_seconds() - cpu_start_;
+    result.rss_end_kib = resident_kib();
+    const std::vector<ThreadSample> used = thread_usage_between(threads_, sample_threads());
+    result.thread_count = static_cast<int>(std::min(used.size(), std::size(result.threads)));
+    std::copy_n(used.begin(), result.thread_count, result.threads);
   }
 
  private:
-  std::atomic<bool> stop_{false};
-  std::thread thread_;
+  std::vector<ThreadSample> threads_;
+  double cpu_start_;
+  Clock::time_point wall_start_;
+};
+
+// Reference clients (VehicleClient + TcpRunner), each connecting to one port, on one executor
+// or several: ClientFleet's threads hold one set each; with --client-threads 0 one set holds
+// every client, each on its own Streamer's executor, added before those executors run (the
+// traffic's two ends then share a thread, as in the kernel floor, and a frame wakes no other
+// thread).
+class ClientSet {
+ public:
+  void add(AsioExecutor& executor, std::uint16_t port) {
+    clients_.push_back(std::make_unique<VehicleClient>(executor, VehicleClientConfig{}, Logger(executor, "vehicle", {})));
+    TcpRunnerConfig config;
+    config.server.port = port;
+    runners_.push_back(std::make_unique<TcpRunner>(executor, *clients_.back(), config, Logger(executor, "tcp", {})));
+    runners_.back()->start();
+  }
+  // On the executors' threads, or once they have stopped.
+  void stop() {
+    for (auto& runner : runners_) runner->stop();
+  }
+  void clear() {
+    runners_.clear();   // before the clients they drive
+    clients_.clear();
+  }
+
+ private:
+  std::vector<std::unique_ptr<VehicleClient>> clients_;
+  std::vector<std::unique_ptr<TcpRunner>> runners_;
+};
+
+// N reference clients spread over `threads` threads (vehicle i's client on thread i % threads),
+// each thread with its own io_context, as that many client processes would be. One thread for
+// a whole fleet was the saturated one (issue #41: at 1 000 vehicles it needs several cores).
+class ClientFleet {
+ public:
+  ClientFleet(const std::vector<std::uint16_t>& ports, int threads) {
+    if (threads <= 0) return;   // the clients are on the Streamers' executors (ClientSet)
+    const std::size_t count = static_cast<std::size_t>(threads);
+    for (std::size_t index = 0; index < count; ++index) workers_.push_back(std::make_unique<Worker>());
+    std::vector<std::vector<std::uint16_t>> ports_of(count);
+    for (std::size_t vehicle = 0; vehicle < ports.size(); ++vehicle) ports_of[vehicle % count].push_back(ports[vehicle]);
+    for (std::size_t index = 0; index < count; ++index) {
+      workers_[index]->thread = std::thread([worker = workers_[index].get(), index, mine = std::move(ports_of[index])] {
+        worker->run(index, mine);
+      });
+    }
+  }
+  ~ClientFleet() { stop(); }
+  // The runners stop on their own threads, then each io_context.
+  void stop() {
+    for (auto& worker : workers_) {
+      boost::asio::post(worker->io, [worker = worker.get()] {
+        worker->clients.stop();
+        worker->work.reset();
+        worker->io.stop();
+      });
+    }
+    for (auto& worker : workers_) {
+      if (worker->thread.joinable()) worker->thread.join();
+    }
+  }
+
+ private:
+  struct Worker {
+    // Concurrency hint 1: one thread runs it (the stop() post is the only cross-thread call).
+    boost::asio::io_context io{1};
+    boost::asio::executor_work_guard<boost::asio::io_context::executor_type> work = boost::asio::make_work_guard(io);
+    ClientSet clients;
+    std::thread thread;
+
+    void run(std::size_t index, const std::vector<std::uint16_t>& ports) {
+      prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
+      name_this_thread(fmt::format("clients-{}", index).c_str());
+      AsioExecutor executor(io);
+      for (const std::uint16_t port : ports) clients.add(executor, port);
+      io.run();
+      clients.clear();   // before the executor they use goes
+    }
+  };
+  std::vector<std::unique_ptr<Worker>> workers_;
 };
 
 // The threads the Streamers live on (World::set_streamer_threads): each its own io_context
@@ -144,9 +212,10 @@ class StreamerThreads {
 
   void start() {
     for (auto& worker : workers_) {
-      worker->thread = std::thread([io = &worker->io] {
+      const std::string name = fmt::format("streamers-{}", &worker - workers_.data());
+      worker->thread = std::thread([io = &worker->io, name] {
         prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
-        prctl(PR_SET_NAME, "fleet-streamers", 0UL, 0UL, 0UL);   // perf --sort comm
+        name_this_thread(name.c_str());   // the per-thread report, perf --sort comm
         auto work = boost::asio::make_work_guard(*io);
         io->run();
       });
@@ -180,6 +249,22 @@ std::vector<std::unique_ptr<FleetRecorder>> recorders_per_thread(World& world, c
   return recorders;
 }
 
+// Runs the main io_context until every client has connected or options.connect_timeout_s has
+// passed; the connections counted.
+std::uint64_t wait_for_connections(boost::asio::io_context& io, const std::vector<std::unique_ptr<FleetRecorder>>& recorders,
+                                   const FleetPointOptions& options) {
+  auto connections = [&recorders] {
+    std::uint64_t total = 0;
+    for (const auto& recorder : recorders) total += recorder->connections();
+    return total;
+  };
+  const auto give_up = Clock::now() + std::chrono::duration<double>(options.connect_timeout_s);
+  while (connections() < static_cast<std::uint64_t>(options.vehicles) && Clock::now() < give_up) {
+    io.run_for(std::chrono::milliseconds(100));
+  }
+  return connections();
+}
+
 FleetPointResult run_loopback(const FleetPointOptions& options, FleetPointResult result) {
   prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
   // One malloc arena for every thread of the point. Link messages are built on one thread and
@@ -202,9 +287,13 @@ FleetPointResult run_loopback(const FleetPointOptions& options, FleetPointResult
                                [&io](std::function<void()> task) { boost::asio::post(io, std::move(task)); });
   }
   std::vector<std::unique_ptr<sim_app::TcpFront>> fronts;
+  ClientSet hosted;   // --client-threads 0; after the executors and fronts: goes first
   std::vector<std::uint16_t> ports;
+  auto executor_of = [&](std::size_t vehicle) -> AsioExecutor& {
+    return threaded ? streamer_threads.executor_of(vehicle) : executor;
+  };
   for (std::size_t vehicle = 0; vehicle < names.size(); ++vehicle) {
-    AsioExecutor& front_executor = threaded ? streamer_threads.executor_of(vehicle) : executor;
+    AsioExecutor& front_executor = executor_of(vehicle);
     fronts.push_back(sim_app::vehicle_api_front(front_executor, world, names[vehicle], Logger(front_executor, "front", {})));
     if (auto status = fronts.back()->listen(TcpServerOptions{0, false}); !status) {
       fail(result, "listen: " + status.error().detail);
@@ -219,37 +308,30 @@ FleetPointResult run_loopback(const FleetPointOptions& options, FleetPointResult
     return result;
   }
   if (threaded) recorders = recorders_per_thread(world, names, streamer_threads.size());
+  if (options.client_threads == 0) {
+    for (std::size_t vehicle = 0; vehicle < names.size(); ++vehicle) hosted.add(executor_of(vehicle), ports[vehicle]);
+  }
   streamer_threads.start();
-  ClientFleet clients(ports);
+  ClientFleet clients(ports, options.client_threads);
   auto shut_down = [&] {
     clients.stop();
     streamer_threads.stop();   // before the World stops: its Streamers are theirs until then
+    hosted.stop();
     for (auto& front : fronts) front->stop();
     world.stop();
   };
-  auto connections = [&recorders] {
-    std::uint64_t total = 0;
-    for (const auto& recorder : recorders) total += recorder->connections();
-    return total;
-  };
-  const auto give_up = Clock::now() + std::chrono::duration<double>(options.connect_timeout_s);
-  while (connections() < static_cast<std::uint64_t>(options.vehicles) && Clock::now() < give_up) {
-    io.run_for(std::chrono::milliseconds(100));
-  }
-  if (connections() < static_cast<std::uint64_t>(options.vehicles)) {
+  if (const std::uint64_t connected = wait_for_connections(io, recorders, options);
+      connected < static_cast<std::uint64_t>(options.vehicles)) {
     shut_down();
-    fail(result, fmt::format("only {} of {} clients connected", connections(), options.vehicles));
+    fail(result, fmt::format("only {} of {} clients connected", connected, options.vehicles));
     return result;
   }
   io.run_for(seconds_to_micros(options.warm_up_s));
-  const double cpu_start = process_cpu_seconds();
-  const auto wall_start = Clock::now();
+  const MeasuredWindow window;
   for (auto& recorder : recorders) recorder->start_recording();
   io.run_for(seconds_to_micros(options.window_s));
   for (auto& recorder : recorders) recorder->stop_recording();
-  result.wall_s = std::chrono::duration<double>(Clock::now() - wall_start).count();
-  result.cpu_s = process_cpu_seconds() - cpu_start;
-  result.rss_end_kib = resident_kib();
+  window.finish(result);
   result.window_s = result.wall_s;
   shut_down();
   for (std::size_t index = 1; index < recorders.size(); ++index) recorders.front()->merge(*recorders[index]);
@@ -287,14 +369,11 @@ FleetPointResult run_virtual(const FleetPointOptions& options, FleetPointResult 
     return result;
   }
   executor.run_for(seconds_to_micros(options.warm_up_s));
-  const double cpu_start = process_cpu_seconds();
-  const auto wall_start = Clock::now();
+  const MeasuredWindow window;
   if (recorder) recorder->start_recording();
   executor.run_for(seconds_to_micros(options.window_s));
   if (recorder) recorder->stop_recording();
-  result.wall_s = std::chrono::duration<double>(Clock::now() - wall_start).count();
-  result.cpu_s = process_cpu_seconds() - cpu_start;
-  result.rss_end_kib = resident_kib();
+  window.finish(result);
   result.window_s = options.window_s;
   world.stop();
   if (recorder) {
@@ -333,6 +412,10 @@ FleetPointResult run_fleet_point(const FleetPointOptions& options) {
   result.observed = options.observe;
   result.control_tick_slots = static_cast<int>(options.control_tick_slots);
   result.streamer_threads = options.mode == FleetMode::loopback ? options.streamer_threads : 0;
+  result.client_threads = options.mode == FleetMode::loopback ? options.client_threads : 0;
+  // The main thread runs the World: the Player (and, with no Streamer threads, the Streamers;
+  // in virtual time the whole fleet).
+  const ScopedThreadName main_thread(options.mode == FleetMode::loopback ? "player" : "world");
   result = options.mode == FleetMode::loopback ? run_loopback(options, result) : run_virtual(options, result);
   if (result.ok && options.mode == FleetMode::loopback && options.kernel_floor_s > 0) add_kernel_floor(options, result);
   if (result.ok) {

@@ -1,6 +1,6 @@
 #pragma once
 // One point of the fleet scale curve: N vehicles hosted by one process, either over real
-// loopback TCP (N Streamers on --streamer-threads threads, N reference clients on another,
+// loopback TCP (N Streamers on --streamer-threads threads, N reference clients on --client-threads others,
 // real time) or in virtual time (a World with N in-process clients over pipes). Each point runs in a forked
 // child (fleet_command.cpp), so CPU and resident memory are that point's alone; the result is
 // a plain struct sent back through a pipe.
@@ -8,6 +8,7 @@
 #include <string>
 
 #include "fleet_recorder.hpp"
+#include "thread_usage.hpp"
 
 namespace ocp::bench {
 
@@ -25,6 +26,9 @@ struct FleetPointOptions {
   // Loopback: threads the Streamers are spread over (World::set_streamer_threads); the Player
   // stays on the main thread, the clients on their own. 0: everything on the main thread.
   int streamer_threads = 2;
+  // Loopback: threads the reference clients are spread over, each with its own io_context;
+  // 0: each client on its own Streamer's executor.
+  int client_threads = 1;
   // WorldConfig::control_tick_slots: one shared control ticker per executor with this many
   // slots over the 10 ms period (0: a timer per Streamer). Loopback only: in virtual time the
   // reference clients' keep-alive timers (response_period = 10 ms) fire just before control
@@ -44,6 +48,7 @@ struct FleetPointResult {
   int vehicles = 0;
   bool observed = true;
   int streamer_threads = 0;
+  int client_threads = 0;
   int control_tick_slots = 0;
   bool ok = false;
   char error[160] = {};
@@ -69,6 +74,10 @@ struct FleetPointResult {
   double codec_floor_us_per_vehicle_cycle = 0;
   double codec_floor_cpu_per_s = 0;                // CPU s per simulated s
   std::uint64_t faults_raised[fault_count] = {};
+  // Each thread of the point's process over the window (thread_usage.hpp): the Player's (the
+  // main thread, "player"), the Streamers' ("streamers-i"), the clients' ("clients-i").
+  int thread_count = 0;
+  ThreadSample threads[160] = {};
   std::uint64_t faults_total() const;
 };
 
