@@ -59,8 +59,11 @@ const char* wait_name(WaitKind kind) {
     case WaitKind::poll: return "poll";
     case WaitKind::select: return "select";
     case WaitKind::epoll: return "epoll_wait";
-    case WaitKind::futex: return "futex";
-    case WaitKind::cond: return "cond_wait";
+    case WaitKind::futex: return "a futex wait";
+    case WaitKind::cond: return "a timed condition wait";
+    case WaitKind::lock: return "a timed lock";
+    case WaitKind::semaphore: return "sem_timedwait";
+    case WaitKind::read: return "a blocking read";
     case WaitKind::none: break;
   }
   return "wait";
@@ -85,6 +88,10 @@ struct Controller::Impl {
     std::uint64_t seq = 0;
     std::int64_t deadline = no_deadline;
     WaitKind wait = WaitKind::none;
+    bool waker = false;            // the process's waker: always in recv, wakes waits on objects
+    std::uint32_t slot = 0;        // a wait on an object: as its BLOCKED said
+    std::uint64_t object = 0;
+    std::uint32_t futex_flags = 0;
   };
   struct ProcessRecord {
     int threads = 0;
@@ -118,6 +125,7 @@ struct Controller::Impl {
   ClockPage* page = nullptr;
   std::map<int, ThreadRecord> threads;            // by control connection
   std::map<pid_t, ProcessRecord> processes;
+  std::map<pid_t, int> wakers;                    // each process's waker, by its control connection
   std::map<std::uint32_t, pid_t> connected_ports; // announced by a shim
   std::set<std::uint16_t> to_accept;              // connected to a listener of ours, not accepted yet
   std::vector<Listener> listeners;
@@ -216,6 +224,7 @@ struct Controller::Impl {
     ::close(fd);
     threads.erase(fd);
     if (thread.pid == 0) return;
+    if (thread.waker) wakers.erase(thread.pid);
     auto process = processes.find(thread.pid);
     if (process != processes.end() && --process->second.threads <= 0) processes.erase(process);
     trace_line("pid " + std::to_string(thread.pid) + " thread " + std::to_string(thread.tid) + " left");
@@ -223,15 +232,21 @@ struct Controller::Impl {
 
   void on_message(int fd, ThreadRecord& thread, const ShimMessage& message) {
     ++stats.messages;
-    if (message.kind == ShimKind::hello) {
+    if (message.kind == ShimKind::hello || message.kind == ShimKind::waker_hello) {
       thread.pid = message.pid;
       thread.tid = message.tid;
+      if (message.kind == ShimKind::waker_hello) {
+        thread.waker = true;
+        thread.blocked = true;   // for ever: it sleeps in recv until a wake comes
+        wakers[message.pid] = fd;
+      }
       if (processes.size() >= max_processes && !processes.contains(message.pid)) {
         throw VirtualTimeError("more than " + std::to_string(max_processes) + " client processes");
       }
       ++processes[message.pid].threads;
       for (Expected& launched : expected) launched.greeted = true;
-      trace_line("pid " + std::to_string(message.pid) + " thread " + std::to_string(message.tid) + " hello");
+      trace_line("pid " + std::to_string(message.pid) + " thread " + std::to_string(message.tid) +
+                 (thread.waker ? " hello (the waker)" : " hello"));
       return;
     }
     ProcessRecord& process = processes[thread.pid];
@@ -245,6 +260,9 @@ struct Controller::Impl {
         thread.seq = message.seq;
         thread.deadline = message.deadline_us;
         thread.wait = message.wait;
+        thread.slot = message.slot;
+        thread.object = message.object;
+        thread.futex_flags = message.futex_flags;
         if (trace.is_open()) {
           trace_line("thread " + std::to_string(thread.tid) + " waits in " + wait_name(message.wait) +
                      (message.deadline_us == no_deadline ? std::string(" with no deadline")
@@ -269,34 +287,43 @@ struct Controller::Impl {
         trace_line("thread " + std::to_string(thread.tid) + " closed port " + std::to_string(message.port));
         break;
       case ShimKind::hello:
+      case ShimKind::waker_hello:
         break;
     }
-    (void)fd;
   }
 
   // Reads every message waiting; with `wait_ms` > 0, first waits that long for one. True when
   // anything came.
   bool pump(int wait_ms) {
-    std::vector<pollfd> fds;
-    fds.push_back({control_fd, POLLIN, 0});
-    for (const auto& [fd, thread] : threads) fds.push_back({fd, POLLIN, 0});
-    if (::poll(fds.data(), fds.size(), wait_ms) <= 0) return false;
-    if (fds[0].revents & POLLIN) accept_threads();
-    for (std::size_t i = 1; i < fds.size(); ++i) {
-      if (fds[i].revents == 0) continue;
-      const int fd = fds[i].fd;
-      for (;;) {
-        ShimMessage message{};
-        const ssize_t got = recv(fd, &message, sizeof message, MSG_DONTWAIT);
-        if (got == static_cast<ssize_t>(sizeof message)) {
-          on_message(fd, threads.at(fd), message);
-          continue;
-        }
-        if (got == 0 || (got < 0 && errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)) forget_thread(fd);
-        break;
+    bool any = false;
+    // Connections first, so that a new thread's first messages are read with the rest; a
+    // second pass when one came while waiting.
+    for (int pass = 0; pass < 2; ++pass) {
+      accept_threads();
+      std::vector<pollfd> fds;
+      fds.push_back({control_fd, POLLIN, 0});
+      for (const auto& [fd, thread] : threads) fds.push_back({fd, POLLIN, 0});
+      if (::poll(fds.data(), fds.size(), pass == 0 ? wait_ms : 0) <= 0) return any;
+      any = true;
+      for (std::size_t i = 1; i < fds.size(); ++i) {
+        if (fds[i].revents != 0) read_messages(fds[i].fd);
       }
+      if (!(fds[0].revents & POLLIN)) break;
     }
-    return true;
+    return any;
+  }
+
+  void read_messages(int fd) {
+    for (;;) {
+      ShimMessage message{};
+      const ssize_t got = recv(fd, &message, sizeof message, MSG_DONTWAIT);
+      if (got == static_cast<ssize_t>(sizeof message)) {
+        on_message(fd, threads.at(fd), message);
+        continue;
+      }
+      if (got == 0 || (got < 0 && errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)) forget_thread(fd);
+      return;
+    }
   }
 
   // ------------------------------------------------------------ quiescence
@@ -592,15 +619,39 @@ struct Controller::Impl {
   // ------------------------------------------------------------ waking
 
   void send_to(int fd, ThreadRecord& thread, ControlKind kind) {
-    ControlMessage message{kind, 0, thread.seq};
+    ControlMessage message{};
+    message.kind = kind;
+    message.seq = thread.seq;
     (void)send(fd, &message, sizeof message, MSG_NOSIGNAL | MSG_DONTWAIT);
     thread.blocked = false;
+  }
+
+  // A wait on an object ends through the process's waker, which wakes the object for real.
+  // False when the waker has not said hello yet (the next round tries again).
+  bool wake_through_waker(ThreadRecord& thread) {
+    const auto waker = wakers.find(thread.pid);
+    if (waker == wakers.end()) return false;
+    ControlMessage message{};
+    message.kind = ControlKind::wake;
+    message.seq = thread.seq;
+    message.wait = thread.wait;
+    message.slot = thread.slot;
+    message.object = thread.object;
+    message.futex_flags = thread.futex_flags;
+    message.tid = thread.tid;
+    (void)send(waker->second, &message, sizeof message, MSG_NOSIGNAL | MSG_DONTWAIT);
+    thread.blocked = false;
+    return true;
   }
 
   void wake_due_and_poke(bool delivered) {
     const std::int64_t now = executor.now().count();
     for (auto& [fd, thread] : threads) {
-      if (!thread.blocked) continue;
+      if (!thread.blocked || thread.waker) continue;
+      if (waits_on_object(thread.wait)) {   // nothing delivered can end it: only its deadline
+        if (thread.deadline <= now) wake_through_waker(thread);
+        continue;
+      }
       if (thread.deadline <= now) {
         send_to(fd, thread, ControlKind::wake);
       } else if (delivered && thread.wait != WaitKind::sleep) {   // a sleep waits for nothing delivered
