@@ -211,7 +211,9 @@ Outcome object_wait(WaitKind kind, void* object, std::uint32_t futex_flags, std:
   outcome.woken = slot->woken;
   slot->seq = 0;
   unlock(*slot);
-  if (!outcome.woken && active.load(std::memory_order_relaxed)) say_running(blocked.seq);
+  // Also after the waker's wake: the controller then knows at once that this thread runs, and
+  // need not wait for a message before it asks /proc.
+  if (active.load(std::memory_order_relaxed)) say_running(blocked.seq);
   outcome.virtualised = true;
   errno = outcome.error;
   return outcome;

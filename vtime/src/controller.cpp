@@ -89,6 +89,7 @@ struct Controller::Impl {
     std::int64_t deadline = no_deadline;
     WaitKind wait = WaitKind::none;
     bool waker = false;            // the process's waker: always in recv, wakes waits on objects
+    bool woken_by_us = false;      // we woke it and it has not said anything since
     std::uint32_t slot = 0;        // a wait on an object: as its BLOCKED said
     std::uint64_t object = 0;
     std::uint32_t futex_flags = 0;
@@ -232,6 +233,7 @@ struct Controller::Impl {
 
   void on_message(int fd, ThreadRecord& thread, const ShimMessage& message) {
     ++stats.messages;
+    thread.woken_by_us = false;
     if (message.kind == ShimKind::hello || message.kind == ShimKind::waker_hello) {
       thread.pid = message.pid;
       thread.tid = message.tid;
@@ -331,6 +333,17 @@ struct Controller::Impl {
   bool all_blocked_by_record() const {
     for (const auto& [fd, thread] : threads) {
       if (!thread.blocked) return false;
+    }
+    return true;
+  }
+
+  // Every thread said it waits, or is one we did not wake and that said nothing since it last
+  // ran on its own: it is most likely asleep in a wait the shim does not wrap (a mutex, a
+  // futex with no timeout: tokio's and V8's idle threads), so /proc may be asked at once. A
+  // thread we woke will speak (BLOCKED or RUNNING) before it sleeps: it is waited for.
+  bool none_woken_silent() const {
+    for (const auto& [fd, thread] : threads) {
+      if (!thread.blocked && thread.woken_by_us) return false;
     }
     return true;
   }
@@ -478,7 +491,7 @@ struct Controller::Impl {
       const bool all_said_so = all_blocked_by_record();
       // /proc is looked at only when it can say yes: every thread said it waits, or the one
       // that runs has been silent a while (it may be in a wait the shim does not wrap).
-      if ((all_said_so || quiet >= 2) && !expecting_a_greeting() && unclaimed.empty() && asleep_in_proc()) {
+      if ((all_said_so || quiet >= 2 || none_woken_silent()) && !expecting_a_greeting() && unclaimed.empty() && asleep_in_proc()) {
         pump(0);   // what a thread sent before it fell asleep
         break;
       }
@@ -624,6 +637,7 @@ struct Controller::Impl {
     message.seq = thread.seq;
     (void)send(fd, &message, sizeof message, MSG_NOSIGNAL | MSG_DONTWAIT);
     thread.blocked = false;
+    thread.woken_by_us = true;
   }
 
   // A wait on an object ends through the process's waker, which wakes the object for real.
@@ -641,6 +655,7 @@ struct Controller::Impl {
     message.tid = thread.tid;
     (void)send(waker->second, &message, sizeof message, MSG_NOSIGNAL | MSG_DONTWAIT);
     thread.blocked = false;
+    thread.woken_by_us = true;   // it says RUNNING when it leaves the wait
     return true;
   }
 
