@@ -101,6 +101,9 @@ void expect_same_verdicts_ten_times(const std::string& name, const std::vector<s
   for (const auto& [trace, count] : traces) most = std::max(most, count);
   std::printf("%s: same verdicts %d/10 runs; %zu distinct traces, the most common in %d/10 runs\n", name.c_str(),
               verdicts.size() == 1 ? 10 : 0, traces.size(), most);
+  if (traces.size() > 1) {
+    std::printf("first difference:\n%s\n", first_difference(traces.begin()->first, std::next(traces.begin())->first).c_str());
+  }
 }
 
 TEST(VirtualTimeThreads, TwoThreadClientGivesTheSameVerdictsTenTimes) {

@@ -659,18 +659,25 @@ struct Controller::Impl {
     return true;
   }
 
+  // When something was delivered, only the threads that wait on descriptors are told (they
+  // look again); a sleep or a wait on an object whose deadline came at this instant is woken
+  // in the next round, after the threads that got the delivery have settled. So two threads
+  // woken at one instant — a reader that got bytes and a 10 ms timer — run one after the
+  // other, in the same order every run, not in whatever order the machine schedules them.
   void wake_due_and_poke(bool delivered) {
     const std::int64_t now = executor.now().count();
     for (auto& [fd, thread] : threads) {
       if (!thread.blocked || thread.waker) continue;
-      if (waits_on_object(thread.wait)) {   // nothing delivered can end it: only its deadline
-        if (thread.deadline <= now) wake_through_waker(thread);
-        continue;
-      }
-      if (thread.deadline <= now) {
-        send_to(fd, thread, ControlKind::wake);
-      } else if (delivered && thread.wait != WaitKind::sleep) {   // a sleep waits for nothing delivered
-        send_to(fd, thread, ControlKind::poke);
+      if (delivered) {
+        if (thread.wait != WaitKind::sleep && !waits_on_object(thread.wait)) {
+          send_to(fd, thread, thread.deadline <= now ? ControlKind::wake : ControlKind::poke);
+        }
+      } else if (thread.deadline <= now) {
+        if (!waits_on_object(thread.wait)) {
+          send_to(fd, thread, ControlKind::wake);
+        } else {
+          wake_through_waker(thread);
+        }
       }
     }
   }
