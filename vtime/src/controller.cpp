@@ -127,6 +127,7 @@ struct Controller::Impl {
   std::map<int, ThreadRecord> threads;            // by control connection
   std::map<pid_t, ProcessRecord> processes;
   std::map<pid_t, int> wakers;                    // each process's waker, by its control connection
+  ProcScanner proc;                               // the /proc looks, files kept open
   std::map<std::uint32_t, pid_t> connected_ports; // announced by a shim
   std::set<std::uint16_t> to_accept;              // connected to a listener of ours, not accepted yet
   std::vector<Listener> listeners;
@@ -298,10 +299,9 @@ struct Controller::Impl {
   // anything came.
   bool pump(int wait_ms) {
     bool any = false;
-    // Connections first, so that a new thread's first messages are read with the rest; a
-    // second pass when one came while waiting.
+    // A second pass when a thread connected, so that its first messages are read with the rest.
     for (int pass = 0; pass < 2; ++pass) {
-      accept_threads();
+      if (pass == 1) accept_threads();
       std::vector<pollfd> fds;
       fds.push_back({control_fd, POLLIN, 0});
       for (const auto& [fd, thread] : threads) fds.push_back({fd, POLLIN, 0});
@@ -355,7 +355,7 @@ struct Controller::Impl {
     for (const auto& [pid, process] : processes) pids.push_back(pid);
     std::map<pid_t, Clock::time_point> still_unshimmed;
     for (const Expected& launched : expected) {
-      for (const pid_t pid : process_tree(launched.pid, max_processes)) {
+      for (const pid_t pid : proc.process_tree(launched.pid, max_processes)) {
         if (processes.contains(pid)) continue;
         pids.push_back(pid);
         const auto seen = unshimmed.find(pid);
@@ -392,9 +392,9 @@ struct Controller::Impl {
     ++stats.proc_checks;
     const std::vector<pid_t> pids = watched_pids();
     std::vector<std::vector<ThreadLook>> first;
-    for (const pid_t pid : pids) first.push_back(look_at_threads(pid));
+    for (const pid_t pid : pids) first.push_back(proc.look_at_threads(pid));
     for (std::size_t i = 0; i < pids.size(); ++i) {
-      if (!asleep_in_both(first[i], look_at_threads(pids[i]))) return false;
+      if (!asleep_in_both(first[i], proc.look_at_threads(pids[i]))) return false;
     }
     // A process that forked just before the first look and fell asleep is asleep in both; its
     // child is not in `pids`: the same processes must still be all there are.
@@ -422,7 +422,7 @@ struct Controller::Impl {
   std::string awake_description() {
     std::string out;
     for (const pid_t pid : watched_pids()) {
-      const std::string awake = describe_awake(look_at_threads(pid));
+      const std::string awake = describe_awake(proc.look_at_threads(pid));
       if (!awake.empty()) out += (out.empty() ? "" : "; ") + std::string("pid ") + std::to_string(pid) + ": " + awake;
     }
     return out;
