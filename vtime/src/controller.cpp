@@ -664,13 +664,16 @@ struct Controller::Impl {
   // in the next round, after the threads that got the delivery have settled. So two threads
   // woken at one instant — a reader that got bytes and a 10 ms timer — run one after the
   // other, in the same order every run, not in whatever order the machine schedules them.
-  void wake_due_and_poke(bool delivered) {
+  // Returns whether any thread was told (or is due and waits for its waker's hello).
+  bool wake_due_and_poke(bool delivered) {
     const std::int64_t now = executor.now().count();
+    bool told = false;
     for (auto& [fd, thread] : threads) {
       if (!thread.blocked || thread.waker) continue;
       if (delivered) {
         if (thread.wait != WaitKind::sleep && !waits_on_object(thread.wait)) {
           send_to(fd, thread, thread.deadline <= now ? ControlKind::wake : ControlKind::poke);
+          told = true;
         }
       } else if (thread.deadline <= now) {
         if (!waits_on_object(thread.wait)) {
@@ -678,8 +681,10 @@ struct Controller::Impl {
         } else {
           wake_through_waker(thread);
         }
+        told = true;
       }
     }
+    return told;
   }
 
   std::int64_t earliest_deadline() const {
@@ -694,10 +699,15 @@ struct Controller::Impl {
     run_started = Clock::now();
     std::size_t rounds_here = 0;
     SimTime last_instant = executor.now();
+    // Quiescence holds until we wake a thread or deliver something: an instant where the
+    // simulator only ran its own events (a link delay, a camera frame) needs no new wait.
+    bool stirred = true;
     while (true) {
-      const auto settling = Clock::now();
-      settle();
-      settle_wall += Clock::now() - settling;
+      if (stirred) {
+        const auto settling = Clock::now();
+        settle();
+        settle_wall += Clock::now() - settling;
+      }
       const bool took = take_from_clients();
       executor.run_until(executor.now());
       const bool delivered = flush_to_clients();
@@ -707,11 +717,11 @@ struct Controller::Impl {
           throw VirtualTimeError("the client and the simulator exchanged bytes " + std::to_string(max_same_instant_rounds) +
                                  " times without virtual time advancing");
         }
-        wake_due_and_poke(delivered);
+        stirred = wake_due_and_poke(delivered) || delivered;
         continue;
       }
       if (earliest_deadline() <= executor.now().count()) {   // a timer due now (armed at this instant)
-        wake_due_and_poke(false);
+        stirred = wake_due_and_poke(false);
         continue;
       }
       if (executor.now() >= end) break;
@@ -720,11 +730,12 @@ struct Controller::Impl {
       page->now_us.store(next.count(), std::memory_order_release);
       executor.run_until(next);
       if (next != last_instant) {
-        if ((++stats.instants & 255) == 0) check_unshimmed();
+        if ((++stats.instants & 255) == 0) check_limits();
         rounds_here = 0;
         last_instant = next;
       }
-      wake_due_and_poke(flush_to_clients());
+      const bool delivered_now = flush_to_clients();
+      stirred = wake_due_and_poke(delivered_now) || delivered_now;
     }
     trace_line("run ended: " + std::to_string(stats.instants) + " instants, " + std::to_string(stats.settles) + " settles (" +
                std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(settle_wall).count()) + " ms), " +
