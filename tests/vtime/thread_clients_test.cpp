@@ -59,15 +59,6 @@ TEST(VirtualTimeThreads, TimedWaitsEndAtTheirVirtualDeadlineOrWhenAnotherThreadE
   EXPECT_TRUE(seen.contains("done")) << "the client did not finish its waits";
 }
 
-void expect_echoes(const std::string& name, const std::vector<std::string>& argv) {
-  const Ran ran = run_client(world_yaml("10s", echoing_client_expectations), argv);
-  EXPECT_EQ(ran.run.result.ran, Micros{10'000'000});
-  expect_all_pass(ran);
-  std::printf("%s: 10 s simulated in %.2f s wall (%.0fx), %llu instants, %llu settles, %llu /proc looks, %llu messages\n",
-              name.c_str(), ran.wall_seconds, 10.0 / ran.wall_seconds, static_cast<unsigned long long>(ran.run.stats.instants),
-              static_cast<unsigned long long>(ran.run.stats.settles), static_cast<unsigned long long>(ran.run.stats.proc_checks),
-              static_cast<unsigned long long>(ran.run.stats.messages));
-}
 
 TEST(VirtualTimeThreads, TwoThreadClientWithSleepForEchoesEveryPair) { expect_echoes("two-thread client", two_thread_client()); }
 

@@ -21,13 +21,9 @@ std::vector<std::string> python_example() {
 }
 
 TEST(VirtualTimeClients, ReferenceClientEchoesEveryPairOnTheWorldsClock) {
-  const Ran ran = run_client(world_yaml("10s", echoing_client_expectations), reference_client());
-  EXPECT_EQ(ran.run.result.ran, Micros{10'000'000});
-  expect_all_pass(ran);
+  const Ran ran = expect_echoes("reference client", reference_client());
   ASSERT_EQ(ran.run.clients.size(), 1u);
   EXPECT_TRUE(ran.run.clients.front().process->running()) << "the client must live through the world";
-  std::printf("reference client: 10 s simulated in %.2f s wall (%.0fx), %llu instants\n", ran.wall_seconds,
-              10.0 / ran.wall_seconds, static_cast<unsigned long long>(ran.run.stats.instants));
 }
 
 std::vector<std::string> node_example() {
@@ -36,22 +32,10 @@ std::vector<std::string> node_example() {
 
 TEST(VirtualTimeClients, NodeExampleEchoesEveryPairOnTheWorldsClock) {
   if (std::string(OCP_NODE_PATH).empty()) GTEST_SKIP() << "node is not installed (scripts/setup --test installs it)";
-  const Ran ran = run_client(world_yaml("10s", echoing_client_expectations), node_example());
-  EXPECT_EQ(ran.run.result.ran, Micros{10'000'000});
-  expect_all_pass(ran);
-  std::printf("node example: 10 s simulated in %.2f s wall (%.0fx), %llu instants\n", ran.wall_seconds, 10.0 / ran.wall_seconds,
-              static_cast<unsigned long long>(ran.run.stats.instants));
+  expect_echoes("node example", node_example());
 }
 
-TEST(VirtualTimeClients, PythonExampleEchoesEveryPairOnTheWorldsClock) {
-  const Ran ran = run_client(world_yaml("10s", echoing_client_expectations), python_example());
-  EXPECT_EQ(ran.run.result.ran, Micros{10'000'000});
-  expect_all_pass(ran);
-  std::printf("python example: 10 s simulated in %.2f s wall (%.0fx), %llu instants, %llu settles, %llu /proc looks, %llu messages\n",
-              ran.wall_seconds, 10.0 / ran.wall_seconds, static_cast<unsigned long long>(ran.run.stats.instants),
-              static_cast<unsigned long long>(ran.run.stats.settles), static_cast<unsigned long long>(ran.run.stats.proc_checks),
-              static_cast<unsigned long long>(ran.run.stats.messages));
-}
+TEST(VirtualTimeClients, PythonExampleEchoesEveryPairOnTheWorldsClock) { expect_echoes("python example", python_example()); }
 
 // The same seed gives the same trace, byte for byte, every time: the client's echoes land at
 // the same virtual instants whatever the machine's load.

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -61,6 +63,27 @@ inline void expect_all_pass(const Ran& ran) {
   for (const scenario::Verdict& verdict : ran.verdicts) {
     EXPECT_TRUE(verdict.passed) << verdict.title << ": expected " << verdict.expected << ", got " << verdict.actual;
   }
+}
+
+// One world of OCP_VTIME_BENCH_SECONDS (10 by default; docs/benchmarks.md) with `argv` as its
+// client: every expectation passes, and the simulated-to-wall ratio is printed with where the
+// wall time went (the world only: the process's start-up and the harness are not in it).
+inline Ran expect_echoes(const std::string& name, const std::vector<std::string>& argv) {
+  const char* set = std::getenv("OCP_VTIME_BENCH_SECONDS");
+  const int seconds = set != nullptr && std::atoi(set) > 0 ? std::atoi(set) : 10;
+  std::string expectations = echoing_client_expectations;
+  expectations.replace(expectations.find("count > 900"), 11, "count > " + std::to_string(seconds * 90));
+  Ran ran = run_client(world_yaml(std::to_string(seconds) + "s", expectations), argv);
+  EXPECT_EQ(ran.run.result.ran, Micros{seconds * 1'000'000LL});
+  expect_all_pass(ran);
+  const ControllerStats& stats = ran.run.stats;
+  std::printf("%s: %d s simulated in %.2f s wall (%.0fx); run %.0f ms: quiescence waits %.0f ms (/proc looks %.0f ms), "
+              "simulator and exchange %.0f ms; %llu instants, %llu settles, %llu /proc looks, %llu shim messages\n",
+              name.c_str(), seconds, ran.wall_seconds, seconds / ran.wall_seconds, stats.run_us / 1000.0, stats.settle_us / 1000.0,
+              stats.proc_us / 1000.0, (static_cast<double>(stats.run_us) - static_cast<double>(stats.settle_us)) / 1000.0,
+              static_cast<unsigned long long>(stats.instants), static_cast<unsigned long long>(stats.settles),
+              static_cast<unsigned long long>(stats.proc_checks), static_cast<unsigned long long>(stats.messages));
+  return ran;
 }
 
 inline std::string first_difference(const std::string& a, const std::string& b) {

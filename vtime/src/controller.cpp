@@ -390,6 +390,13 @@ struct Controller::Impl {
 
   bool asleep_in_proc() {
     ++stats.proc_checks;
+    const auto looking = Clock::now();
+    const bool asleep = asleep_in_proc_now();
+    stats.proc_us += static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - looking).count());
+    return asleep;
+  }
+
+  bool asleep_in_proc_now() {
     const std::vector<pid_t> pids = watched_pids();
     std::vector<std::vector<ThreadLook>> first;
     for (const pid_t pid : pids) first.push_back(proc.look_at_threads(pid));
@@ -707,6 +714,7 @@ struct Controller::Impl {
         const auto settling = Clock::now();
         settle();
         settle_wall += Clock::now() - settling;
+        stats.settle_us = static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::microseconds>(settle_wall).count());
       }
       const bool took = take_from_clients();
       executor.run_until(executor.now());
@@ -737,6 +745,7 @@ struct Controller::Impl {
       const bool delivered_now = flush_to_clients();
       stirred = wake_due_and_poke(delivered_now) || delivered_now;
     }
+    stats.run_us += static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - run_started).count());
     trace_line("run ended: " + std::to_string(stats.instants) + " instants, " + std::to_string(stats.settles) + " settles (" +
                std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(settle_wall).count()) + " ms), " +
                std::to_string(stats.proc_checks) + " /proc looks, " + std::to_string(stats.messages) + " messages, " +
