@@ -23,6 +23,7 @@
 #include <optional>
 #include <set>
 #include <thread>
+#include <utility>
 
 #include "proc_scan.hpp"
 #include "socket_stream.hpp"
@@ -137,6 +138,8 @@ struct Controller::Impl {
   std::ofstream trace;
   Clock::time_point run_started;
   std::uint64_t accepted = 0;
+  std::uint64_t sweeps = 0;                       // rounds, for the sweeps of every 64th
+  bool thread_left = false;
   std::uint64_t cpu_at_rest = 0;                  // client CPU ticks at the last quiescence
   std::map<pid_t, std::uint64_t> cpu_seen;
   std::map<pid_t, Clock::time_point> unshimmed;   // in the client's tree, without the shim, since
@@ -222,6 +225,7 @@ struct Controller::Impl {
   }
 
   void forget_thread(int fd) {
+    thread_left = true;
     const ThreadRecord thread = threads.at(fd);
     ::close(fd);
     threads.erase(fd);
@@ -527,6 +531,9 @@ struct Controller::Impl {
   // Every connection a client made at this instant (the shim announced it: the kernel may not
   // have queued it yet under load, so wait for it, bounded).
   void accept_connections() {
+    // A shim announces its connections; a process without one (refused after the handshake
+    // timeout) is found by a sweep every 64 rounds.
+    if (to_accept.empty() && (++sweeps & 63) != 0) return;
     const auto give_up = Clock::now() + std::chrono::seconds(1);
     accept_queued();
     while (!to_accept.empty() && Clock::now() < give_up) {
@@ -597,6 +604,9 @@ struct Controller::Impl {
   bool take_from_clients() {
     accept_connections();
     bool any = false;
+    // Each connection is read when its shim reported bytes or a close not taken yet; every 64th
+    // round (and after a thread left: a process that ended closes without a word) all are.
+    const bool sweep = (sweeps & 63) == 0 || std::exchange(thread_left, false);
     for (const std::shared_ptr<SocketStream>& stream : streams) {
       if (stream->finished()) continue;
       std::uint64_t expected_bytes = 0;
@@ -607,6 +617,7 @@ struct Controller::Impl {
         }
         if (process.closed.erase(stream->peer_port()) > 0) expect_eof = true;
       }
+      if (!sweep && !expect_eof && expected_bytes <= stream->received_total()) continue;
       const auto taking = Clock::now();
       const std::size_t got = stream->take(expected_bytes, expect_eof);
       if (trace.is_open() && Clock::now() - taking > std::chrono::milliseconds(100)) {
