@@ -2,7 +2,7 @@
 // the timed waits on an object that threads use to wait for one another (condition variables,
 // semaphores, timed locks, futex words through syscall()) end exactly at their virtual
 // deadline, or when another thread ends them; the two-thread vendor-shaped client and the Rust
-// tokio client pass as in-process clients do, with the same verdicts every run. Real client
+// tokio client pass as in-process clients do, with the same verdicts every run (Node too). Real client
 // processes: the runs have wall-clock (steady_clock) watchdogs from the Controller.
 #include <gtest/gtest.h>
 
@@ -99,6 +99,13 @@ void expect_same_verdicts_ten_times(const std::string& name, const std::vector<s
 
 TEST(VirtualTimeThreads, TwoThreadClientGivesTheSameVerdictsTenTimes) {
   expect_same_verdicts_ten_times("two-thread client", two_thread_client());
+}
+
+// Node's one JavaScript thread beside libuv's and V8's threads.
+TEST(VirtualTimeThreads, NodeExampleGivesTheSameVerdictsTenTimes) {
+  if (std::string(OCP_NODE_PATH).empty()) GTEST_SKIP() << "node is not installed (scripts/setup --test installs it)";
+  expect_same_verdicts_ten_times("node example",
+                                 {OCP_NODE_PATH, std::string(OCP_EXAMPLES_DIR) + "/vehicle_client.js", "127.0.0.1:{port}"});
 }
 
 TEST(VirtualTimeThreads, TokioClientGivesTheSameVerdictsTenTimes) {

@@ -17,6 +17,7 @@
 #include <sched.h>
 #include <signal.h>
 #include <sys/epoll.h>
+#include <sys/ioctl.h>
 #include <sys/mman.h>
 #include <sys/select.h>
 #include <sys/socket.h>
@@ -109,9 +110,11 @@ struct VirtualTimer {
   clockid_t clock = CLOCK_MONOTONIC;
   std::int64_t deadline_us = no_deadline;
   std::int64_t interval_us = 0;
+  bool fired = false;   // made readable since it was last set: expirations may be unread
 };
 VirtualTimer timers[max_timer_fds];
 int timers_used = 0;
+int timers_end = 0;     // past the highest descriptor used
 pthread_mutex_t timers_lock = PTHREAD_MUTEX_INITIALIZER;
 
 // ---------------------------------------------------------------- conversions
@@ -234,18 +237,32 @@ void await_deliveries() {
 }
 
 // Makes every virtual timerfd whose deadline has come readable.
+// Makes the timerfd readable now: TFD_IOC_SET_TICKS sets its expiration count and wakes its
+// waiters at once, with no real timer (programming one is costly on a virtual machine: it was
+// the client's largest cost); without it (a kernel without CONFIG_CHECKPOINT_RESTORE), the
+// timer is armed for 1 ns and waited for.
+#ifndef TFD_IOC_SET_TICKS
+#define TFD_IOC_SET_TICKS _IOW('T', 0, std::uint64_t)   // <linux/timerfd.h>, which clashes with glibc's
+#endif
+void make_readable(int fd) {
+  const std::uint64_t one = 1;
+  if (ioctl(fd, TFD_IOC_SET_TICKS, &one) == 0) return;
+  itimerspec soon{};
+  soon.it_value.tv_nsec = 1;
+  REAL(timerfd_settime)(fd, 0, &soon, nullptr);
+  pollfd ready{fd, POLLIN, 0};
+  for (int spins = 0; spins < 100'000 && REAL(poll)(&ready, 1, 0) == 0; ++spins) sched_yield();
+}
+
 void fire_due_timers() {
   if (timers_used == 0) return;
   const std::int64_t now = now_us();
   pthread_mutex_lock(&timers_lock);
-  for (int fd = 0; fd < max_timer_fds; ++fd) {
+  for (int fd = 0; fd < timers_end; ++fd) {
     VirtualTimer& timer = timers[fd];
     if (!timer.used || timer.deadline_us > now) continue;
-    itimerspec soon{};
-    soon.it_value.tv_nsec = 1;
-    REAL(timerfd_settime)(fd, 0, &soon, nullptr);
-    pollfd ready{fd, POLLIN, 0};
-    for (int spins = 0; spins < 100'000 && REAL(poll)(&ready, 1, 0) == 0; ++spins) sched_yield();
+    make_readable(fd);
+    timer.fired = true;
     if (timer.interval_us > 0) {
       timer.deadline_us += ((now - timer.deadline_us) / timer.interval_us + 1) * timer.interval_us;
     } else {
@@ -259,8 +276,8 @@ std::int64_t earliest_timer() {
   if (timers_used == 0) return no_deadline;
   std::int64_t earliest = no_deadline;
   pthread_mutex_lock(&timers_lock);
-  for (const VirtualTimer& timer : timers) {
-    if (timer.used && timer.deadline_us < earliest) earliest = timer.deadline_us;
+  for (int fd = 0; fd < timers_end; ++fd) {
+    if (timers[fd].used && timers[fd].deadline_us < earliest) earliest = timers[fd].deadline_us;
   }
   pthread_mutex_unlock(&timers_lock);
   return earliest;
@@ -472,8 +489,9 @@ int timerfd_create(int clock, int flags) {
   const int fd = REAL(timerfd_create)(clock, flags);
   if (!active || fd < 0 || fd >= max_timer_fds || is_cpu_clock(clock)) return fd;
   pthread_mutex_lock(&timers_lock);
-  timers[fd] = VirtualTimer{true, clock, no_deadline, 0};
+  timers[fd] = VirtualTimer{true, clock, no_deadline, 0, false};
   ++timers_used;
+  if (fd >= timers_end) timers_end = fd + 1;
   pthread_mutex_unlock(&timers_lock);
   return fd;
 }
@@ -491,8 +509,10 @@ int timerfd_settime(int fd, int flags, const itimerspec* value, itimerspec* old)
     old->it_interval = to_timespec(timer.interval_us);
     old->it_value = to_timespec(timer.deadline_us == no_deadline ? 0 : (timer.deadline_us > now ? timer.deadline_us - now : 1));
   }
+  // The real timer is never armed: it is set only to clear expirations the program did not read.
   const itimerspec disarm{};
-  const int result = REAL(timerfd_settime)(fd, 0, &disarm, nullptr);   // also clears expirations not read
+  const int result = timer.fired ? REAL(timerfd_settime)(fd, 0, &disarm, nullptr) : 0;
+  timer.fired = false;
   if (result == 0) {
     const bool armed = value->it_value.tv_sec != 0 || value->it_value.tv_nsec != 0;
     timer.interval_us = micros_up(value->it_interval);
