@@ -97,6 +97,10 @@ struct Controller::Impl {
   };
   struct ProcessRecord {
     int threads = 0;
+    // Not yet waited through the shim since its image began (its main thread's hello: a new
+    // program, or a forked child): it is starting up (see starting_up()).
+    bool waited = false;
+    Clock::time_point began = Clock::now();
     std::map<std::uint32_t, std::uint64_t> written;   // by the client's local port
     std::map<std::uint32_t, Clock::time_point> closed;   // OCP sockets it closed, not yet seen
   };
@@ -250,7 +254,12 @@ struct Controller::Impl {
       if (processes.size() >= max_processes && !processes.contains(message.pid)) {
         throw VirtualTimeError("more than " + std::to_string(max_processes) + " client processes");
       }
-      ++processes[message.pid].threads;
+      ProcessRecord& process = processes[message.pid];
+      ++process.threads;
+      if (message.tid == message.pid && message.kind == ShimKind::hello) {   // a new image, or a fork's child
+        process.waited = false;
+        process.began = Clock::now();
+      }
       for (Expected& launched : expected) launched.greeted = true;
       trace_line("pid " + std::to_string(message.pid) + " thread " + std::to_string(message.tid) +
                  (thread.waker ? " hello (the waker)" : " hello"));
@@ -263,6 +272,7 @@ struct Controller::Impl {
     }
     switch (message.kind) {
       case ShimKind::blocked:
+        process.waited = true;
         thread.blocked = true;
         thread.seq = message.seq;
         thread.deadline = message.deadline_us;
@@ -419,6 +429,7 @@ struct Controller::Impl {
       if (!thread.blocked) out += "thread " + std::to_string(thread.tid) + " (pid " + std::to_string(thread.pid) + ") runs; ";
     }
     if (expecting_a_greeting()) out += "a launched process has no shim yet; ";
+    if (starting_up()) out += "a process is starting up; ";
     if (!unclaimed.empty()) out += "a connection no shim announced; ";
     out += "/proc: ";
     out += awake_description();
@@ -483,6 +494,21 @@ struct Controller::Impl {
     }
   }
 
+  // A process that has not waited through the shim yet, has no child to wait for, and began
+  // less than a second ago is starting up (a program importing its modules, a shell between two
+  // commands): its threads may all be asleep for a moment (a pipe, a lock) while it is busy, and
+  // virtual time must not advance then, or the instant it connects would depend on the
+  // machine's load. After a second a process that never waits through the shim counts as
+  // waiting where the shim does not see, as any thread does.
+  bool starting_up() {
+    const auto now = Clock::now();
+    for (const auto& [pid, process] : processes) {
+      if (process.waited || now - process.began > std::chrono::seconds(1)) continue;
+      if (proc.process_tree(pid, 2).size() < 2) return true;
+    }
+    return false;
+  }
+
   bool expecting_a_greeting() const {
     for (const Expected& launched : expected) {
       if ((!launched.greeted || processes.empty()) && launched.alive && launched.alive()) return true;
@@ -502,7 +528,7 @@ struct Controller::Impl {
       const bool all_said_so = all_blocked_by_record();
       // /proc is looked at only when it can say yes: every thread said it waits, or the one
       // that runs has been silent a while (it may be in a wait the shim does not wrap).
-      if ((all_said_so || quiet >= 2 || none_woken_silent()) && !expecting_a_greeting() && unclaimed.empty() && asleep_in_proc()) {
+      if ((all_said_so || quiet >= 2 || none_woken_silent()) && !expecting_a_greeting() && unclaimed.empty() && !starting_up() && asleep_in_proc()) {
         pump(0);   // what a thread sent before it fell asleep
         break;
       }
@@ -510,11 +536,14 @@ struct Controller::Impl {
         check_limits();
         if (trace.is_open() && (round & 4095) == 4095) trace_line("still waiting for quiescence: " + waiting_for());
       }
-      if (!all_said_so) {
+      if (!all_said_so && !none_woken_silent()) {
         quiet = pump(1) ? 0 : quiet + 1;   // mostly, the next BLOCKED ends this wait at once
         continue;
       }
-      // Every thread said it waits, and one is not asleep yet: it is on its way.
+      // Every thread said it waits, or those that did not will not (they run or sleep where the
+      // shim does not see), and one is not asleep yet: it is on its way. No message will say
+      // when it gets there, so look again soon (a 1 ms wait for a message was most of a
+      // tokio client's wall time).
       if (naps < 20) {
         sched_yield();
       } else {
