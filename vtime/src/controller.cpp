@@ -509,6 +509,18 @@ struct Controller::Impl {
     return false;
   }
 
+  // A live process of the client's tree without a shim (between an exec and its hello, or a
+  // static binary): virtual time waits for its hello, or for check_unshimmed to refuse it after
+  // the handshake timeout — however fast the world would otherwise end. A zombie is not alive.
+  bool unshimmed_alive() {
+    for (const auto& [pid, since] : unshimmed) {
+      for (const ThreadLook& thread : proc.look_at_threads(pid)) {
+        if (thread.state != 'Z' && thread.state != 'X') return true;
+      }
+    }
+    return false;
+  }
+
   bool expecting_a_greeting() const {
     for (const Expected& launched : expected) {
       if ((!launched.greeted || processes.empty()) && launched.alive && launched.alive()) return true;
@@ -528,7 +540,8 @@ struct Controller::Impl {
       const bool all_said_so = all_blocked_by_record();
       // /proc is looked at only when it can say yes: every thread said it waits, or the one
       // that runs has been silent a while (it may be in a wait the shim does not wrap).
-      if ((all_said_so || quiet >= 2 || none_woken_silent()) && !expecting_a_greeting() && unclaimed.empty() && !starting_up() && asleep_in_proc()) {
+      if ((all_said_so || quiet >= 2 || none_woken_silent()) && !expecting_a_greeting() && unclaimed.empty() && !starting_up() && asleep_in_proc() &&
+          !unshimmed_alive()) {
         pump(0);   // what a thread sent before it fell asleep
         break;
       }
@@ -750,6 +763,9 @@ struct Controller::Impl {
     // simulator only ran its own events (a link delay, a camera frame) needs no new wait.
     bool stirred = true;
     while (true) {
+      // Nor does it without a word from the clients: a message (a thread that woke by itself),
+      // a connection that ended, a process still to greet or to be refused stirs it.
+      if (!stirred) stirred = pump(0) || expecting_a_greeting() || !unclaimed.empty() || !unshimmed.empty();
       if (stirred) {
         const auto settling = Clock::now();
         settle();
