@@ -6,7 +6,6 @@
 #include <poll.h>
 #include <sys/mman.h>
 #include <sys/socket.h>
-#include <sys/stat.h>
 #include <sys/un.h>
 #include <sched.h>
 #include <time.h>
@@ -25,6 +24,7 @@
 #include <thread>
 #include <utility>
 
+#include "clock_page.hpp"
 #include "proc_scan.hpp"
 #include "socket_stream.hpp"
 #include "vtime/protocol.hpp"
@@ -41,45 +41,7 @@ constexpr std::size_t max_same_instant_rounds = 100'000;
 
 std::string errno_text() { return std::strerror(errno); }
 
-std::string exe_dir() {
-  char buffer[4096];
-  const ssize_t size = readlink("/proc/self/exe", buffer, sizeof buffer - 1);
-  if (size <= 0) return {};
-  std::string path(buffer, static_cast<std::size_t>(size));
-  return path.substr(0, path.rfind('/'));
-}
-
-bool is_file(const std::string& path) {
-  struct stat info{};
-  return ::stat(path.c_str(), &info) == 0 && S_ISREG(info.st_mode);
-}
-
-const char* wait_name(WaitKind kind) {
-  switch (kind) {
-    case WaitKind::sleep: return "sleep";
-    case WaitKind::poll: return "poll";
-    case WaitKind::select: return "select";
-    case WaitKind::epoll: return "epoll_wait";
-    case WaitKind::futex: return "a futex wait";
-    case WaitKind::cond: return "a timed condition wait";
-    case WaitKind::lock: return "a timed lock";
-    case WaitKind::semaphore: return "sem_timedwait";
-    case WaitKind::read: return "a blocking read";
-    case WaitKind::none: break;
-  }
-  return "wait";
-}
-
 }  // namespace
-
-std::string find_shim() {
-  if (const char* set = std::getenv("OCP_VTIME_SHIM"); set != nullptr && *set != '\0') return is_file(set) ? set : "";
-  const std::string dir = exe_dir();
-  for (const char* relative : {"/../lib/ocp-sim/libocp_vtime_shim.so", "/../lib/libocp_vtime_shim.so", "/libocp_vtime_shim.so"}) {
-    if (is_file(dir + relative)) return dir + relative;
-  }
-  return "";
-}
 
 struct Controller::Impl {
   struct ThreadRecord {
@@ -600,45 +562,14 @@ struct Controller::Impl {
         const std::uint16_t port = ntohs(peer.sin_port);
         to_accept.erase(port);
         auto stream = std::make_shared<SocketStream>(executor, fd, port, "127.0.0.1 (connection " + std::to_string(++accepted) + ")");
-        claim_slot(port);
+        if (!claim_delivery_slot(*page, port)) {
+          throw VirtualTimeError("more than " + std::to_string(max_connections) + " OCP connections open at once in virtual time");
+        }
         streams.push_back(stream);
         if (!connected_ports.contains(port)) unclaimed.push_back({port, Clock::now()});
         trace_line("accepted a connection from port " + std::to_string(port));
         executor.call_at(executor.now(), [on_accept = listener.on_accept, stream] { on_accept(stream); });
       }
-    }
-  }
-
-  void claim_slot(std::uint16_t port) {
-    // A free slot (port 0), or the next one round the page.
-    std::uint32_t used = page->connections.load();
-    for (std::uint32_t i = 0; i < used; ++i) {
-      if (page->delivered[i].port.load() == 0) {
-        page->delivered[i].delivered.store(0);
-        page->delivered[i].port.store(port);
-        return;
-      }
-    }
-    if (used < static_cast<std::uint32_t>(max_connections)) {
-      page->delivered[used].delivered.store(0);
-      page->delivered[used].port.store(port);
-      page->connections.store(used + 1, std::memory_order_release);
-      return;
-    }
-    throw VirtualTimeError("more than " + std::to_string(max_connections) + " OCP connections open at once in virtual time");
-  }
-
-  void release_slot(std::uint16_t port) {
-    const std::uint32_t used = page->connections.load();
-    for (std::uint32_t i = 0; i < used; ++i) {
-      if (page->delivered[i].port.load() == port) page->delivered[i].port.store(0);
-    }
-  }
-
-  void publish_delivered(const SocketStream& stream) {
-    const std::uint32_t used = page->connections.load();
-    for (std::uint32_t i = 0; i < used; ++i) {
-      if (page->delivered[i].port.load() == stream.peer_port()) page->delivered[i].delivered.store(stream.written_total(), std::memory_order_release);
     }
   }
 
@@ -680,10 +611,10 @@ struct Controller::Impl {
       // The count first: a woken thread waits for the bytes it announces.
       stats.bytes_out += stream->flush(changed);
     }
-    for (const std::shared_ptr<SocketStream>& stream : streams) publish_delivered(*stream);
+    for (const std::shared_ptr<SocketStream>& stream : streams) publish_delivered(*page, stream->peer_port(), stream->written_total());
     std::erase_if(streams, [&](const std::shared_ptr<SocketStream>& stream) {
       if (!stream->finished()) return false;
-      release_slot(stream->peer_port());
+      release_delivery_slot(*page, stream->peer_port());
       return true;
     });
     return changed;

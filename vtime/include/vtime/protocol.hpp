@@ -58,6 +58,22 @@ enum class WaitKind : std::uint32_t {
 inline constexpr bool waits_on_object(WaitKind kind) {
   return kind == WaitKind::futex || kind == WaitKind::cond || kind == WaitKind::lock || kind == WaitKind::semaphore;
 }
+// For the wait trace: "waits in <name>".
+inline constexpr const char* wait_name(WaitKind kind) {
+  switch (kind) {
+    case WaitKind::sleep: return "sleep";
+    case WaitKind::poll: return "poll";
+    case WaitKind::select: return "select";
+    case WaitKind::epoll: return "epoll_wait";
+    case WaitKind::futex: return "a futex wait";
+    case WaitKind::cond: return "a timed condition wait";
+    case WaitKind::lock: return "a timed lock";
+    case WaitKind::semaphore: return "sem_timedwait";
+    case WaitKind::read: return "a blocking read";
+    case WaitKind::none: break;
+  }
+  return "wait";
+}
 
 struct WrittenCount {
   std::uint32_t port;
