@@ -10,61 +10,10 @@
 #include <string>
 #include <vector>
 
-#include "scenario/parse.hpp"
-#include "scenario/verdicts.hpp"
-#include "scratch_dir.hpp"
-#include "vtime/client_world.hpp"
+#include "virtual_run.hpp"
 
 namespace ocp::vtime {
 namespace {
-
-constexpr std::chrono::milliseconds test_watchdog{90'000};
-
-std::string world_yaml(const std::string& duration, const std::string& expectations) {
-  return "seed: 7\nduration: " + duration +
-         "\nworld:\n  gamepad: drive\n  vehicles:\n    - name: truck-1\n      in_process_client: false\n"
-         "      link: {delay: 10ms, jitter: 2ms}\nexpect:\n" +
-         expectations;
-}
-
-const std::string echoing_client_expectations =
-    "  faults:\n"
-    "    - {fault: VehicleNoResponse, cleared: {after: 0s, within: 200ms}}\n"
-    "    - {fault: InvalidMac, never: true, from: 1s}\n"
-    "    - {fault: HighLatency, never: true}\n"
-    "    - {fault: NoControlMessage, never: true}\n"
-    "  thresholds:\n"
-    "    latency_ms: [\"count > 900\", \"p(50) < 60\"]\n";
-
-struct Ran {
-  VirtualClientRun run;
-  std::vector<scenario::Verdict> verdicts;
-  double wall_seconds = 0;
-};
-
-Ran run_client(const std::string& yaml, std::vector<std::string> argv, ControllerOptions controller = {},
-               bool trace = false) {
-  const scenario::Scenario world = scenario::parse_scenario(yaml, "virtual.yaml");
-  scenario::RunOptions options;
-  options.trace = trace;
-  VirtualClientOptions clients;
-  clients.argv = std::move(argv);
-  controller.shim_path = OCP_VTIME_SHIM_PATH;
-  if (controller.watchdog == ControllerOptions{}.watchdog) controller.watchdog = test_watchdog;
-  clients.controller = controller;
-  const auto start = std::chrono::steady_clock::now();
-  Ran ran;
-  ran.run = run_with_virtual_clients(world, options, clients);
-  ran.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  ran.verdicts = scenario::evaluate(world, ran.run.result);
-  return ran;
-}
-
-void expect_all_pass(const Ran& ran) {
-  for (const scenario::Verdict& verdict : ran.verdicts) {
-    EXPECT_TRUE(verdict.passed) << verdict.title << ": expected " << verdict.expected << ", got " << verdict.actual;
-  }
-}
 
 std::vector<std::string> reference_client() { return {OCP_VEHICLE_CLIENT_PATH, "--no-status", "127.0.0.1:{port}"}; }
 std::vector<std::string> python_example() {
@@ -72,31 +21,21 @@ std::vector<std::string> python_example() {
 }
 
 TEST(VirtualTimeClients, ReferenceClientEchoesEveryPairOnTheWorldsClock) {
-  const Ran ran = run_client(world_yaml("10s", echoing_client_expectations), reference_client());
-  EXPECT_EQ(ran.run.result.ran, Micros{10'000'000});
-  expect_all_pass(ran);
+  const Ran ran = expect_echoes("reference client", reference_client());
   ASSERT_EQ(ran.run.clients.size(), 1u);
   EXPECT_TRUE(ran.run.clients.front().process->running()) << "the client must live through the world";
-  std::printf("reference client: 10 s simulated in %.2f s wall (%.0fx), %llu instants\n", ran.wall_seconds,
-              10.0 / ran.wall_seconds, static_cast<unsigned long long>(ran.run.stats.instants));
 }
 
-TEST(VirtualTimeClients, PythonExampleEchoesEveryPairOnTheWorldsClock) {
-  const Ran ran = run_client(world_yaml("10s", echoing_client_expectations), python_example());
-  EXPECT_EQ(ran.run.result.ran, Micros{10'000'000});
-  expect_all_pass(ran);
-  std::printf("python example: 10 s simulated in %.2f s wall (%.0fx), %llu instants, %llu settles, %llu /proc looks, %llu messages\n",
-              ran.wall_seconds, 10.0 / ran.wall_seconds, static_cast<unsigned long long>(ran.run.stats.instants),
-              static_cast<unsigned long long>(ran.run.stats.settles), static_cast<unsigned long long>(ran.run.stats.proc_checks),
-              static_cast<unsigned long long>(ran.run.stats.messages));
+std::vector<std::string> node_example() {
+  return {OCP_NODE_PATH, std::string(OCP_EXAMPLES_DIR) + "/vehicle_client.js", "127.0.0.1:{port}"};
 }
 
-std::string first_difference(const std::string& a, const std::string& b) {
-  std::size_t at = 0;
-  while (at < a.size() && at < b.size() && a[at] == b[at]) ++at;
-  const std::size_t line = a.rfind('\n', at) + 1;
-  return a.substr(line, a.find('\n', at) - line) + "\n" + b.substr(line, b.find('\n', at) - line);
+TEST(VirtualTimeClients, NodeExampleEchoesEveryPairOnTheWorldsClock) {
+  if (std::string(OCP_NODE_PATH).empty()) GTEST_SKIP() << "node is not installed (scripts/setup --test installs it)";
+  expect_echoes("node example", node_example());
 }
+
+TEST(VirtualTimeClients, PythonExampleEchoesEveryPairOnTheWorldsClock) { expect_echoes("python example", python_example()); }
 
 // The same seed gives the same trace, byte for byte, every time: the client's echoes land at
 // the same virtual instants whatever the machine's load.

@@ -6,6 +6,8 @@
 // OCP_VTIME_SOCKET in the environment it does nothing: every call goes straight to libc.
 //
 // Written against libc only: no exceptions, no allocation on the wait paths, no C++ library.
+// The waits on an object (condition variables, semaphores, timed locks, futex words) are in
+// object_waits.cpp, the blocking reads of an OCP socket in socket_reads.cpp.
 #include <dlfcn.h>
 #include <fcntl.h>
 #include <netinet/in.h>
@@ -15,6 +17,7 @@
 #include <sched.h>
 #include <signal.h>
 #include <sys/epoll.h>
+#include <sys/ioctl.h>
 #include <sys/mman.h>
 #include <sys/select.h>
 #include <sys/socket.h>
@@ -35,6 +38,7 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "shim_core.hpp"
 #include "vtime/protocol.hpp"
 
 using ocp::vtime::ClockPage;
@@ -45,16 +49,9 @@ using ocp::vtime::ShimMessage;
 using ocp::vtime::WaitKind;
 using ocp::vtime::no_deadline;
 
-namespace {
+namespace ocp_vtime_shim __attribute__((visibility("hidden"))) {
 
 // ---------------------------------------------------------------- the real functions
-
-template <class F>
-F next_symbol(F& slot, const char* name) {
-  if (slot == nullptr) slot = reinterpret_cast<F>(dlsym(RTLD_NEXT, name));
-  return slot;
-}
-#define REAL(name) next_symbol(real_##name, #name)
 
 int (*real_clock_gettime)(clockid_t, timespec*);
 int (*real_gettimeofday)(timeval*, void*);
@@ -113,9 +110,11 @@ struct VirtualTimer {
   clockid_t clock = CLOCK_MONOTONIC;
   std::int64_t deadline_us = no_deadline;
   std::int64_t interval_us = 0;
+  bool fired = false;   // made readable since it was last set: expirations may be unread
 };
 VirtualTimer timers[max_timer_fds];
 int timers_used = 0;
+int timers_end = 0;     // past the highest descriptor used
 pthread_mutex_t timers_lock = PTHREAD_MUTEX_INITIALIZER;
 
 // ---------------------------------------------------------------- conversions
@@ -164,7 +163,7 @@ void send_message(ShimMessage& message) {
   (void)REAL(send)(channel.fd, &message, sizeof message, MSG_NOSIGNAL);
 }
 
-bool ensure_channel() {
+bool ensure_channel(ShimKind greeting) {
   if (channel.fd >= 0) return true;
   const int fd = socket(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0);
   if (fd < 0) return false;
@@ -177,9 +176,31 @@ bool ensure_channel() {
   }
   channel.fd = fd;
   ShimMessage hello{};
-  hello.kind = ShimKind::hello;
+  hello.kind = greeting;
   send_message(hello);
   return true;
+}
+
+int channel_fd() { return channel.fd; }
+std::uint64_t next_seq() { return ++channel.seq; }
+std::uint64_t current_seq() { return channel.seq; }
+
+void say_running(std::uint64_t seq) {
+  ShimMessage running{};
+  running.kind = ShimKind::running;
+  running.seq = seq;
+  send_message(running);
+}
+
+void lost_controller() {
+  active = false;
+  if (channel.fd >= 0) REAL(close)(channel.fd);
+  channel.fd = -1;
+}
+
+bool is_tagged(int fd) { return find_tagged(fd) != nullptr; }
+int real_ppoll_call(pollfd* fds, nfds_t count, const timespec* timeout, const sigset_t* sigmask) {
+  return REAL(ppoll)(fds, count, timeout, sigmask);
 }
 
 // The bytes written to every OCP socket, for the controller to collect when all threads wait.
@@ -216,18 +237,32 @@ void await_deliveries() {
 }
 
 // Makes every virtual timerfd whose deadline has come readable.
+// Makes the timerfd readable now: TFD_IOC_SET_TICKS sets its expiration count and wakes its
+// waiters at once, with no real timer (programming one is costly on a virtual machine: it was
+// the client's largest cost); without it (a kernel without CONFIG_CHECKPOINT_RESTORE), the
+// timer is armed for 1 ns and waited for.
+#ifndef TFD_IOC_SET_TICKS
+#define TFD_IOC_SET_TICKS _IOW('T', 0, std::uint64_t)   // <linux/timerfd.h>, which clashes with glibc's
+#endif
+void make_readable(int fd) {
+  const std::uint64_t one = 1;
+  if (ioctl(fd, TFD_IOC_SET_TICKS, &one) == 0) return;
+  itimerspec soon{};
+  soon.it_value.tv_nsec = 1;
+  REAL(timerfd_settime)(fd, 0, &soon, nullptr);
+  pollfd ready{fd, POLLIN, 0};
+  for (int spins = 0; spins < 100'000 && REAL(poll)(&ready, 1, 0) == 0; ++spins) sched_yield();
+}
+
 void fire_due_timers() {
   if (timers_used == 0) return;
   const std::int64_t now = now_us();
   pthread_mutex_lock(&timers_lock);
-  for (int fd = 0; fd < max_timer_fds; ++fd) {
+  for (int fd = 0; fd < timers_end; ++fd) {
     VirtualTimer& timer = timers[fd];
     if (!timer.used || timer.deadline_us > now) continue;
-    itimerspec soon{};
-    soon.it_value.tv_nsec = 1;
-    REAL(timerfd_settime)(fd, 0, &soon, nullptr);
-    pollfd ready{fd, POLLIN, 0};
-    for (int spins = 0; spins < 100'000 && REAL(poll)(&ready, 1, 0) == 0; ++spins) sched_yield();
+    make_readable(fd);
+    timer.fired = true;
     if (timer.interval_us > 0) {
       timer.deadline_us += ((now - timer.deadline_us) / timer.interval_us + 1) * timer.interval_us;
     } else {
@@ -241,84 +276,11 @@ std::int64_t earliest_timer() {
   if (timers_used == 0) return no_deadline;
   std::int64_t earliest = no_deadline;
   pthread_mutex_lock(&timers_lock);
-  for (const VirtualTimer& timer : timers) {
-    if (timer.used && timer.deadline_us < earliest) earliest = timer.deadline_us;
+  for (int fd = 0; fd < timers_end; ++fd) {
+    if (timers[fd].used && timers[fd].deadline_us < earliest) earliest = timers[fd].deadline_us;
   }
   pthread_mutex_unlock(&timers_lock);
   return earliest;
-}
-
-// One wait on virtual time. `check` looks without blocking (>0 ready, <0 error, 0 nothing);
-// `watch`/`watched` are the descriptors whose readiness also ends the kernel wait (the
-// program's own, so that another thread or a delivery wakes it), `sigmask` the mask to wait
-// under. Returns check's result, or 0 when the deadline came first.
-constexpr int max_watched = 256;
-
-template <class Check>
-int virtual_wait(WaitKind kind, std::int64_t deadline, const pollfd* watch, int watched, const sigset_t* sigmask,
-                 Check&& check) {
-  int result = check();
-  if (result != 0) return result;
-  if (deadline <= now_us()) return 0;
-  if (!ensure_channel()) {
-    active = false;   // no controller (any more): real time
-    return check();
-  }
-  pollfd fds[max_watched + 1];
-  fds[0] = {channel.fd, POLLIN, 0};
-  const int count = watched < max_watched ? watched : max_watched;
-  for (int i = 0; i < count; ++i) fds[i + 1] = watch[i];
-  for (;;) {
-    ShimMessage blocked{};
-    blocked.kind = ShimKind::blocked;
-    blocked.wait = kind;
-    blocked.seq = ++channel.seq;
-    const std::int64_t timer = earliest_timer();
-    blocked.deadline_us = deadline < timer ? deadline : timer;
-    add_written(blocked);
-    send_message(blocked);
-    bool answered = false;
-    while (!answered) {
-      for (int i = 0; i <= count; ++i) fds[i].revents = 0;
-      const int woke = REAL(ppoll)(fds, static_cast<nfds_t>(count + 1), nullptr, sigmask);
-      if (woke < 0) {
-        const int error = errno;
-        ShimMessage running{};
-        running.kind = ShimKind::running;
-        running.seq = channel.seq;
-        send_message(running);
-        errno = error;
-        return -1;
-      }
-      if (fds[0].revents & (POLLHUP | POLLERR)) {
-        // The controller went away (the world ended): the process lives on in real time until
-        // it is stopped, so that a shutdown it starts on SIGTERM can finish.
-        active = false;
-        REAL(close)(channel.fd);
-        channel.fd = -1;
-        return check();
-      }
-      if (fds[0].revents & POLLIN) {
-        ControlMessage message{};
-        while (recv(channel.fd, &message, sizeof message, MSG_DONTWAIT) == static_cast<ssize_t>(sizeof message)) {
-          if (message.seq == channel.seq) answered = true;
-        }
-      }
-      fire_due_timers();
-      await_deliveries();
-      result = check();
-      const bool over = result != 0 || deadline <= now_us();
-      if (over) {
-        if (!answered) {
-          ShimMessage running{};
-          running.kind = ShimKind::running;
-          running.seq = channel.seq;
-          send_message(running);
-        }
-        return result;
-      }
-    }
-  }
 }
 
 // A real timeout of zero for the non-blocking looks.
@@ -328,17 +290,18 @@ int sleep_until(std::int64_t deadline) {
   return virtual_wait(WaitKind::sleep, deadline, nullptr, 0, nullptr, [] { return 0; });
 }
 
-}  // namespace
+}  // namespace ocp_vtime_shim
 
 // ---------------------------------------------------------------- lifecycle
 
-namespace {
+namespace ocp_vtime_shim __attribute__((visibility("hidden"))) {
 
 void reset_after_fork() {
   // The parent's control connection is shared with the child: the child gets its own.
   if (channel.fd >= 0) REAL(close)(channel.fd);
   channel.fd = -1;
   channel.seq = 0;
+  forget_waker_after_fork();   // threads do not survive a fork: the child starts its own
   ensure_channel();
 }
 
@@ -358,7 +321,9 @@ __attribute__((constructor)) void start_shim() {
   ensure_channel();
 }
 
-}  // namespace
+}  // namespace ocp_vtime_shim
+
+using namespace ocp_vtime_shim;
 
 // ---------------------------------------------------------------- time reads
 
@@ -446,7 +411,7 @@ int __ppoll_chk(pollfd* fds, nfds_t count, const timespec* timeout, const sigset
 
 }  // extern "C"
 
-namespace {
+namespace ocp_vtime_shim __attribute__((visibility("hidden"))) {
 
 // select's sets as pollfds, to wait on them beside the control channel; false when too many.
 bool sets_to_pollfds(int nfds, const fd_set* in, const fd_set* out, const fd_set* except, pollfd* fds, int& count) {
@@ -479,7 +444,7 @@ int select_virtually(int nfds, fd_set* in, fd_set* out, fd_set* except, std::int
   });
 }
 
-}  // namespace
+}  // namespace ocp_vtime_shim
 
 extern "C" {
 
@@ -524,8 +489,9 @@ int timerfd_create(int clock, int flags) {
   const int fd = REAL(timerfd_create)(clock, flags);
   if (!active || fd < 0 || fd >= max_timer_fds || is_cpu_clock(clock)) return fd;
   pthread_mutex_lock(&timers_lock);
-  timers[fd] = VirtualTimer{true, clock, no_deadline, 0};
+  timers[fd] = VirtualTimer{true, clock, no_deadline, 0, false};
   ++timers_used;
+  if (fd >= timers_end) timers_end = fd + 1;
   pthread_mutex_unlock(&timers_lock);
   return fd;
 }
@@ -543,8 +509,10 @@ int timerfd_settime(int fd, int flags, const itimerspec* value, itimerspec* old)
     old->it_interval = to_timespec(timer.interval_us);
     old->it_value = to_timespec(timer.deadline_us == no_deadline ? 0 : (timer.deadline_us > now ? timer.deadline_us - now : 1));
   }
+  // The real timer is never armed: it is set only to clear expirations the program did not read.
   const itimerspec disarm{};
-  const int result = REAL(timerfd_settime)(fd, 0, &disarm, nullptr);   // also clears expirations not read
+  const int result = timer.fired ? REAL(timerfd_settime)(fd, 0, &disarm, nullptr) : 0;
+  timer.fired = false;
   if (result == 0) {
     const bool armed = value->it_value.tv_sec != 0 || value->it_value.tv_nsec != 0;
     timer.interval_us = micros_up(value->it_interval);
@@ -647,14 +615,14 @@ int close(int fd) {
 
 }  // extern "C"
 
-namespace {
+namespace ocp_vtime_shim __attribute__((visibility("hidden"))) {
 ssize_t count_written(int fd, ssize_t result) {
   if (result > 0) {
     if (Tagged* entry = find_tagged(fd)) entry->written.fetch_add(static_cast<std::uint64_t>(result));
   }
   return result;
 }
-}  // namespace
+}  // namespace ocp_vtime_shim
 
 extern "C" {
 

@@ -6,7 +6,6 @@
 #include <poll.h>
 #include <sys/mman.h>
 #include <sys/socket.h>
-#include <sys/stat.h>
 #include <sys/un.h>
 #include <sched.h>
 #include <time.h>
@@ -23,7 +22,9 @@
 #include <optional>
 #include <set>
 #include <thread>
+#include <utility>
 
+#include "clock_page.hpp"
 #include "proc_scan.hpp"
 #include "socket_stream.hpp"
 #include "vtime/protocol.hpp"
@@ -40,42 +41,7 @@ constexpr std::size_t max_same_instant_rounds = 100'000;
 
 std::string errno_text() { return std::strerror(errno); }
 
-std::string exe_dir() {
-  char buffer[4096];
-  const ssize_t size = readlink("/proc/self/exe", buffer, sizeof buffer - 1);
-  if (size <= 0) return {};
-  std::string path(buffer, static_cast<std::size_t>(size));
-  return path.substr(0, path.rfind('/'));
-}
-
-bool is_file(const std::string& path) {
-  struct stat info{};
-  return ::stat(path.c_str(), &info) == 0 && S_ISREG(info.st_mode);
-}
-
-const char* wait_name(WaitKind kind) {
-  switch (kind) {
-    case WaitKind::sleep: return "sleep";
-    case WaitKind::poll: return "poll";
-    case WaitKind::select: return "select";
-    case WaitKind::epoll: return "epoll_wait";
-    case WaitKind::futex: return "futex";
-    case WaitKind::cond: return "cond_wait";
-    case WaitKind::none: break;
-  }
-  return "wait";
-}
-
 }  // namespace
-
-std::string find_shim() {
-  if (const char* set = std::getenv("OCP_VTIME_SHIM"); set != nullptr && *set != '\0') return is_file(set) ? set : "";
-  const std::string dir = exe_dir();
-  for (const char* relative : {"/../lib/ocp-sim/libocp_vtime_shim.so", "/../lib/libocp_vtime_shim.so", "/libocp_vtime_shim.so"}) {
-    if (is_file(dir + relative)) return dir + relative;
-  }
-  return "";
-}
 
 struct Controller::Impl {
   struct ThreadRecord {
@@ -85,9 +51,18 @@ struct Controller::Impl {
     std::uint64_t seq = 0;
     std::int64_t deadline = no_deadline;
     WaitKind wait = WaitKind::none;
+    bool waker = false;            // the process's waker: always in recv, wakes waits on objects
+    bool woken_by_us = false;      // we woke it and it has not said anything since
+    std::uint32_t slot = 0;        // a wait on an object: as its BLOCKED said
+    std::uint64_t object = 0;
+    std::uint32_t futex_flags = 0;
   };
   struct ProcessRecord {
     int threads = 0;
+    // Not yet waited through the shim since its image began (its main thread's hello: a new
+    // program, or a forked child): it is starting up (see starting_up()).
+    bool waited = false;
+    Clock::time_point began = Clock::now();
     std::map<std::uint32_t, std::uint64_t> written;   // by the client's local port
     std::map<std::uint32_t, Clock::time_point> closed;   // OCP sockets it closed, not yet seen
   };
@@ -118,6 +93,8 @@ struct Controller::Impl {
   ClockPage* page = nullptr;
   std::map<int, ThreadRecord> threads;            // by control connection
   std::map<pid_t, ProcessRecord> processes;
+  std::map<pid_t, int> wakers;                    // each process's waker, by its control connection
+  ProcScanner proc;                               // the /proc looks, files kept open
   std::map<std::uint32_t, pid_t> connected_ports; // announced by a shim
   std::set<std::uint16_t> to_accept;              // connected to a listener of ours, not accepted yet
   std::vector<Listener> listeners;
@@ -127,6 +104,8 @@ struct Controller::Impl {
   std::ofstream trace;
   Clock::time_point run_started;
   std::uint64_t accepted = 0;
+  std::uint64_t sweeps = 0;                       // rounds, for the sweeps of every 64th
+  bool thread_left = false;
   std::uint64_t cpu_at_rest = 0;                  // client CPU ticks at the last quiescence
   std::map<pid_t, std::uint64_t> cpu_seen;
   std::map<pid_t, Clock::time_point> unshimmed;   // in the client's tree, without the shim, since
@@ -212,10 +191,12 @@ struct Controller::Impl {
   }
 
   void forget_thread(int fd) {
+    thread_left = true;
     const ThreadRecord thread = threads.at(fd);
     ::close(fd);
     threads.erase(fd);
     if (thread.pid == 0) return;
+    if (thread.waker) wakers.erase(thread.pid);
     auto process = processes.find(thread.pid);
     if (process != processes.end() && --process->second.threads <= 0) processes.erase(process);
     trace_line("pid " + std::to_string(thread.pid) + " thread " + std::to_string(thread.tid) + " left");
@@ -223,15 +204,27 @@ struct Controller::Impl {
 
   void on_message(int fd, ThreadRecord& thread, const ShimMessage& message) {
     ++stats.messages;
-    if (message.kind == ShimKind::hello) {
+    thread.woken_by_us = false;
+    if (message.kind == ShimKind::hello || message.kind == ShimKind::waker_hello) {
       thread.pid = message.pid;
       thread.tid = message.tid;
+      if (message.kind == ShimKind::waker_hello) {
+        thread.waker = true;
+        thread.blocked = true;   // for ever: it sleeps in recv until a wake comes
+        wakers[message.pid] = fd;
+      }
       if (processes.size() >= max_processes && !processes.contains(message.pid)) {
         throw VirtualTimeError("more than " + std::to_string(max_processes) + " client processes");
       }
-      ++processes[message.pid].threads;
+      ProcessRecord& process = processes[message.pid];
+      ++process.threads;
+      if (message.tid == message.pid && message.kind == ShimKind::hello) {   // a new image, or a fork's child
+        process.waited = false;
+        process.began = Clock::now();
+      }
       for (Expected& launched : expected) launched.greeted = true;
-      trace_line("pid " + std::to_string(message.pid) + " thread " + std::to_string(message.tid) + " hello");
+      trace_line("pid " + std::to_string(message.pid) + " thread " + std::to_string(message.tid) +
+                 (thread.waker ? " hello (the waker)" : " hello"));
       return;
     }
     ProcessRecord& process = processes[thread.pid];
@@ -241,10 +234,14 @@ struct Controller::Impl {
     }
     switch (message.kind) {
       case ShimKind::blocked:
+        process.waited = true;
         thread.blocked = true;
         thread.seq = message.seq;
         thread.deadline = message.deadline_us;
         thread.wait = message.wait;
+        thread.slot = message.slot;
+        thread.object = message.object;
+        thread.futex_flags = message.futex_flags;
         if (trace.is_open()) {
           trace_line("thread " + std::to_string(thread.tid) + " waits in " + wait_name(message.wait) +
                      (message.deadline_us == no_deadline ? std::string(" with no deadline")
@@ -269,34 +266,42 @@ struct Controller::Impl {
         trace_line("thread " + std::to_string(thread.tid) + " closed port " + std::to_string(message.port));
         break;
       case ShimKind::hello:
+      case ShimKind::waker_hello:
         break;
     }
-    (void)fd;
   }
 
   // Reads every message waiting; with `wait_ms` > 0, first waits that long for one. True when
   // anything came.
   bool pump(int wait_ms) {
-    std::vector<pollfd> fds;
-    fds.push_back({control_fd, POLLIN, 0});
-    for (const auto& [fd, thread] : threads) fds.push_back({fd, POLLIN, 0});
-    if (::poll(fds.data(), fds.size(), wait_ms) <= 0) return false;
-    if (fds[0].revents & POLLIN) accept_threads();
-    for (std::size_t i = 1; i < fds.size(); ++i) {
-      if (fds[i].revents == 0) continue;
-      const int fd = fds[i].fd;
-      for (;;) {
-        ShimMessage message{};
-        const ssize_t got = recv(fd, &message, sizeof message, MSG_DONTWAIT);
-        if (got == static_cast<ssize_t>(sizeof message)) {
-          on_message(fd, threads.at(fd), message);
-          continue;
-        }
-        if (got == 0 || (got < 0 && errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)) forget_thread(fd);
-        break;
+    bool any = false;
+    // A second pass when a thread connected, so that its first messages are read with the rest.
+    for (int pass = 0; pass < 2; ++pass) {
+      if (pass == 1) accept_threads();
+      std::vector<pollfd> fds;
+      fds.push_back({control_fd, POLLIN, 0});
+      for (const auto& [fd, thread] : threads) fds.push_back({fd, POLLIN, 0});
+      if (::poll(fds.data(), fds.size(), pass == 0 ? wait_ms : 0) <= 0) return any;
+      any = true;
+      for (std::size_t i = 1; i < fds.size(); ++i) {
+        if (fds[i].revents != 0) read_messages(fds[i].fd);
       }
+      if (!(fds[0].revents & POLLIN)) break;
     }
-    return true;
+    return any;
+  }
+
+  void read_messages(int fd) {
+    for (;;) {
+      ShimMessage message{};
+      const ssize_t got = recv(fd, &message, sizeof message, MSG_DONTWAIT);
+      if (got == static_cast<ssize_t>(sizeof message)) {
+        on_message(fd, threads.at(fd), message);
+        continue;
+      }
+      if (got == 0 || (got < 0 && errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)) forget_thread(fd);
+      return;
+    }
   }
 
   // ------------------------------------------------------------ quiescence
@@ -308,6 +313,17 @@ struct Controller::Impl {
     return true;
   }
 
+  // Every thread said it waits, or is one we did not wake and that said nothing since it last
+  // ran on its own: it is most likely asleep in a wait the shim does not wrap (a mutex, a
+  // futex with no timeout: tokio's and V8's idle threads), so /proc may be asked at once. A
+  // thread we woke will speak (BLOCKED or RUNNING) before it sleeps: it is waited for.
+  bool none_woken_silent() const {
+    for (const auto& [fd, thread] : threads) {
+      if (!thread.blocked && thread.woken_by_us) return false;
+    }
+    return true;
+  }
+
   // The processes to look at: every one with a shim, and the launched ones and their children
   // without one yet (a shell script that runs the client, a program between exec and its hello).
   std::vector<pid_t> watched_pids() {
@@ -315,7 +331,7 @@ struct Controller::Impl {
     for (const auto& [pid, process] : processes) pids.push_back(pid);
     std::map<pid_t, Clock::time_point> still_unshimmed;
     for (const Expected& launched : expected) {
-      for (const pid_t pid : process_tree(launched.pid, max_processes)) {
+      for (const pid_t pid : proc.process_tree(launched.pid, max_processes)) {
         if (processes.contains(pid)) continue;
         pids.push_back(pid);
         const auto seen = unshimmed.find(pid);
@@ -350,11 +366,18 @@ struct Controller::Impl {
 
   bool asleep_in_proc() {
     ++stats.proc_checks;
+    const auto looking = Clock::now();
+    const bool asleep = asleep_in_proc_now();
+    stats.proc_us += static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - looking).count());
+    return asleep;
+  }
+
+  bool asleep_in_proc_now() {
     const std::vector<pid_t> pids = watched_pids();
     std::vector<std::vector<ThreadLook>> first;
-    for (const pid_t pid : pids) first.push_back(look_at_threads(pid));
+    for (const pid_t pid : pids) first.push_back(proc.look_at_threads(pid));
     for (std::size_t i = 0; i < pids.size(); ++i) {
-      if (!asleep_in_both(first[i], look_at_threads(pids[i]))) return false;
+      if (!asleep_in_both(first[i], proc.look_at_threads(pids[i]))) return false;
     }
     // A process that forked just before the first look and fell asleep is asleep in both; its
     // child is not in `pids`: the same processes must still be all there are.
@@ -368,6 +391,7 @@ struct Controller::Impl {
       if (!thread.blocked) out += "thread " + std::to_string(thread.tid) + " (pid " + std::to_string(thread.pid) + ") runs; ";
     }
     if (expecting_a_greeting()) out += "a launched process has no shim yet; ";
+    if (starting_up()) out += "a process is starting up; ";
     if (!unclaimed.empty()) out += "a connection no shim announced; ";
     out += "/proc: ";
     out += awake_description();
@@ -382,7 +406,7 @@ struct Controller::Impl {
   std::string awake_description() {
     std::string out;
     for (const pid_t pid : watched_pids()) {
-      const std::string awake = describe_awake(look_at_threads(pid));
+      const std::string awake = describe_awake(proc.look_at_threads(pid));
       if (!awake.empty()) out += (out.empty() ? "" : "; ") + std::string("pid ") + std::to_string(pid) + ": " + awake;
     }
     return out;
@@ -432,6 +456,33 @@ struct Controller::Impl {
     }
   }
 
+  // A process that has not waited through the shim yet, has no child to wait for, and began
+  // less than a second ago is starting up (a program importing its modules, a shell between two
+  // commands): its threads may all be asleep for a moment (a pipe, a lock) while it is busy, and
+  // virtual time must not advance then, or the instant it connects would depend on the
+  // machine's load. After a second a process that never waits through the shim counts as
+  // waiting where the shim does not see, as any thread does.
+  bool starting_up() {
+    const auto now = Clock::now();
+    for (const auto& [pid, process] : processes) {
+      if (process.waited || now - process.began > std::chrono::seconds(1)) continue;
+      if (proc.process_tree(pid, 2).size() < 2) return true;
+    }
+    return false;
+  }
+
+  // A live process of the client's tree without a shim (between an exec and its hello, or a
+  // static binary): virtual time waits for its hello, or for check_unshimmed to refuse it after
+  // the handshake timeout — however fast the world would otherwise end. A zombie is not alive.
+  bool unshimmed_alive() {
+    for (const auto& [pid, since] : unshimmed) {
+      for (const ThreadLook& thread : proc.look_at_threads(pid)) {
+        if (thread.state != 'Z' && thread.state != 'X') return true;
+      }
+    }
+    return false;
+  }
+
   bool expecting_a_greeting() const {
     for (const Expected& launched : expected) {
       if ((!launched.greeted || processes.empty()) && launched.alive && launched.alive()) return true;
@@ -451,7 +502,8 @@ struct Controller::Impl {
       const bool all_said_so = all_blocked_by_record();
       // /proc is looked at only when it can say yes: every thread said it waits, or the one
       // that runs has been silent a while (it may be in a wait the shim does not wrap).
-      if ((all_said_so || quiet >= 2) && !expecting_a_greeting() && unclaimed.empty() && asleep_in_proc()) {
+      if ((all_said_so || quiet >= 2 || none_woken_silent()) && !expecting_a_greeting() && unclaimed.empty() && !starting_up() && asleep_in_proc() &&
+          !unshimmed_alive()) {
         pump(0);   // what a thread sent before it fell asleep
         break;
       }
@@ -459,11 +511,14 @@ struct Controller::Impl {
         check_limits();
         if (trace.is_open() && (round & 4095) == 4095) trace_line("still waiting for quiescence: " + waiting_for());
       }
-      if (!all_said_so) {
+      if (!all_said_so && !none_woken_silent()) {
         quiet = pump(1) ? 0 : quiet + 1;   // mostly, the next BLOCKED ends this wait at once
         continue;
       }
-      // Every thread said it waits, and one is not asleep yet: it is on its way.
+      // Every thread said it waits, or those that did not will not (they run or sleep where the
+      // shim does not see), and one is not asleep yet: it is on its way. No message will say
+      // when it gets there, so look again soon (a 1 ms wait for a message was most of a
+      // tokio client's wall time).
       if (naps < 20) {
         sched_yield();
       } else {
@@ -480,6 +535,9 @@ struct Controller::Impl {
   // Every connection a client made at this instant (the shim announced it: the kernel may not
   // have queued it yet under load, so wait for it, bounded).
   void accept_connections() {
+    // A shim announces its connections; a process without one (refused after the handshake
+    // timeout) is found by a sweep every 64 rounds.
+    if (to_accept.empty() && (++sweeps & 63) != 0) return;
     const auto give_up = Clock::now() + std::chrono::seconds(1);
     accept_queued();
     while (!to_accept.empty() && Clock::now() < give_up) {
@@ -504,7 +562,9 @@ struct Controller::Impl {
         const std::uint16_t port = ntohs(peer.sin_port);
         to_accept.erase(port);
         auto stream = std::make_shared<SocketStream>(executor, fd, port, "127.0.0.1 (connection " + std::to_string(++accepted) + ")");
-        claim_slot(port);
+        if (!claim_delivery_slot(*page, port)) {
+          throw VirtualTimeError("more than " + std::to_string(max_connections) + " OCP connections open at once in virtual time");
+        }
         streams.push_back(stream);
         if (!connected_ports.contains(port)) unclaimed.push_back({port, Clock::now()});
         trace_line("accepted a connection from port " + std::to_string(port));
@@ -513,43 +573,13 @@ struct Controller::Impl {
     }
   }
 
-  void claim_slot(std::uint16_t port) {
-    // A free slot (port 0), or the next one round the page.
-    std::uint32_t used = page->connections.load();
-    for (std::uint32_t i = 0; i < used; ++i) {
-      if (page->delivered[i].port.load() == 0) {
-        page->delivered[i].delivered.store(0);
-        page->delivered[i].port.store(port);
-        return;
-      }
-    }
-    if (used < static_cast<std::uint32_t>(max_connections)) {
-      page->delivered[used].delivered.store(0);
-      page->delivered[used].port.store(port);
-      page->connections.store(used + 1, std::memory_order_release);
-      return;
-    }
-    throw VirtualTimeError("more than " + std::to_string(max_connections) + " OCP connections open at once in virtual time");
-  }
-
-  void release_slot(std::uint16_t port) {
-    const std::uint32_t used = page->connections.load();
-    for (std::uint32_t i = 0; i < used; ++i) {
-      if (page->delivered[i].port.load() == port) page->delivered[i].port.store(0);
-    }
-  }
-
-  void publish_delivered(const SocketStream& stream) {
-    const std::uint32_t used = page->connections.load();
-    for (std::uint32_t i = 0; i < used; ++i) {
-      if (page->delivered[i].port.load() == stream.peer_port()) page->delivered[i].delivered.store(stream.written_total(), std::memory_order_release);
-    }
-  }
-
   // What the clients wrote while they ran, handed to the simulator at this instant.
   bool take_from_clients() {
     accept_connections();
     bool any = false;
+    // Each connection is read when its shim reported bytes or a close not taken yet; every 64th
+    // round (and after a thread left: a process that ended closes without a word) all are.
+    const bool sweep = (sweeps & 63) == 0 || std::exchange(thread_left, false);
     for (const std::shared_ptr<SocketStream>& stream : streams) {
       if (stream->finished()) continue;
       std::uint64_t expected_bytes = 0;
@@ -560,6 +590,7 @@ struct Controller::Impl {
         }
         if (process.closed.erase(stream->peer_port()) > 0) expect_eof = true;
       }
+      if (!sweep && !expect_eof && expected_bytes <= stream->received_total()) continue;
       const auto taking = Clock::now();
       const std::size_t got = stream->take(expected_bytes, expect_eof);
       if (trace.is_open() && Clock::now() - taking > std::chrono::milliseconds(100)) {
@@ -580,10 +611,10 @@ struct Controller::Impl {
       // The count first: a woken thread waits for the bytes it announces.
       stats.bytes_out += stream->flush(changed);
     }
-    for (const std::shared_ptr<SocketStream>& stream : streams) publish_delivered(*stream);
+    for (const std::shared_ptr<SocketStream>& stream : streams) publish_delivered(*page, stream->peer_port(), stream->written_total());
     std::erase_if(streams, [&](const std::shared_ptr<SocketStream>& stream) {
       if (!stream->finished()) return false;
-      release_slot(stream->peer_port());
+      release_delivery_slot(*page, stream->peer_port());
       return true;
     });
     return changed;
@@ -592,21 +623,59 @@ struct Controller::Impl {
   // ------------------------------------------------------------ waking
 
   void send_to(int fd, ThreadRecord& thread, ControlKind kind) {
-    ControlMessage message{kind, 0, thread.seq};
+    ControlMessage message{};
+    message.kind = kind;
+    message.seq = thread.seq;
     (void)send(fd, &message, sizeof message, MSG_NOSIGNAL | MSG_DONTWAIT);
     thread.blocked = false;
+    thread.woken_by_us = true;
   }
 
-  void wake_due_and_poke(bool delivered) {
+  // A wait on an object ends through the process's waker, which wakes the object for real.
+  // False when the waker has not said hello yet (the next round tries again).
+  bool wake_through_waker(ThreadRecord& thread) {
+    const auto waker = wakers.find(thread.pid);
+    if (waker == wakers.end()) return false;
+    ControlMessage message{};
+    message.kind = ControlKind::wake;
+    message.seq = thread.seq;
+    message.wait = thread.wait;
+    message.slot = thread.slot;
+    message.object = thread.object;
+    message.futex_flags = thread.futex_flags;
+    message.tid = thread.tid;
+    (void)send(waker->second, &message, sizeof message, MSG_NOSIGNAL | MSG_DONTWAIT);
+    thread.blocked = false;
+    thread.woken_by_us = true;   // it says RUNNING when it leaves the wait
+    return true;
+  }
+
+  // When something was delivered, only the threads that wait on descriptors are told (they
+  // look again); a sleep or a wait on an object whose deadline came at this instant is woken
+  // in the next round, after the threads that got the delivery have settled. So two threads
+  // woken at one instant — a reader that got bytes and a 10 ms timer — run one after the
+  // other, in the same order every run, not in whatever order the machine schedules them.
+  // Returns whether any thread was told (or is due and waits for its waker's hello).
+  bool wake_due_and_poke(bool delivered) {
     const std::int64_t now = executor.now().count();
+    bool told = false;
     for (auto& [fd, thread] : threads) {
-      if (!thread.blocked) continue;
-      if (thread.deadline <= now) {
-        send_to(fd, thread, ControlKind::wake);
-      } else if (delivered && thread.wait != WaitKind::sleep) {   // a sleep waits for nothing delivered
-        send_to(fd, thread, ControlKind::poke);
+      if (!thread.blocked || thread.waker) continue;
+      if (delivered) {
+        if (thread.wait != WaitKind::sleep && !waits_on_object(thread.wait)) {
+          send_to(fd, thread, thread.deadline <= now ? ControlKind::wake : ControlKind::poke);
+          told = true;
+        }
+      } else if (thread.deadline <= now) {
+        if (!waits_on_object(thread.wait)) {
+          send_to(fd, thread, ControlKind::wake);
+        } else {
+          wake_through_waker(thread);
+        }
+        told = true;
       }
     }
+    return told;
   }
 
   std::int64_t earliest_deadline() const {
@@ -621,10 +690,19 @@ struct Controller::Impl {
     run_started = Clock::now();
     std::size_t rounds_here = 0;
     SimTime last_instant = executor.now();
+    // Quiescence holds until we wake a thread or deliver something: an instant where the
+    // simulator only ran its own events (a link delay, a camera frame) needs no new wait.
+    bool stirred = true;
     while (true) {
-      const auto settling = Clock::now();
-      settle();
-      settle_wall += Clock::now() - settling;
+      // Nor does it without a word from the clients: a message (a thread that woke by itself),
+      // a connection that ended, a process still to greet or to be refused stirs it.
+      if (!stirred) stirred = pump(0) || expecting_a_greeting() || !unclaimed.empty() || !unshimmed.empty();
+      if (stirred) {
+        const auto settling = Clock::now();
+        settle();
+        settle_wall += Clock::now() - settling;
+        stats.settle_us = static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::microseconds>(settle_wall).count());
+      }
       const bool took = take_from_clients();
       executor.run_until(executor.now());
       const bool delivered = flush_to_clients();
@@ -634,11 +712,11 @@ struct Controller::Impl {
           throw VirtualTimeError("the client and the simulator exchanged bytes " + std::to_string(max_same_instant_rounds) +
                                  " times without virtual time advancing");
         }
-        wake_due_and_poke(delivered);
+        stirred = wake_due_and_poke(delivered) || delivered;
         continue;
       }
       if (earliest_deadline() <= executor.now().count()) {   // a timer due now (armed at this instant)
-        wake_due_and_poke(false);
+        stirred = wake_due_and_poke(false);
         continue;
       }
       if (executor.now() >= end) break;
@@ -647,12 +725,14 @@ struct Controller::Impl {
       page->now_us.store(next.count(), std::memory_order_release);
       executor.run_until(next);
       if (next != last_instant) {
-        if ((++stats.instants & 255) == 0) check_unshimmed();
+        if ((++stats.instants & 255) == 0) check_limits();
         rounds_here = 0;
         last_instant = next;
       }
-      wake_due_and_poke(flush_to_clients());
+      const bool delivered_now = flush_to_clients();
+      stirred = wake_due_and_poke(delivered_now) || delivered_now;
     }
+    stats.run_us += static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - run_started).count());
     trace_line("run ended: " + std::to_string(stats.instants) + " instants, " + std::to_string(stats.settles) + " settles (" +
                std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(settle_wall).count()) + " ms), " +
                std::to_string(stats.proc_checks) + " /proc looks, " + std::to_string(stats.messages) + " messages, " +

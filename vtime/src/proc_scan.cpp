@@ -40,28 +40,95 @@ std::vector<std::string> stat_fields(const std::string& text) {
 
 }  // namespace
 
-std::vector<ThreadLook> look_at_threads(pid_t pid) {
-  std::vector<ThreadLook> threads;
+ProcScanner::~ProcScanner() {
+  for (auto& [pid, files] : processes_) {
+    for (auto& [tid, task] : files.task) close_task(task);
+    if (files.tasks != nullptr) closedir(files.tasks);
+  }
+}
+
+void ProcScanner::close_task(TaskFiles& files) {
+  for (int* fd : {&files.stat, &files.schedstat, &files.children}) {
+    if (*fd < 0) continue;
+    close(*fd);
+    *fd = -1;
+    --open_;
+  }
+}
+
+void ProcScanner::forget(pid_t pid) {
+  const auto found = processes_.find(pid);
+  if (found == processes_.end()) return;
+  for (auto& [tid, task] : found->second.task) close_task(task);
+  if (found->second.tasks != nullptr) closedir(found->second.tasks);
+  processes_.erase(found);
+}
+
+ProcScanner::ProcessFiles* ProcScanner::process(pid_t pid) {
+  ProcessFiles& files = processes_[pid];
+  if (files.tasks != nullptr) return &files;
   char path[64];
   std::snprintf(path, sizeof path, "/proc/%d/task", static_cast<int>(pid));
-  DIR* dir = opendir(path);
-  if (dir == nullptr) return threads;
-  while (const dirent* entry = readdir(dir)) {
-    if (entry->d_name[0] < '0' || entry->d_name[0] > '9') continue;
+  files.tasks = opendir(path);
+  if (files.tasks == nullptr) {
+    processes_.erase(pid);
+    return nullptr;
+  }
+  return &files;
+}
+
+std::vector<pid_t> ProcScanner::task_ids(pid_t pid) {
+  std::vector<pid_t> tids;
+  ProcessFiles* files = process(pid);
+  if (files == nullptr) return tids;
+  rewinddir(files->tasks);   // the directory is read afresh
+  while (const dirent* entry = readdir(files->tasks)) {
+    if (entry->d_name[0] >= '0' && entry->d_name[0] <= '9') tids.push_back(static_cast<pid_t>(std::atoi(entry->d_name)));
+  }
+  if (tids.empty()) {
+    forget(pid);   // gone (an ended process's directory lists nothing)
+    return tids;
+  }
+  std::sort(tids.begin(), tids.end());
+  // Threads that ended: their files go.
+  for (auto it = files->task.begin(); it != files->task.end();) {
+    if (std::binary_search(tids.begin(), tids.end(), it->first)) {
+      ++it;
+    } else {
+      close_task(it->second);
+      it = files->task.erase(it);
+    }
+  }
+  return tids;
+}
+
+std::string ProcScanner::read_task_file(pid_t pid, pid_t tid, const char* name, int& fd) {
+  char path[96];
+  std::snprintf(path, sizeof path, "/proc/%d/task/%d/%s", static_cast<int>(pid), static_cast<int>(tid), name);
+  if (fd < 0 && open_ < max_open_) {
+    fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (fd >= 0) ++open_;
+  }
+  if (fd < 0) return read_small(path);
+  char buffer[1024];
+  const ssize_t got = pread(fd, buffer, sizeof buffer - 1, 0);
+  return got > 0 ? std::string(buffer, static_cast<std::size_t>(got)) : std::string();
+}
+
+std::vector<ThreadLook> ProcScanner::look_at_threads(pid_t pid) {
+  std::vector<ThreadLook> threads;
+  for (const pid_t tid : task_ids(pid)) {
+    TaskFiles& files = processes_[pid].task[tid];
     ThreadLook look;
-    look.tid = static_cast<pid_t>(std::atoi(entry->d_name));
-    std::snprintf(path, sizeof path, "/proc/%d/task/%d/stat", static_cast<int>(pid), static_cast<int>(look.tid));
-    const std::vector<std::string> fields = stat_fields(read_small(path));
+    look.tid = tid;
+    const std::vector<std::string> fields = stat_fields(read_task_file(pid, tid, "stat", files.stat));
     if (fields.empty()) continue;   // ended meanwhile
     look.state = fields[0].empty() ? '?' : fields[0][0];
-    std::snprintf(path, sizeof path, "/proc/%d/task/%d/schedstat", static_cast<int>(pid), static_cast<int>(look.tid));
-    const std::string schedstat = read_small(path);
+    const std::string schedstat = read_task_file(pid, tid, "schedstat", files.schedstat);
     const auto last_space = schedstat.rfind(' ');
     look.runs = last_space == std::string::npos ? 0 : std::strtoull(schedstat.c_str() + last_space + 1, nullptr, 10);
     threads.push_back(look);
   }
-  closedir(dir);
-  std::sort(threads.begin(), threads.end(), [](const ThreadLook& a, const ThreadLook& b) { return a.tid < b.tid; });
   return threads;
 }
 
@@ -76,18 +143,12 @@ bool asleep_in_both(const std::vector<ThreadLook>& first, const std::vector<Thre
   return true;
 }
 
-std::vector<pid_t> process_tree(pid_t root, std::size_t limit) {
+std::vector<pid_t> ProcScanner::process_tree(pid_t root, std::size_t limit) {
   std::vector<pid_t> tree{root};
   for (std::size_t next = 0; next < tree.size() && tree.size() < limit; ++next) {
-    char path[64];
-    std::snprintf(path, sizeof path, "/proc/%d/task", static_cast<int>(tree[next]));
-    DIR* dir = opendir(path);
-    if (dir == nullptr) continue;
-    while (const dirent* entry = readdir(dir)) {
-      if (entry->d_name[0] < '0' || entry->d_name[0] > '9') continue;
-      char children[320];
-      std::snprintf(children, sizeof children, "/proc/%d/task/%s/children", static_cast<int>(tree[next]), entry->d_name);
-      const std::string text = read_small(children);
+    const pid_t pid = tree[next];
+    for (const pid_t tid : task_ids(pid)) {
+      const std::string text = read_task_file(pid, tid, "children", processes_[pid].task[tid].children);
       const char* at = text.c_str();
       char* end = nullptr;
       for (long child = std::strtol(at, &end, 10); end != at && tree.size() < limit; child = std::strtol(at, &end, 10)) {
@@ -95,7 +156,6 @@ std::vector<pid_t> process_tree(pid_t root, std::size_t limit) {
         at = end;
       }
     }
-    closedir(dir);
   }
   return tree;
 }

@@ -51,6 +51,12 @@ struct ControllerStats {
   std::uint64_t messages = 0;        // from the shims
   std::uint64_t bytes_in = 0;
   std::uint64_t bytes_out = 0;
+  // Where the wall time went (docs/benchmarks.md): waiting for quiescence (the clients running
+  // and the /proc looks), of which the /proc looks alone; the rest is the simulator and the
+  // exchange of bytes.
+  std::uint64_t settle_us = 0;
+  std::uint64_t proc_us = 0;
+  std::uint64_t run_us = 0;        // the whole run_until
 };
 
 // The shim: $OCP_VTIME_SHIM, else beside the running program (../lib/ocp-sim/, ../lib/).

@@ -12,6 +12,11 @@
 //     RUNNING(seq) when it left a wait the controller did not end, and CLOSED when it closes an
 //     OCP socket. The controller answers a BLOCKED with WAKE(seq) (deadline reached) or
 //     POKE(seq) (something was delivered: look again).
+//   * Waits on an object (a condition variable, a futex word: timed cond waits, sem_timedwait,
+//     timed locks, syscall(SYS_futex)) sleep in the kernel on the object itself, not on the
+//     control socket, so their WAKE goes to the process's *waker*: a thread the shim starts on
+//     the first such wait, with its own connection (WAKER_HELLO), always asleep in recv. It
+//     wakes the object for real (a broadcast, a FUTEX_WAKE); the waiter sees its deadline passed.
 #include <atomic>
 #include <cstdint>
 
@@ -22,8 +27,12 @@ inline constexpr const char* clock_env = "OCP_VTIME_CLOCK";     // the clock pag
 
 inline constexpr std::int64_t no_deadline = INT64_MAX;
 // What the virtual clocks read at virtual time 0: MONOTONIC (and BOOTTIME, RAW, COARSE) start
-// at 10 000 s, REALTIME at 2026-01-01T00:00:00Z.
-inline constexpr std::int64_t monotonic_origin_us = 10'000'000'000;
+// at 10^9 s (31.7 years), REALTIME at 2026-01-01T00:00:00Z. The monotonic origin is far beyond
+// any machine's uptime so that a virtual deadline reaching the kernel in a timed wait the shim
+// does not see (made inside libc) is a far-future wait there, not an instant timeout (a busy
+// loop); the thread then sleeps until it is woken for real. In nanoseconds it is 10^18, well
+// inside an int64.
+inline constexpr std::int64_t monotonic_origin_us = 1'000'000'000'000'000;
 inline constexpr std::int64_t realtime_origin_us = 1'767'225'600'000'000;
 
 inline constexpr int max_connections = 16;   // OCP sockets per clock page / per process
@@ -41,8 +50,30 @@ struct ClockPage {
 };
 static_assert(std::atomic<std::int64_t>::is_always_lock_free && std::atomic<std::uint64_t>::is_always_lock_free);
 
-enum class ShimKind : std::uint32_t { hello = 1, blocked = 2, running = 3, connected = 4, closed = 5 };
-enum class WaitKind : std::uint32_t { none = 0, sleep = 1, poll = 2, select = 3, epoll = 4, futex = 5, cond = 6 };
+enum class ShimKind : std::uint32_t { hello = 1, blocked = 2, running = 3, connected = 4, closed = 5, waker_hello = 6 };
+// futex, cond, lock and semaphore waits sleep on an object (`object`): their WAKE goes to the waker.
+enum class WaitKind : std::uint32_t {
+  none = 0, sleep = 1, poll = 2, select = 3, epoll = 4, futex = 5, cond = 6, lock = 7, semaphore = 8, read = 9
+};
+inline constexpr bool waits_on_object(WaitKind kind) {
+  return kind == WaitKind::futex || kind == WaitKind::cond || kind == WaitKind::lock || kind == WaitKind::semaphore;
+}
+// For the wait trace: "waits in <name>".
+inline constexpr const char* wait_name(WaitKind kind) {
+  switch (kind) {
+    case WaitKind::sleep: return "sleep";
+    case WaitKind::poll: return "poll";
+    case WaitKind::select: return "select";
+    case WaitKind::epoll: return "epoll_wait";
+    case WaitKind::futex: return "a futex wait";
+    case WaitKind::cond: return "a timed condition wait";
+    case WaitKind::lock: return "a timed lock";
+    case WaitKind::semaphore: return "sem_timedwait";
+    case WaitKind::read: return "a blocking read";
+    case WaitKind::none: break;
+  }
+  return "wait";
+}
 
 struct WrittenCount {
   std::uint32_t port;
@@ -61,6 +92,10 @@ struct ShimMessage {
   std::uint32_t port;         // connected / closed: the client's local port
   std::uint32_t remote_port;  // connected: the port it connected to
   std::uint32_t reported;     // entries used in `written`
+  std::uint32_t slot;         // blocked on an object: the waiter's slot in its process
+  std::uint64_t object;       // blocked on an object: its address in the client
+  std::uint32_t futex_flags;  // blocked on a futex word: FUTEX_PRIVATE_FLAG or 0
+  std::uint32_t reserved;
   WrittenCount written[max_reported];
 };
 
@@ -70,6 +105,12 @@ struct ControlMessage {
   ControlKind kind;
   std::uint32_t reserved;
   std::uint64_t seq;   // the BLOCKED it answers
+  // To a waker: the waiter's wait, as its BLOCKED described it.
+  WaitKind wait;
+  std::uint32_t slot;
+  std::uint64_t object;
+  std::uint32_t futex_flags;
+  std::int32_t tid;
 };
 
 }  // namespace ocp::vtime
