@@ -302,15 +302,18 @@ TEST(ConformanceSuite, AClientThatNeverConnectsStopsTheRunAfterTheConnectTimeout
   EXPECT_LT(seconds_since(start), 30.0) << r.output;
 }
 
+// In both times (in virtual time its sleep is virtual too).
 TEST(ConformanceSuite, AClientThatCrashesDuringACaseIsNamedInThatCase) {
   const std::string crashes =
       "python3 -c \"import os, signal, socket, time; s = socket.create_connection(('127.0.0.1', int(os.environ['OCP_PORT']))); "
       "time.sleep(0.2); os.kill(os.getpid(), signal.SIGSEGV)\"";
-  const SuiteRun r = run_suite("crashes", "--cases vehicle/3.3/1", crashes);
-  EXPECT_EQ(r.exit_code, 1) << r.output;
-  ASSERT_TRUE(r.index.IsObject()) << r.output;
-  const std::string actual = r.index["cases"][0]["actual"].GetString();
-  EXPECT_NE(actual.find("the client was killed by signal 11 (SIGSEGV) during the case"), std::string::npos) << actual;
+  for (const std::string time : {"real", "virtual"}) {
+    const SuiteRun r = run_suite("crashes_" + time, "--cases vehicle/3.3/1 --time " + time, crashes);
+    EXPECT_EQ(r.exit_code, 1) << time << ": " << r.output;
+    ASSERT_TRUE(r.index.IsObject()) << r.output;
+    const std::string actual = r.index["cases"][0]["actual"].GetString();
+    EXPECT_NE(actual.find("the client was killed by signal 11 (SIGSEGV) during the case"), std::string::npos) << time << ": " << actual;
+  }
 }
 
 // One bug, one named cause: ack_time read through a double breaks every case that checks an
