@@ -1,6 +1,7 @@
 # Installing (issue 39, README "Install"): `cmake --install build --prefix P` and the Debian
 # package (cmake/package.cmake) lay out
 #   P/bin/                      the programs (never the tests or the benchmark binaries)
+#   P/lib/ocp-sim/              libocp_vtime_shim.so, preloaded into a client in virtual time
 #   P/share/ocp-sim/            their data, found at run time from the program's own place
 #                               (apps/sim_app/include/sim_app/data_dir.hpp), never a compiled-in path:
 #     web/                      the web view (player_sim's default --webview-root), vendored uPlot included
@@ -33,6 +34,13 @@ function(ocp_install_programs)
   endforeach()
 endfunction()
 ocp_install_programs()
+# The virtual-time shim (vtime/, docs/virtual-time.md), where the programs look for it
+# (vtime::find_shim: ../lib/ocp-sim/ beside bin/): `--time virtual` (ocp_campaign --client's
+# default, ocp_scenario -- CMD's) works from an installed tree.
+if(TARGET ocp_vtime_shim)
+  install(TARGETS ocp_vtime_shim LIBRARY DESTINATION lib/ocp-sim)
+  add_dependencies(ocp_programs ocp_vtime_shim)
+endif()
 
 # The web view: what web/copy_assets.cmake copies into build/web (what a browser loads: never
 # node_modules or the browser tests).

@@ -33,7 +33,9 @@ CLI::App* add_loop_command(CLI::App& app, LoopOptions& options) {
       "Measure a vehicle client against a Streamer with a simulated operator on 127.0.0.1:\n"
       "echo delay, responses, OCP latency, tick lateness and faults, from the Streamer's events.\n"
       "  ocp_bench loop --port 4000                       wait for your client on :4000\n"
-      "  ocp_bench loop -- ./my_client 127.0.0.1:{port}  launch it ({port} and $OCP_PORT)");
+      "  ocp_bench loop -- ./my_client 127.0.0.1:{port}  launch it ({port} and $OCP_PORT)\n"
+      "Always in real time (it has no --time): it measures the client's real speed, which virtual\n"
+      "time (docs/virtual-time.md) would hide; ocp_conformance, ocp_scenario and ocp_campaign take --time.");
   loop->add_option("--port", options.port, "Streamer TCP port (default: 4000 when waiting, a free one with a command)");
   loop->add_option("--duration-s", options.duration_s, "measurement time from the client's connection")
       ->capture_default_str()->check(ocp::cli::real(0.1, 86400.0));

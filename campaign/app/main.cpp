@@ -1,6 +1,6 @@
 // ocp_campaign: seeded random worlds against an independent oracle (docs/campaigns.md).
 //   ocp_campaign run   --seed S --worlds N [--profile P] [-j J] [--shard I/N] [--out DIR] [--world I]
-//                      [--client 'CMD {port}' [--max-world-seconds S]]
+//                      [--client 'CMD {port}' [--time virtual|real] [--max-world-seconds S]]
 //   ocp_campaign check FILE.yaml          (one scenario file under the oracle: the repro command)
 //   ocp_campaign merge DIR… --out DIR     (shard results → one result, as one run would write it)
 //   ocp_campaign slurm …                  (an sbatch job array of shards, then merge)
@@ -96,9 +96,11 @@ struct RunCommand {
   int shrink_runs = 300;
   int shrink_max = 10;
   bool quiet = false;
-  std::optional<std::string> client;   // --client: worlds in real time against this vehicle client
+  std::optional<std::string> client;   // --client: worlds against this vehicle client (--time)
   std::optional<double> max_world_seconds;
-  std::string time = "real";             // --time: the client's clock (virtual: docs/virtual-time.md)
+  // --time: the client's clock. Virtual by default (docs/virtual-time.md): the reference client and the
+  // Python example pass there, with the whole oracle; real for a client that cannot be virtualised.
+  std::string time = "virtual";
   double world_timeout_seconds = 120;    // --world-timeout: wall time per virtual-time world
   std::string wait_trace;                // --wait-trace FILE: every client thread's waits
 };
@@ -375,8 +377,9 @@ int main(int argc, char** argv) {
                       "run every world against this vehicle client, a shell command line with {port} (also in env "
                       "OCP_PORT); one process per vehicle, output in OUT/client-logs");
   run_app->add_option("--time", run.time,
-                      "with --client: virtual (the client lives on the simulator's clock through a preloaded shim; the "
-                      "whole oracle; docs/virtual-time.md) or real (wall-clock worlds, timing checks off)")
+                      "with --client: virtual (the default: the client lives on the simulator's clock through a preloaded "
+                      "shim; the whole oracle, shrinking; docs/virtual-time.md) or real (wall-clock worlds, timing "
+                      "checks off; for a static binary or Go)")
       ->check(CLI::IsMember({"virtual", "real"}))->capture_default_str();
   run_app->add_option("--world-timeout", run.world_timeout_seconds, "with --time virtual: wall seconds a world may take")
       ->check(ocp::cli::real(1.0, 86'400.0))->capture_default_str();

@@ -44,7 +44,7 @@ std::string replay_command(std::uint64_t index, const FailureFilesOptions& optio
     if (options.client->max_world_seconds) {
       command += " --max-world-seconds " + fmt::format("{:g}", *options.client->max_world_seconds);
     }
-    if (options.client->run) command += " --time virtual";
+    command += options.client->run ? " --time virtual" : " --time real";
   }
   return command;
 }

@@ -21,6 +21,9 @@
 #include "ocp/cli_checks.hpp"
 #include "ocp/cli_paths.hpp"
 #include "ocp/interrupt.hpp"
+#include "scenario/limit_options.hpp"
+
+#include <fmt/format.h>
 
 namespace ocp::campaign {
 
@@ -63,6 +66,16 @@ void add_slurm_options(CLI::App& app, SlurmOptions& options) {
   app.add_option("--timeout", options.timeout_seconds, "give up waiting after this many seconds")
       ->check(cli::real(1, 7 * 86400))->capture_default_str();
   app.add_flag("--print-only", options.print_only, "print the sbatch script and exit");
+  // What `run` takes about the client, passed on to every task as given.
+  app.add_option("--client", options.client, "every task runs its worlds against this vehicle client (as run --client)")
+      ->check(script_name());
+  app.add_option("--time", options.time, "with --client: virtual (the default) or real, as run --time")
+      ->check(CLI::IsMember({"virtual", "real"}));
+  app.add_option("--max-world-seconds", options.max_world_seconds, "with --client: as run --max-world-seconds")
+      ->check(cli::real(1.0, 3600.0));
+  app.add_option("--world-timeout", options.world_timeout_seconds, "with --time virtual: as run --world-timeout")
+      ->check(cli::real(1.0, 86'400.0));
+  scenario::add_max_events_option(app, options.max_events_per_s);
 }
 
 namespace {
@@ -73,12 +86,23 @@ std::string slurm_profile_argument(const std::string& profile) {
   return std::filesystem::absolute(profile).lexically_normal().string();
 }
 
+// The options of `run` that slurm passes on as given (" --client '…' --time virtual …"), or "".
+std::string passed_on_options(const SlurmOptions& o) {
+  std::string line;
+  if (!o.client.empty()) line += " --client " + shell_quoted(o.client);
+  if (!o.time.empty()) line += " --time " + o.time;
+  if (o.max_world_seconds > 0) line += " --max-world-seconds " + fmt::format("{}", o.max_world_seconds);
+  if (o.world_timeout_seconds > 0) line += " --world-timeout " + fmt::format("{}", o.world_timeout_seconds);
+  if (o.max_events_per_s > 0) line += " --max-events-per-s " + std::to_string(o.max_events_per_s);
+  return line;
+}
+
 }  // namespace
 
 // Every name in it is quoted (and a name with a control character refused before: a newline would
 // end its #SBATCH or comment line and start a command).
 std::string sbatch_script(const SlurmOptions& o, const std::string& executable) {
-  for (const std::string* name : {&o.out, &o.partition, &o.profile, &executable}) {
+  for (const std::string* name : {&o.out, &o.partition, &o.profile, &executable, &o.client}) {
     if (auto problem = script_name_problem(*name)) throw std::invalid_argument("'" + *name + "': " + *problem);
   }
   const std::string out = std::filesystem::absolute(o.out).lexically_normal().string();
@@ -95,7 +119,7 @@ std::string sbatch_script(const SlurmOptions& o, const std::string& executable) 
   script += "exec " + shell_quoted(executable) + " run --seed " + std::to_string(o.seed) + " --worlds " +
             std::to_string(o.worlds) + " --profile " + shell_quoted(slurm_profile_argument(o.profile)) + " -j " +
             std::to_string(o.jobs) + " --shard \"$SLURM_ARRAY_TASK_ID/" + tasks + "\" --quiet --out " + shell_quoted(out) +
-            "/shard-\"$SLURM_ARRAY_TASK_ID\"\n";
+            "/shard-\"$SLURM_ARRAY_TASK_ID\"" + passed_on_options(o) + "\n";
   return script;
 }
 

@@ -1,5 +1,5 @@
 // ocp_conformance: command line only; everything else is in the conformance library.
-//   ocp_conformance vehicle|operator [options] [-- CMD ARGS…]
+//   ocp_conformance vehicle|operator [options] [--time real|virtual] [-- CMD ARGS…]
 // Exit codes: 0 every MUST case passed (or failed as the baseline expects), 1 a failure,
 // 2 a harness error (bad options, port in use, client could not be launched), 130 Ctrl-C.
 #include <CLI/CLI.hpp>
@@ -39,6 +39,7 @@ struct SuiteCommandLine {
   double connect_timeout_s = 3.0;
   bool list = false, markdown = false, coverage = false, broken_clients = false;
   std::string include, exclude, out_dir, junit, baseline_path, write_baseline;
+  std::string time = "real";   // --time: real (the default) or virtual
   std::vector<std::string> command;
 };
 
@@ -88,6 +89,13 @@ void add_suite_options(CLI::App& suite, bool is_vehicle, SuiteCommandLine& line)
                    "Expected failures (one case id per line); the run is judged against it");
   suite.add_option("--write-baseline", line.write_baseline, "Write this run's failures as a baseline file");
   suite.add_option("command", line.command, "-- CMD ARGS…: launch the client; OCP_PORT and {port} carry the port");
+  suite
+      .add_option("--time", line.time,
+                  "real (the default: wall-clock cases) or virtual (with -- CMD: the client runs on the suite's clock "
+                  "through a preloaded shim, every case's timing exact, the suite in seconds; a static binary or Go "
+                  "cannot: exit 2; docs/virtual-time.md)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"real", "virtual"}));
   if (is_vehicle) {
     // A client whose interlock works other buttons than the reference client's is judged on
     // the §10 cases when it says which (docs/protocol.md §10), instead of "not judged".
@@ -140,10 +148,23 @@ class TemporaryLogFolder {
 
 // The rest of the run options: the port (well-known when waiting for an external client, any
 // free one when launching it) and the client logs' folder (under --out, or a temporary one).
-// False: --out cannot be made.
+// False (said why): --out cannot be made, or --time virtual cannot be had.
 bool complete_run_options(SuiteCommandLine& line, bool operator_suite, TemporaryLogFolder& temporary_logs) {
   RunOptions& options = line.options;
   options.command = line.command;
+  if (line.time == "virtual") {
+    if (line.command.empty()) {
+      std::cerr << "ocp_conformance: --time virtual launches the client: give it as -- CMD ARGS…\n";
+      return false;
+    }
+    options.virtual_time = true;
+    options.controller.shim_path = ocp::vtime::find_shim();
+    if (options.controller.shim_path.empty()) {
+      std::cerr << "ocp_conformance: --time virtual needs the shim libocp_vtime_shim.so (beside the program in ../lib, "
+                   "or in $OCP_VTIME_SHIM); use --time real\n";
+      return false;
+    }
+  }
   options.connect_timeout = std::chrono::milliseconds(static_cast<std::int64_t>(line.connect_timeout_s * 1000.0));
   options.port = static_cast<std::uint16_t>(
       line.port >= 0 ? line.port : (line.command.empty() ? (operator_suite ? 4001 : 4000) : 0));
@@ -237,7 +258,8 @@ int main(int argc, char** argv) {
   signal(SIGPIPE, SIG_IGN);
 
   const std::string client = client_description(line);
-  std::cout << "ocp_conformance " << suite_name << ": " << cases.size() << " cases against " << client << "\n";
+  std::cout << "ocp_conformance " << suite_name << ": " << cases.size() << " cases against " << client
+            << (line.options.virtual_time ? " in virtual time" : "") << "\n";
   if (line.command.empty())
     std::cout << "waiting for the client to connect to 127.0.0.1:" << line.options.port << " …\n";
   line.options.on_result = [](const CaseResult& r) {

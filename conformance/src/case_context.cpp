@@ -4,26 +4,30 @@
 
 namespace ocp::conformance {
 
-CaseContext::CaseContext(StreamerHost& host, WireLog& log, std::chrono::steady_clock::time_point deadline,
-                         double timeout_scale)
-    : host_(host), log_(log), deadline_(deadline), timeout_scale_(timeout_scale) {}
+namespace {
+
+// Rounded up: a wait cut at the deadline reaches it, so the next check throws CaseTimeout.
+std::chrono::milliseconds ms_of(std::int64_t us) { return std::chrono::milliseconds(std::max<std::int64_t>(0, (us + 999) / 1000)); }
+
+}  // namespace
+
+CaseContext::CaseContext(StreamerHost& host, WireLog& log, std::int64_t deadline_us, double timeout_scale)
+    : host_(host), log_(log), deadline_us_(deadline_us), timeout_scale_(timeout_scale) {}
 
 void CaseContext::check_deadline() const {
-  if (std::chrono::steady_clock::now() >= deadline_) throw CaseTimeout("case timed out");
+  if (host_.now_us() >= deadline_us_) throw CaseTimeout("case timed out");
 }
 
 void CaseContext::run_for(std::chrono::milliseconds duration) {
-  const auto until = std::min(std::chrono::steady_clock::now() + duration, deadline_);
-  host_.run_until([&] { return std::chrono::steady_clock::now() >= until; }, duration + std::chrono::milliseconds(1));
+  const std::int64_t left_us = deadline_us_ - host_.now_us();
+  host_.run_for(std::min(duration, ms_of(left_us)));
   check_deadline();
 }
 
 bool CaseContext::wait_until(const std::function<bool()>& done, std::chrono::milliseconds timeout) {
   const auto scaled =
       std::chrono::milliseconds(static_cast<std::int64_t>(static_cast<double>(timeout.count()) * timeout_scale_));
-  const auto now = std::chrono::steady_clock::now();
-  const auto limit = std::min(now + scaled, deadline_);
-  const bool ok = host_.run_until(done, std::chrono::duration_cast<std::chrono::milliseconds>(limit - now));
+  const bool ok = host_.run_until(done, std::min(scaled, ms_of(deadline_us_ - host_.now_us())));
   if (!ok) check_deadline();
   return ok;
 }

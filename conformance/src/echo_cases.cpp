@@ -155,7 +155,9 @@ Outcome echo_delay(CaseContext& context) {
       fmt::format("{} of {} pairs echoed; echo delay p50 {:.2f} ms, p90 {:.2f} ms, p99 {:.2f} ms, max {:.2f} ms",
                   delays_ms.size(), pairs.size(), p50, p90, p99, max);
   if (delays_ms.size() < 10) return failed(stats);
-  if (p50 <= 3.0) return ok(stats);
+  // "At once" is 3 ms of wall time for the machine's scheduling; in virtual time the client
+  // answers at the instant it reads, exactly.
+  if (p50 <= (context.virtual_time() ? 0.0 : 3.0)) return ok(stats);
   if (split_write_signature(sent_at, arrivals)) {  // a SHOULD of seed 000, whatever the delays
     Outcome nagle = non_strict(stats + "; the late echoes arrive right behind our next frame; cause: " + nagle_cause);
     nagle.cause = nagle_cause;
@@ -260,7 +262,7 @@ void add_echo_cases(std::vector<VehicleCase>& cases) {
          "\"Do not let response generation block on slow vehicle subsystems\"",
          Tier::should,
          milliseconds(15'000),
-         {"OK: median echo delay ≤ 3 ms over 100 control frames at irregular 2–25 ms gaps",
+         {"OK: median echo delay ≤ 3 ms (0 ms in virtual time) over 100 control frames at irregular 2–25 ms gaps",
           "NON-STRICT: the late echoes arrive right behind the Streamer's next frame: Nagle's delay on a split write, "
           "named "
           "as the cause (seed 000, Practical connection rules: \"Use TCP no-delay\")",

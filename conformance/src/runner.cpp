@@ -126,7 +126,24 @@ void wait_for_first_connection(StreamerHost& host, ClientProcess& client, const 
   throw std::runtime_error(fmt::format("the client {}; {}", what, said));
 }
 
-CaseResult run_one(Shared& shared, StreamerHost& host, std::size_t index, std::unique_ptr<ClientProcess>& client,
+// Launches the client for `host`: in virtual time under the shim, announced to the controller
+// (which must not outlive its process record: it looks through a weak pointer).
+std::shared_ptr<ClientProcess> launch_client(StreamerHost& host, const RunOptions& options, const std::string& log) {
+  vtime::Controller* controller = host.controller();
+  auto launched = ClientProcess::launch(options.command, host.port(), log,
+                                        controller != nullptr ? controller->environment() : std::vector<std::string>{});
+  if (!launched) throw std::runtime_error(launched.error().message());
+  std::shared_ptr<ClientProcess> client = std::move(*launched);
+  if (controller != nullptr) {
+    controller->expect_process(client->pid(), "the client", [process = std::weak_ptr<ClientProcess>(client)] {
+      const auto alive = process.lock();
+      return alive && alive->running();
+    });
+  }
+  return client;
+}
+
+CaseResult run_one(Shared& shared, StreamerHost& host, std::size_t index, std::shared_ptr<ClientProcess>& client,
                    std::string& client_log, unsigned worker) {
   const VehicleCase& test_case = shared.cases[index];
   const RunOptions& options = shared.options;
@@ -147,9 +164,7 @@ CaseResult run_one(Shared& shared, StreamerHost& host, std::size_t index, std::u
     client.reset();
     const std::string path =
         log_path(options, options.restart_per_case ? test_case.body.info.id : fmt::format("worker-{}", worker));
-    auto launched = ClientProcess::launch(options.command, host.port(), path);
-    if (!launched) throw std::runtime_error(launched.error().message());
-    client = std::move(*launched);
+    client = launch_client(host, options, path);
     client_log = path;
   }
   result.client_log_path = launching && options.client_logs_kept ? client_log : std::string();
@@ -157,15 +172,11 @@ CaseResult run_one(Shared& shared, StreamerHost& host, std::size_t index, std::u
   // bounded time to start and connect before the case's clock starts: starting is no part of
   // what the case grades. A client that exits or never connects cannot be graded at all: the
   // run stops with a harness error at once, instead of timing out case after case.
-  Clock::time_point case_start = start;
-  if (client_was_launched) {
-    wait_for_first_connection(host, *client, client_log, options);
-    case_start = Clock::now();
-  }
+  if (client_was_launched) wait_for_first_connection(host, *client, client_log, options);
   const bool client_was_running = client && client->running();
-  const auto timeout = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double, std::milli>(
+  const auto timeout = std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::duration<double, std::milli>(
       static_cast<double>(test_case.body.info.timeout.count()) * options.timeout_scale));
-  CaseContext context(host, log, case_start + timeout, options.timeout_scale);
+  CaseContext context(host, log, host.now_us() + timeout.count(), options.timeout_scale);
   context.set_interlock(options.interlock);
   try {
     const Outcome outcome = play(test_case, context);
@@ -190,16 +201,29 @@ CaseResult run_one(Shared& shared, StreamerHost& host, std::size_t index, std::u
   return result;
 }
 
+// The worker's host: on the wall clock, or on its own virtual clock with a controller.
+std::unique_ptr<StreamerHost> make_host(const RunOptions& options) {
+  if (options.virtual_time) return std::make_unique<StreamerHost>(options.controller);
+  return std::make_unique<StreamerHost>();
+}
+
 void worker_main(Shared& shared, unsigned worker) {
   const RunOptions& options = shared.options;
-  StreamerHost host;
+  std::unique_ptr<StreamerHost> made;
+  try {
+    made = make_host(options);
+  } catch (const std::exception& error) {
+    shared.fail(std::string("virtual time: ") + error.what());
+    return;
+  }
+  StreamerHost& host = *made;
   if (options.stop_requested) host.stop_when(options.stop_requested);
   const std::uint16_t port = options.command.empty() ? options.port : (options.jobs > 1 ? 0 : options.port);
   if (auto status = host.listen(port); !status) {
     shared.fail("cannot listen on 127.0.0.1:" + std::to_string(port) + ": " + status.error().message());
     return;
   }
-  std::unique_ptr<ClientProcess> client;
+  std::shared_ptr<ClientProcess> client;
   std::string client_log;
   while (!shared.failed()) {
     const std::size_t index = shared.next.fetch_add(1);

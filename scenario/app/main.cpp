@@ -1,5 +1,6 @@
 // ocp_scenario: runs scenario files in virtual time and judges their expectations.
 //   ocp_scenario run FILE… | DIR [--seed N] [--repeat K] [--junit FILE] [--out DIR] [--list]
+//                [--time virtual|real] [--operator-client 'CMD {port}'] [-- CMD ARGS…]
 //   ocp_scenario extract-link TRACE [--vehicle NAME] [--rtt-half] > drive.link
 // Exit codes: 0 every expectation passed, 1 an expectation failed, 2 bad command line, bad file
 // or harness error, 130 interrupted (SIGINT / SIGTERM: the reports so far are written).
@@ -12,6 +13,7 @@
 #include <fstream>
 #include <iostream>
 
+#include "launched_clients.hpp"
 #include "scenario/extract_link.hpp"
 #include "scenario/limit_options.hpp"
 #include "scenario/metrics.hpp"
@@ -24,6 +26,7 @@
 #include "ocp/cli_parse.hpp"
 #include "ocp/cli_paths.hpp"
 #include "ocp/interrupt.hpp"
+#include "sim_app/client_process.hpp"
 #include "world/seeds.hpp"
 
 namespace fs = std::filesystem;
@@ -68,6 +71,11 @@ struct ToolOptions {
   std::uint16_t tcp_port = 4000;
   double max_file_mb = 0, max_simulated_h = 0;   // 0: the defaults (ocp/bounded_file.hpp, ParseLimits)
   std::uint64_t max_events_per_s = 0;
+  std::string time;                     // --time; "" → virtual, or real with --realtime
+  bool wait_for_clients = false;        // real time: the clock starts at the clients' connection
+  LaunchOptions launch;                 // -- CMD ARGS…, --operator-client, their timeouts
+  bool real_time() const { return realtime || time == "real"; }
+  bool launching() const { return !launch.command.empty() || !launch.operator_command.empty(); }
 };
 
 // --max-file-mb: raises the cap of every scenario, trace and recording file (the defaults are
@@ -85,6 +93,31 @@ void apply_input_limits(const ToolOptions& options) {
     set_parse_limits(limits);
   }
   apply_max_events(options.max_events_per_s);
+}
+
+// The clock, and the clients the tool launches itself (launched_clients.hpp).
+void add_launch_options(CLI::App& run, ToolOptions& options) {
+  run.add_option("--time", options.time,
+                 "virtual (the default: exact and reproducible; a launched client runs on the world's clock "
+                 "through a preloaded shim, docs/virtual-time.md) or real (wall clock, as --realtime)")
+      ->check(CLI::IsMember({"virtual", "real"}));
+  run.add_option("--operator-client", options.launch.operator_command,
+                 "launch this operator client (a shell line with {port}, also $OCP_PORT) on the Player's :4001 API "
+                 "(virtual time)")
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            return text.find_first_not_of(" \t") == std::string::npos ? std::string("empty command") : std::string();
+          },
+          "CMD"));
+  run.add_option("--connect-timeout-s", options.launch.connect_timeout_s,
+                 "real time: the launched clients must connect within this (the clock starts then)")
+      ->capture_default_str()->check(ocp::cli::real(0.1, 600.0));
+  run.add_option("--world-timeout", options.launch.world_timeout_s,
+                 "virtual time with launched clients: wall seconds a run may take (a hang never hangs the tool)")
+      ->capture_default_str()->check(ocp::cli::real(1.0, 86'400.0));
+  run.add_flag("--wait-for-clients", options.wait_for_clients,
+               "real time, clients started by hand: the clock starts when every external vehicle's client connected "
+               "(at most --connect-timeout-s)");
 }
 
 void add_run_command(CLI::App& app, ToolOptions& options) {
@@ -105,6 +138,7 @@ void add_run_command(CLI::App& app, ToolOptions& options) {
                 "external vehicle clients over TCP");
   run->add_option("--tcp-port", options.tcp_port, "--realtime: port of the first external vehicle (the next +1, …; 0: any)")
       ->capture_default_str();
+  add_launch_options(*run, options);
   add_max_file_option(*run, options.max_file_mb);
   run->add_option("--max-simulated-h", options.max_simulated_h, "raise the ceiling of one run's duration (default 24 h)")
       ->check(ocp::cli::real(1, 1'000'000));
@@ -158,9 +192,10 @@ fs::path run_folder(const ToolOptions& tool, const Scenario& scenario, std::uint
   return dir;
 }
 
-// One run in virtual time, or in real time waiting for the external vehicle clients. The
-// trace goes to its file as the run goes, so a long run's memory stays flat.
-RunResult run_once(const Scenario& scenario, const ToolOptions& tool, std::uint64_t run_seed) {
+// One run in virtual time, or in real time waiting for the external vehicle clients, or with
+// the clients launched by the tool (then with a verdict per client process). The trace goes to
+// its file as the run goes, so a long run's memory stays flat.
+LaunchedRun run_once(const Scenario& scenario, const ToolOptions& tool, std::uint64_t run_seed) {
   RunOptions options;
   options.seed = run_seed;
   options.trace = !tool.no_trace;
@@ -172,16 +207,53 @@ RunResult run_once(const Scenario& scenario, const ToolOptions& tool, std::uint6
   }
   options.trace_payloads = tool.trace_payloads;
   options.interrupted = ocp::cli::interrupt_requested;
-  if (!tool.realtime) return run_scenario(scenario, options);
+  if (tool.launching()) {
+    LaunchOptions launch = tool.launch;
+    launch.virtual_time = !tool.real_time();
+    launch.log_dir = run_folder(tool, scenario, run_seed).string();
+    std::error_code ec;
+    fs::create_directories(launch.log_dir, ec);
+    LaunchedRun ran = run_with_launched_clients(scenario, options, launch);
+    if (!launch.virtual_time) ocp::cli::install_interrupt_handlers(ocp::sim_app::kill_all_clients);
+    return ran;
+  }
+  if (!tool.real_time()) return {run_scenario(scenario, options), {}};
   RealTimeOptions real_time;
   real_time.tcp_port = tool.tcp_port;
+  real_time.start_at_connection = tool.wait_for_clients;
+  real_time.connect_timeout = std::chrono::milliseconds(static_cast<std::int64_t>(tool.launch.connect_timeout_s * 1000));
   real_time.on_listening = [](const std::string& vehicle, const std::string& address) {
     std::printf("%s: waiting for a vehicle client on %s\n", vehicle.c_str(), address.c_str());
     std::fflush(stdout);
   };
   RunResult result = run_scenario_realtime(scenario, options, real_time);
   ocp::cli::install_interrupt_handlers();   // the real-time runner's signal handling put the default action back
-  return result;
+  return {std::move(result), {}};
+}
+
+// A word of a command line as the shell reads it back: quoted when it holds more than
+// [A-Za-z0-9_./:{}=@%+-].
+std::string shell_word(const std::string& word) {
+  if (!word.empty() && word.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_./:{}=@%+-") ==
+                           std::string::npos) {
+    return word;
+  }
+  std::string quoted = "'";
+  for (const char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+// The command that repeats a run: its seed, its clock, and the clients the tool launched.
+std::string reproduce_command(const Scenario& scenario, const ToolOptions& tool, std::uint64_t run_seed) {
+  std::string command = "ocp_scenario run " + shell_word(scenario.path) + " --seed " + std::to_string(run_seed);
+  if (!tool.launching()) return command + (tool.real_time() ? " --realtime (real time: not reproducible)" : "");
+  if (tool.real_time()) command += " --time real";
+  if (!tool.launch.operator_command.empty()) command += " --operator-client " + shell_word(tool.launch.operator_command);
+  if (!tool.launch.command.empty()) {
+    command += " --";
+    for (const std::string& word : tool.launch.command) command += " " + shell_word(word);
+  }
+  return command + (tool.real_time() ? " (real time: not reproducible)" : "");
 }
 
 // What the closing line adds up over every run.
@@ -234,7 +306,8 @@ bool write_run_results(const ToolOptions& tool, const RunReport& report, std::ui
 // progress: its reports (marked interrupted) and those of the finished runs are written.
 int run_every_scenario(const std::vector<Scenario>& scenarios, const ToolOptions& tool) {
   const auto wall_start = std::chrono::steady_clock::now();
-  ocp::cli::install_interrupt_handlers();
+  // A second Ctrl-C ends the tool at once: launched clients are killed first.
+  ocp::cli::install_interrupt_handlers(tool.launching() ? ocp::sim_app::kill_all_clients : nullptr);
   std::vector<RunResult> runs;
   runs.reserve(scenarios.size() * tool.repeat);   // RunReport points into it
   std::vector<RunReport> reports;
@@ -244,16 +317,18 @@ int run_every_scenario(const std::vector<Scenario>& scenarios, const ToolOptions
     const std::uint64_t base_seed = tool.seed.value_or(scenario.seed);
     for (unsigned k = 0; k < tool.repeat && !interrupted; ++k) {
       const std::uint64_t run_seed = k == 0 ? base_seed : ocp::derive_seed(base_seed, "repeat:" + std::to_string(k));
+      std::vector<Verdict> client_verdicts;
       try {
-        runs.push_back(run_once(scenario, tool, run_seed));
+        LaunchedRun ran = run_once(scenario, tool, run_seed);
+        runs.push_back(std::move(ran.result));
+        client_verdicts = std::move(ran.client_verdicts);
       } catch (const HarnessError& error) {
         std::cerr << "error: " << scenario.path << ": " << error.what() << "\n";
         return exit_error;
       }
       const RunResult& result = runs.back();
-      RunReport report{&scenario, &result, evaluate(scenario, result),
-                       "ocp_scenario run " + scenario.path + " --seed " + std::to_string(run_seed) +
-                           (tool.realtime ? " --realtime (real time: not reproducible)" : "")};
+      RunReport report{&scenario, &result, evaluate(scenario, result), reproduce_command(scenario, tool, run_seed)};
+      report.verdicts.insert(report.verdicts.end(), client_verdicts.begin(), client_verdicts.end());
       print_run(report, run_seed, tally);
       if (!write_run_results(tool, report, run_seed)) return exit_error;
       // What is kept for the closing summary and JUnit is the verdicts and the run's headline:
@@ -284,6 +359,15 @@ int run_every_scenario(const std::vector<Scenario>& scenarios, const ToolOptions
   return tally.failed == 0 ? exit_pass : exit_fail;
 }
 
+// The clock options that contradict each other, in words ("" when they do not).
+std::string clock_problem(const ToolOptions& options, bool had_separator) {
+  if (options.realtime && options.time == "virtual") return "--realtime and --time virtual contradict each other";
+  if (had_separator && options.launch.command.empty()) return "-- needs the client's command after it";
+  if (options.wait_for_clients && !options.real_time()) return "--wait-for-clients is for real time (--time real)";
+  if (options.wait_for_clients && options.launching()) return "--wait-for-clients is for clients started by hand";
+  return "";
+}
+
 }  // namespace
 
 int run_tool(int argc, char** argv);
@@ -305,8 +389,20 @@ int run_tool(int argc, char** argv) {
   add_run_command(app, options);
   ExtractLinkOptions extract;
   const CLI::App* extract_command = add_extract_link_command(app, extract, options);
+  // `run FILE -- CMD ARGS…`: what follows "--" is the client's command line, not the tool's.
+  int tool_argc = argc;
+  for (int i = 1; i < argc; ++i) {
+    if (std::string(argv[i]) != "--") continue;
+    options.launch.command.assign(argv + i + 1, argv + argc);
+    tool_argc = i;
+    break;
+  }
   // --help is exit 0; a bad command line is a harness error like a bad file: 2.
-  if (auto exit_code = ocp::cli::parse_or_exit_code(app, argc, argv)) return *exit_code;
+  if (auto exit_code = ocp::cli::parse_or_exit_code(app, tool_argc, argv)) return *exit_code;
+  if (const std::string problem = clock_problem(options, tool_argc < argc); !problem.empty()) {
+    std::cerr << "ocp_scenario run: " << problem << "\nRun with --help for more information.\n";
+    return exit_error;
+  }
   apply_input_limits(options);
   if (extract_command->parsed()) return extract_link_command(extract, std::cout, std::cerr);
   const std::vector<Scenario> scenarios = load_every_scenario(expand(options.inputs));
@@ -314,6 +410,16 @@ int run_tool(int argc, char** argv) {
   if (options.list) {
     print_expectations(scenarios);
     return exit_pass;
+  }
+  if (options.launching()) {
+    LaunchOptions launch = options.launch;
+    launch.virtual_time = !options.real_time();
+    for (const Scenario& scenario : scenarios) {
+      if (const std::string problem = launch_problem(scenario, launch); !problem.empty()) {
+        std::cerr << "error: " << scenario.path << ": " << problem << "\n";
+        return exit_error;
+      }
+    }
   }
   return run_every_scenario(scenarios, options);
 }

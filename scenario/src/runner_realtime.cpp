@@ -1,7 +1,14 @@
 // A scenario in real time (runner.hpp, --realtime): the World on sim_app's RealTimeRunner,
 // TCP servers for external vehicle clients. Timeline and verdicts are the virtual run's; only
 // the clock and the MAC keys differ, so verdict windows must allow for real scheduling jitter.
+// The servers listen before the World is built, so that with start_at_connection the clients
+// can connect first: their connections are held and handed to the World when its clock starts.
+#include <fmt/format.h>
+
+#include <map>
 #include <memory>
+#include <set>
+#include <utility>
 #include <vector>
 
 #include "ocp/asio/tcp_server.hpp"
@@ -11,26 +18,87 @@
 
 namespace ocp::scenario {
 
+namespace {
+
+// One external vehicle's listening socket; connections before the World exists are held.
+struct VehicleServer {
+  std::string vehicle;
+  std::unique_ptr<TcpServer> server;
+};
+
+struct Servers {
+  World* world = nullptr;
+  std::vector<VehicleServer> list;
+  std::vector<std::pair<std::string, std::shared_ptr<ByteStream>>> held;
+  std::set<std::string> connected;
+
+  void accept(const std::string& vehicle, std::shared_ptr<ByteStream> stream) {
+    connected.insert(vehicle);
+    if (world != nullptr) {
+      world->accept_vehicle_connection(vehicle, std::move(stream));
+    } else {
+      held.emplace_back(vehicle, std::move(stream));
+    }
+  }
+};
+
+void listen_for_vehicles(const Scenario& scenario, const RealTimeOptions& real_time, sim_app::RealTimeRunner& runner,
+                         Servers& servers) {
+  std::uint16_t port = real_time.tcp_port;
+  for (const VehicleSpec& spec : scenario.world.vehicles) {
+    if (spec.in_process_client) continue;
+    auto server = std::make_unique<TcpServer>(runner.io(), [&servers, name = spec.name](std::shared_ptr<ByteStream> stream) {
+      servers.accept(name, std::move(stream));
+    });
+    if (auto status = server->listen(TcpServerOptions{port, false}); !status) {
+      throw HarnessError("vehicle " + spec.name + ": " + status.error().message());
+    }
+    if (real_time.on_listening) real_time.on_listening(spec.name, server->local_address());
+    servers.list.push_back({spec.name, std::move(server)});
+    if (port != 0) ++port;
+  }
+}
+
+// Runs the event loop until every external vehicle has a connection (start_at_connection).
+void wait_for_connections(const RealTimeOptions& real_time, sim_app::RealTimeRunner& runner, const Servers& servers,
+                          const std::function<bool()>& interrupted) {
+  const auto give_up = std::chrono::steady_clock::now() + real_time.connect_timeout;
+  while (servers.connected.size() < servers.list.size()) {
+    if (interrupted && interrupted()) return;
+    if (real_time.client_problem) {
+      if (auto problem = real_time.client_problem()) throw HarnessError(*problem);
+    }
+    if (std::chrono::steady_clock::now() >= give_up) {
+      std::string missing;
+      for (const VehicleServer& server : servers.list) {
+        if (!servers.connected.contains(server.vehicle)) missing += (missing.empty() ? "" : ", ") + server.vehicle;
+      }
+      throw HarnessError(fmt::format("no client connected for {} within {:g} s", missing,
+                                     static_cast<double>(real_time.connect_timeout.count()) / 1000.0));
+    }
+    if (runner.io().stopped()) runner.io().restart();
+    (void)runner.io().run_one_for(std::chrono::milliseconds(10));
+  }
+}
+
+}  // namespace
+
 RunResult run_scenario_realtime(const Scenario& scenario, const RunOptions& options,
                                 const RealTimeOptions& real_time) {
   sim_app::RealTimeRunner runner(real_time.handle_signals ? sim_app::RealTimeRunner::Signals::handle
                                                          : sim_app::RealTimeRunner::Signals::leave_to_caller);   // first: destroyed last
-  std::vector<std::unique_ptr<TcpServer>> servers;
+  Servers servers;
+  listen_for_vehicles(scenario, real_time, runner, servers);
+  if (real_time.start_at_connection) wait_for_connections(real_time, runner, servers, options.interrupted);
   std::string relisten_error;   // a restarted listener that could not have its port back
   RunResult result = run_world(runner.executor(), scenario, options, false, [&](World& world, SimTime end) {
-    std::uint16_t port = real_time.tcp_port;
-    for (const VehicleSpec& spec : scenario.world.vehicles) {
-      if (spec.in_process_client) continue;
-      auto server = std::make_unique<TcpServer>(runner.io(), [&world, name = spec.name](std::shared_ptr<ByteStream> stream) {
-        world.accept_vehicle_connection(name, std::move(stream));
-      });
-      if (auto status = server->listen(TcpServerOptions{port, false}); !status) {
-        throw HarnessError("vehicle " + spec.name + ": " + status.error().message());
-      }
-      if (real_time.on_listening) real_time.on_listening(spec.name, server->local_address());
+    servers.world = &world;
+    for (auto& [vehicle, stream] : servers.held) world.accept_vehicle_connection(vehicle, std::move(stream));
+    servers.held.clear();
+    for (VehicleServer& entry : servers.list) {
       // A restart of the Streamer's listener (disconnect with listener_down): the same port
       // refuses connections that long, then listens again.
-      world.set_vehicle_listener(spec.name, [&, raw = server.get(), bound = server->port(), name = spec.name](Micros down) {
+      world.set_vehicle_listener(entry.vehicle, [&, raw = entry.server.get(), bound = entry.server->port(), name = entry.vehicle](Micros down) {
         raw->stop();
         runner.executor().call_after(down, [&, raw, bound, name] {
           if (auto status = raw->listen(TcpServerOptions{bound, false}); !status && relisten_error.empty()) {
@@ -39,20 +107,19 @@ RunResult run_scenario_realtime(const Scenario& scenario, const RunOptions& opti
           }
         });
       });
-      servers.push_back(std::move(server));
-      if (port != 0) ++port;
     }
     // The runner catches SIGINT / SIGTERM itself while it runs; a stop before `end` is one.
     SimTime stopped = end;
     runner.set_on_shutdown([&](const std::string&) {
       stopped = runner.executor().now();
-      for (auto& server : servers) server->stop();   // no new vehicle once the run is over
+      for (auto& entry : servers.list) entry.server->stop();   // no new vehicle once the run is over
     });
     PeriodicTimer interrupt_poll(runner.executor(), Micros{50'000}, [&](SimTime) {
       if (options.interrupted && options.interrupted()) runner.request_stop("interrupted");
     });
     interrupt_poll.start(runner.executor().now());
     (void)runner.run(end - runner.executor().now());
+    servers.world = nullptr;
     return stopped;
   });
   if (!relisten_error.empty()) throw HarnessError(relisten_error);

@@ -89,6 +89,14 @@ TEST(CampaignCli, SlurmPrintOnlyWritesAnArrayScript) {
   const Ran file = run("slurm --print-only --profile my/p.yaml --out rel");
   EXPECT_NE(file.output.find("--profile '/"), std::string::npos) << file.output;
   EXPECT_EQ(file.output.find("--out 'rel'"), std::string::npos) << file.output;
+  // What run takes about the client goes to every task as given.
+  const Ran client = run("slurm --print-only --client 'my_client 127.0.0.1:{port}' --time real --max-world-seconds 5 "
+                         "--max-events-per-s 2000000 --out /tmp/x");
+  EXPECT_EQ(client.code, 0) << client.output;
+  EXPECT_NE(client.output.find("--client 'my_client 127.0.0.1:{port}' --time real --max-world-seconds 5 "
+                               "--max-events-per-s 2000000\n"),
+            std::string::npos)
+      << client.output;
 }
 
 TEST(CampaignCli, SlurmWithoutSbatchNamesItAndExitsTwo) {

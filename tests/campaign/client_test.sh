@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # `ocp_campaign run --client` end to end (issues #21 and #34, ctest label `realtime`): worlds in
-# real time against external vehicle clients.
+# real time (--time real; virtual time, the default, is tests/vtime/scripts/campaign_virtual_test.sh)
+# against external vehicle clients.
 #   * Good clients pass, with every client hazard drawn: the reference vehicle_client on the
 #     world that once gave 4 false `conservation` violations (seed 2, world 0, 30 s: duplicates
 #     and reordering on a monitor link), the Python and Node examples on 15 s default worlds.
@@ -21,7 +22,7 @@ fail() { echo "FAIL: $*"; exit 1; }
 start() {
   local name=$1 command=$2
   shift 2
-  ( "$campaign" run --no-shrink -q --out "$work/$name" --client "$command" "$@" >"$work/$name.out" 2>&1
+  ( "$campaign" run --no-shrink -q --out "$work/$name" --client "$command" --time real "$@" >"$work/$name.out" 2>&1
     echo $? >"$work/$name.code" ) &
 }
 # finish NAME EXPECTED_EXIT: waits for it.

@@ -111,6 +111,36 @@ def main():
           ["ocp_conformance", "vehicle", "--cases", "vehicle/2/1", "--", "sh", "-c", "echo boom-from-the-client; exit 3"], 2,
           says=["boom-from-the-client", "exited with code 3", "HARNESS ERROR"], never=["0 cases in"], limit_s=30)
 
+    # --time and the options of launched clients: a range, a clear error, exit 2 (issue #38).
+    ext = scratch / "ext.yaml"
+    ext.write_text("seed: 1\nduration: 1s\nworld:\n  vehicles:\n    - name: truck-1\n      in_process_client: false\n"
+                   "expect:\n  faults:\n    - {fault: InvalidMac, never: true}\n")
+    for tool, args in (("ocp_conformance", ["vehicle"]), ("ocp_scenario", ["run", str(ext)]), ("ocp_campaign", ["run"]),
+                       ("ocp_campaign", ["slurm", "--print-only"])):
+        check(f"{tool} {args[0]}: --time warp is named", [tool] + args + ["--time", "warp", "--", "true"], 2,
+              says=["--time"], limit_s=20)
+    check("conformance: --time virtual without a launched client",
+          ["ocp_conformance", "vehicle", "--time", "virtual"], 2, says=["--time virtual launches the client"], limit_s=20)
+    for value in ("0", "-1", "nan", "inf", ""):
+        check(f"scenario: --connect-timeout-s {value!r}",
+              ["ocp_scenario", "run", str(ext), "--time", "real", "--connect-timeout-s", value, "--", "true"], 2,
+              says=["--connect-timeout-s"], limit_s=20)
+        check(f"scenario: --world-timeout {value!r}", ["ocp_scenario", "run", str(ext), "--world-timeout", value, "--", "true"], 2,
+              says=["--world-timeout"], limit_s=20)
+        check(f"campaign slurm: --max-world-seconds {value!r}",
+              ["ocp_campaign", "slurm", "--print-only", "--max-world-seconds", value], 2, says=["--max-world-seconds"], limit_s=20)
+    check("scenario: an empty --operator-client", ["ocp_scenario", "run", str(ext), "--operator-client", " ", "--", "true"], 2,
+          says=["--operator-client", "empty command"], limit_s=20)
+    check("scenario: -- with nothing after it", ["ocp_scenario", "run", str(ext), "--"], 2,
+          says=["needs the client's command"], limit_s=20)
+    check("scenario: --operator-client in real time", ["ocp_scenario", "run", str(ext), "--time", "real",
+                                                        "--operator-client", "true {port}", "--", "true"], 2,
+          says=["virtual time only"], limit_s=20)
+    check("scenario: --realtime with --time virtual", ["ocp_scenario", "run", str(ext), "--realtime", "--time", "virtual"], 2,
+          says=["contradict"], limit_s=20)
+    check("campaign slurm: --max-events-per-s 5 is below its range",
+          ["ocp_campaign", "slurm", "--print-only", "--max-events-per-s", "5"], 2, says=["--max-events-per-s"], limit_s=20)
+
     # vehicle_client without a port says which one it uses.
     check("vehicle_client: no port says it uses 4000",
           ["vehicle_client", "127.0.0.1", "--duration-s", "0.2", "--no-status"], 0, says=["no port in", "4000"], limit_s=20)

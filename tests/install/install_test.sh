@@ -100,6 +100,12 @@ grep -q "ocp_conformance $version" "$work/conformance/report.html" || fail "the 
 grep -q "name=\"ocp_sim_version\" value=\"$version " "$work/conformance.xml" || fail "the JUnit file does not record the version"
 echo "ok: ocp_conformance vehicle -- vehicle_client (reports record $version)"
 
+# Virtual time from the installed tree: the shim is found in lib/ocp-sim/.
+ocp_conformance vehicle --time virtual --cases vehicle/2/1,vehicle/3.3/1 --out "$work/conformance-virtual" \
+  -- vehicle_client 127.0.0.1:{port} --no-status >"$work/conformance-virtual.log" 2>&1 ||
+  { tail -n 30 "$work/conformance-virtual.log"; fail "ocp_conformance --time virtual against vehicle_client"; }
+echo "ok: ocp_conformance --time virtual -- vehicle_client (the shim from lib/ocp-sim)"
+
 ocp_campaign run --profile default --worlds 4 -j 2 -q --out "$work/campaign" >"$work/campaign.log" 2>&1 ||
   { tail -n 30 "$work/campaign.log"; fail "ocp_campaign run (default profile)"; }
 grep -q "\"ocp_sim_version\": \"$version " "$work/campaign/summary.json" || fail "campaign summary.json does not record the version"

@@ -6,6 +6,27 @@
 
 namespace ocp::vtime {
 
+namespace {
+
+// Launches one client process on `port` under the controller's shim, announced to it.
+LaunchedClient launch(Controller& controller, const std::string& name, const std::vector<std::string>& command,
+                      std::uint16_t port, const VirtualClientOptions& clients) {
+  LaunchedClient client{name, clients.log_path ? clients.log_path(name) : "", nullptr};
+  auto launched = sim_app::ClientProcess::launch(command, port, client.log_path, controller.environment());
+  if (!launched) throw scenario::HarnessError("cannot start the client: " + launched.error().message());
+  client.process = std::move(*launched);
+  sim_app::ClientProcess* process = client.process.get();
+  const std::string what = name == operator_name ? "the operator client" : "the client (" + name + ")";
+  controller.expect_process(process->pid(), what, [process] { return process->running(); });
+  return client;
+}
+
+std::vector<std::string> command_of(const std::string& line, const std::vector<std::string>& argv) {
+  return argv.empty() ? std::vector<std::string>{"/bin/sh", "-c", line} : argv;
+}
+
+}  // namespace
+
 VirtualClientRun run_with_virtual_clients(const scenario::Scenario& scenario, const scenario::RunOptions& options,
                                           const VirtualClientOptions& clients) {
   VirtualClientRun run;
@@ -13,22 +34,21 @@ VirtualClientRun run_with_virtual_clients(const scenario::Scenario& scenario, co
   try {
     run.result = scenario::run_scenario_driven(scenario, options, [&](World& world, VirtualExecutor& executor, SimTime end) {
       controller = std::make_unique<Controller>(executor, clients.controller);
-      const std::vector<std::string> environment = controller->environment();
       for (const VehicleSpec& spec : scenario.world.vehicles) {
         if (spec.in_process_client) continue;
         const int listener = controller->listen(0, [&world, name = spec.name](std::shared_ptr<ByteStream> stream) {
           world.accept_vehicle_connection(name, std::move(stream));
         });
         world.set_vehicle_listener(spec.name, [&controller, listener](Micros down) { controller->close_listener_for(listener, down); });
-        LaunchedClient client{spec.name, clients.log_path ? clients.log_path(spec.name) : "", nullptr};
-        const std::vector<std::string> command =
-            clients.argv.empty() ? std::vector<std::string>{"/bin/sh", "-c", clients.command} : clients.argv;
-        auto launched = sim_app::ClientProcess::launch(command, controller->port(listener), client.log_path, environment);
-        if (!launched) throw scenario::HarnessError("cannot start the client: " + launched.error().message());
-        client.process = std::move(*launched);
-        sim_app::ClientProcess* process = client.process.get();
-        controller->expect_process(process->pid(), "the client (" + spec.name + ")", [process] { return process->running(); });
-        run.clients.push_back(std::move(client));
+        run.clients.push_back(launch(*controller, spec.name, command_of(clients.command, clients.argv),
+                                     controller->port(listener), clients));
+      }
+      if (!clients.operator_command.empty() || !clients.operator_argv.empty()) {
+        const int listener = controller->listen(0, [&world](std::shared_ptr<ByteStream> stream) {
+          world.player().accept_client_connection(std::move(stream));
+        });
+        run.operator_client = launch(*controller, operator_name, command_of(clients.operator_command, clients.operator_argv),
+                                     controller->port(listener), clients);
       }
       return controller->run_until(end, options.interrupted);
     });

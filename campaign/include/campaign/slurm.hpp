@@ -22,6 +22,12 @@ struct SlurmOptions {
   double poll_seconds = 1.0;
   double timeout_seconds = 3600.0;
   bool print_only = false;
+  // Passed on to every task's `ocp_campaign run` (empty / 0: not given, the run's default).
+  std::string client;                 // --client CMD (its {port} stays for the task)
+  std::string time;                   // --time virtual|real
+  double max_world_seconds = 0;       // --max-world-seconds
+  double world_timeout_seconds = 0;   // --world-timeout
+  std::uint64_t max_events_per_s = 0; // --max-events-per-s
 };
 
 void add_slurm_options(CLI::App& app, SlurmOptions& options);

@@ -3,6 +3,7 @@
 // wire log of this case, and bounded waits. Every wait is cut at the case deadline: past it,
 // CaseTimeout is thrown and the runner turns it into a FAILED verdict — a case can never hang.
 #include <chrono>
+#include <cstdint>
 #include <functional>
 #include <stdexcept>
 #include <string>
@@ -20,7 +21,8 @@ struct CaseTimeout : std::runtime_error {
 
 class CaseContext {
  public:
-  CaseContext(StreamerHost& host, WireLog& log, std::chrono::steady_clock::time_point deadline, double timeout_scale);
+  // `deadline_us` is on the host's clock (now_us()): wall time, or virtual time.
+  CaseContext(StreamerHost& host, WireLog& log, std::int64_t deadline_us, double timeout_scale);
 
   StreamerHost& host() { return host_; }
   // The client's interlock buttons (RunOptions::interlock), for the §10 cases' scripts.
@@ -30,6 +32,9 @@ class CaseContext {
   WireLog& log() { return log_; }
   const std::vector<WireLogEntry>& entries() const { return log_.entries(); }
   std::int64_t now_us() const { return host_.now_us(); }
+  // The case runs in virtual time (ocp_conformance --time virtual): every wait is exact, so a
+  // bound needs no slack for the machine's load.
+  bool virtual_time() { return host_.controller() != nullptr; }
   void note(std::string text) { log_.note(now_us(), std::move(text)); }
 
   // Observation window: runs the Streamer for `duration` (not scaled: it is what we watch).
@@ -45,7 +50,7 @@ class CaseContext {
   void check_deadline() const;
   StreamerHost& host_;
   WireLog& log_;
-  std::chrono::steady_clock::time_point deadline_;
+  std::int64_t deadline_us_;
   double timeout_scale_;
   InterlockButtons interlock_;
 };

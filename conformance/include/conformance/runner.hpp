@@ -12,6 +12,7 @@
 #include "conformance/control_frames.hpp"
 #include "conformance/case.hpp"
 #include "conformance/vehicle_cases.hpp"
+#include "vtime/controller.hpp"
 
 namespace ocp::conformance {
 
@@ -27,6 +28,10 @@ struct RunOptions {
   std::string client_log_dir;    // launched clients' output (one file each); "" → /dev/null
   bool client_logs_kept = true;  // false: a temporary folder, quoted from but never named
   InterlockButtons interlock;    // how the §10 cases enable and stop the client's drive
+  // Virtual time (--time virtual, launched clients only): each worker's World and its client on
+  // one virtual clock (StreamerHost, vtime::Controller); case timeouts and every wait are virtual.
+  bool virtual_time = false;
+  vtime::ControllerOptions controller;   // the shim, the wall-clock watchdog of each wait
   // Progress: each result in case order (with jobs > 1 a result waits for the cases before it).
   std::function<void(const CaseResult&)> on_result;
   // Ctrl-C: polled while cases wait; true stops the run. The case in progress gets no verdict.

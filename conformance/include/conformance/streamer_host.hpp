@@ -10,6 +10,11 @@
 // reconnects to the same port. restart() is the defined Streamer restart a case can ask for:
 // the connection is closed, the listening socket is closed and opened anew on the same port,
 // and a new World (new CSPRNG MAC key, new latency loop) takes over.
+//
+// Virtual time (ocp_conformance --time virtual, docs/virtual-time.md): the World runs on a
+// VirtualExecutor and the listening socket is a vtime::Controller's; a launched client runs
+// under the shim (controller()->environment()) on the same clock, so every wait of a case is
+// virtual and exact, and a case takes the wall time the client needs to compute, not to wait.
 #include <boost/asio/io_context.hpp>
 
 #include <chrono>
@@ -25,7 +30,9 @@
 #include "ocp/error.hpp"
 #include "ocp/log.hpp"
 #include "ocp/asio/tcp_server.hpp"
+#include "ocp/virtual_executor.hpp"
 #include "streamer/streamer_core.hpp"
+#include "vtime/controller.hpp"
 #include "world/world.hpp"
 
 namespace ocp::conformance {
@@ -51,6 +58,8 @@ struct StreamerSetup {
 class StreamerHost {
  public:
   explicit StreamerHost(LogSink sink = make_null_sink());
+  // Virtual time: the Controller's options (its shim, watchdog, wait trace).
+  explicit StreamerHost(const vtime::ControllerOptions& virtual_time, LogSink sink = make_null_sink());
   ~StreamerHost();
   StreamerHost(const StreamerHost&) = delete;
   StreamerHost& operator=(const StreamerHost&) = delete;
@@ -77,9 +86,12 @@ class StreamerHost {
   std::uint64_t client_connections_accepted();
   // The event bus that carries the client's wire (the Streamer's or the Player's).
   EventBus& client_events();
-  AsioExecutor& executor() { return executor_; }
-  boost::asio::io_context& io() { return io_; }
-  std::int64_t now_us() const { return executor_.now().count(); }
+  // The World's clock: wall time since the host started, or virtual time.
+  Executor& clock() { return virtual_ ? static_cast<Executor&>(virtual_->executor) : executor_; }
+  std::int64_t now_us() const { return (virtual_ ? virtual_->executor.now() : executor_.now()).count(); }
+  // Virtual time: the controller a launched client is announced to (its environment, its
+  // pid); nullptr in real time.
+  vtime::Controller* controller() { return virtual_ ? virtual_->controller.get() : nullptr; }
 
   // Runs the io_context until `done()` or `timeout` passed; returns done(). Never a sleep.
   // Throws RunInterrupted as soon as the stop check (below) says so.
@@ -89,6 +101,15 @@ class StreamerHost {
   void run_for(std::chrono::milliseconds duration);
 
  private:
+  struct Virtual {
+    VirtualExecutor executor;
+    std::unique_ptr<vtime::Controller> controller;
+    int listener = -1;
+  };
+  void on_client_stream(std::shared_ptr<ByteStream> stream);
+  bool run_until_virtual(const std::function<bool()>& done, std::chrono::milliseconds timeout);
+  bool stop_asked() const { return stop_requested_ && stop_requested_(); }
+  std::unique_ptr<Virtual> virtual_;
   boost::asio::io_context io_;
   AsioExecutor executor_;
   LogSink sink_;

@@ -3,6 +3,7 @@
 // script, schedules every timeline action on the executor, attaches the Observer (and the
 // TraceRecorder) and runs to the scenario's duration. Same scenario + seed → same trace, byte
 // for byte (the World's determinism; the runner draws no randomness of its own).
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -88,6 +89,14 @@ struct RealTimeOptions {
   // as when several worlds run at once on threads (ocp_campaign --client).
   bool handle_signals = true;
   std::function<void(const std::string& vehicle, const std::string& address)> on_listening;
+  // The clock starts when every external vehicle's client has connected (ocp_scenario run
+  // -- CMD, or --wait-for-clients), not when the servers start listening: a client's start-up
+  // time is no part of the scenario. Waited for at most `connect_timeout`; `client_problem`,
+  // polled meanwhile, ends the wait early with its text (a launched client that exited).
+  // Either is a HarnessError.
+  bool start_at_connection = false;
+  std::chrono::milliseconds connect_timeout{10'000};
+  std::function<std::optional<std::string>()> client_problem;
 };
 RunResult run_scenario_realtime(const Scenario& scenario, const RunOptions& options,
                                 const RealTimeOptions& real_time);

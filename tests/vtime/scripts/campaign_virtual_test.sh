@@ -4,7 +4,8 @@
 #   * a client that corrupts the MAC FAILS (exit 1) in virtual time as in real time, and its
 #     world is shrunk with the client: shrunk.yaml, whose repro line names the client and
 #     --time virtual;
-#   * a static binary cannot run in virtual time: exit 2, with the reason and the way out.
+#   * a static binary cannot run in virtual time: exit 2, with the reason and the way out, also
+#     without --time (virtual is the default with --client).
 # Every campaign runs under `timeout` (a wall-clock watchdog beside the tool's own).
 # Usage: campaign_virtual_test.sh OCP_CAMPAIGN VEHICLE_CLIENT STATIC_CLIENT WORK_DIR
 set -uo pipefail
@@ -32,4 +33,10 @@ grep -q "^# Reproduce: .*--client .*misbehave-corrupt-mac.*--time virtual" "$shr
 run static 2 "$static_client" --no-shrink
 grep -q "cannot run in virtual time" "$work/static.out" || { cat "$work/static.out"; fail "static: no reason given"; }
 grep -q "use --time real" "$work/static.out" || fail "static: no way out given"
+# Virtual is the default with --client: without --time the static binary is refused the same way.
+timeout 60 "$campaign" run -q --out "$work/default" --client "$static_client" --profile calm --seed 4 --worlds 1 \
+  --max-world-seconds 3 --no-shrink >"$work/default.out" 2>&1
+code=$?
+[ "$code" -eq 2 ] && grep -q "cannot run in virtual time" "$work/default.out" || { cat "$work/default.out"; fail "default: exit $code, not refused in virtual time"; }
+echo "ok: --time defaults to virtual"
 echo "all virtual-time campaign checks passed"

@@ -1,9 +1,11 @@
 #pragma once
 // A scenario's World with external client processes in virtual time (docs/virtual-time.md):
 // one process of `command` per vehicle without an in-process client, each on its own
-// Streamer port, all on the World's VirtualExecutor through one Controller.
+// Streamer port, and (when given) one operator client process on the Player's :4001 API, all
+// on the World's VirtualExecutor through one Controller.
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,10 +20,18 @@ struct VirtualClientOptions {
   // env OCP_PORT), or an argv when `argv` is set.
   std::string command;
   std::vector<std::string> argv;
-  // Each client's output file ("" → /dev/null), by vehicle.
+  // Each client's output file ("" → /dev/null), by vehicle (operator_name for the operator client).
   std::function<std::string(const std::string& vehicle)> log_path;
+  // The operator client (SPEC §4.2), as `command`/`argv`, with "{port}" the Player's :4001 port
+  // (a free one). Both empty: none. The scenario's in-process operator client must be off
+  // (operator_client.connect: false), or the Player refuses one of the two.
+  std::string operator_command;
+  std::vector<std::string> operator_argv;
   ControllerOptions controller;
 };
+
+// LaunchedClient::vehicle of the operator client.
+inline constexpr const char* operator_name = "operator";
 
 struct LaunchedClient {
   std::string vehicle;
@@ -33,6 +43,7 @@ struct VirtualClientRun {
   scenario::RunResult result;
   // Still running (if they did) when the run ended; killed when this goes.
   std::vector<LaunchedClient> clients;
+  std::optional<LaunchedClient> operator_client;   // when VirtualClientOptions asked for one
   ControllerStats stats;
 };
 

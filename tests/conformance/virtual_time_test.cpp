@@ -1,0 +1,102 @@
+// `ocp_conformance … --time virtual -- CMD` (docs/virtual-time.md): the launched client runs
+// under the shim on the suite's own clock. Every case's timing is exact, so the good clients get
+// OK on every case with no allowance for the machine's load; a client that cannot live in virtual
+// time is refused (exit 2, with the reason and the way out) and never hangs the run. The broken
+// clients' verdicts in virtual time are the coverage rows of suite_test.cpp (InVirtualTime), and
+// a client that crashes in a case is named there in both times.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <map>
+#include <set>
+#include <string>
+
+#include "suite_run.hpp"
+
+namespace {
+
+using namespace ocp::conformance_test;
+
+// The Python vehicle example sends no safety report: SPEC §10's cases are not judged.
+const std::map<std::string, std::string> no_safety_report{{"vehicle/10/1", "INFORMATIONAL"},
+                                                          {"vehicle/10/2", "INFORMATIONAL"},
+                                                          {"vehicle/10/3", "INFORMATIONAL"},
+                                                          {"vehicle/10/4", "INFORMATIONAL"}};
+const std::map<std::string, std::string> operator_info{{"operator/4.2/6", "INFORMATIONAL"},
+                                                       {"operator/4.4/1", "INFORMATIONAL"}};
+
+// No wall-clock allowance here (the real-time run allows vehicle/3.3/2 a NON-STRICT on a busy
+// machine): in virtual time the reference client answers at the instant it reads.
+TEST(ConformanceVirtualTime, ReferenceClientPassesEveryCaseExactly) {
+  const SuiteRun r = run_suite("virtual_reference", "-j 2 --time virtual", reference + " 127.0.0.1:{port} --no-status");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("in virtual time"), std::string::npos) << r.output;
+  EXPECT_GE(expect_every_case_ok(r), 19u);
+}
+
+TEST(ConformanceVirtualTime, PythonExamplesPassBothSuites) {
+  const SuiteRun vehicle = run_suite("virtual_example_vehicle", "-j 2 --time virtual", example_client("vehicle_client.py"));
+  ASSERT_EQ(vehicle.exit_code, 0) << vehicle.output;
+  EXPECT_GE(expect_every_case_ok(vehicle, no_safety_report), 19u);
+  const SuiteRun operator_side =
+      run_suite("virtual_example_operator", "-j 2 --time virtual", example_client("operator_client.py"), "operator");
+  ASSERT_EQ(operator_side.exit_code, 0) << operator_side.output;
+  EXPECT_GE(expect_every_case_ok(operator_side, operator_info), 19u);
+}
+
+// A whole-suite run of a broken client in virtual time fails exactly its own cases, as in real
+// time (BrokenClientExactly in suite_test.cpp).
+TEST(ConformanceVirtualTime, ABrokenClientFailsExactlyItsOwnCases) {
+  const SuiteRun r = run_suite("virtual_naive_recv", "-j 2 --restart-per-case --time virtual", python_client("naive-recv"));
+  ASSERT_TRUE(r.index.IsObject()) << r.output;
+  std::set<std::string> failed;
+  for (const auto& c : r.index["cases"].GetArray()) {
+    if (std::string(c["verdict"].GetString()) == "FAILED") failed.insert(c["id"].GetString());
+  }
+  EXPECT_EQ(failed, (std::set<std::string>{"vehicle/2/3", "vehicle/2/4", "vehicle/3.2/4"})) << r.output;
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+}
+
+#ifdef OCP_VTIME_STATIC_CLIENT
+TEST(ConformanceVirtualTime, AStaticBinaryIsRefusedWithTheWayOut) {
+  const auto start = std::chrono::steady_clock::now();
+  const SuiteRun r = run_suite("virtual_static", "--time virtual --cases vehicle/2/1", OCP_VTIME_STATIC_CLIENT);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("cannot run in virtual time"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("use --time real"), std::string::npos) << r.output;
+  EXPECT_LT(seconds_since(start), 60.0) << r.output;   // the 2 s handshake timeout, not a hang
+}
+#endif
+
+// The connect timeout is virtual: a client asleep for 600 s ends the run after 5 virtual
+// seconds, in far less wall time.
+TEST(ConformanceVirtualTime, AClientThatNeverConnectsStopsTheRunAfterTheVirtualConnectTimeout) {
+  const auto start = std::chrono::steady_clock::now();
+  const SuiteRun r = run_suite("virtual_never_connects", "--time virtual --connect-timeout-s 5", "sleep 600");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("within 5.0 s of its launch"), std::string::npos) << r.output;
+  EXPECT_LT(seconds_since(start), 60.0) << r.output;
+}
+
+// A client that never waits cannot let virtual time pass: a harness error naming it, not a hang.
+// At nice 19, so that its 3 s of CPU never starve the real-time tests ctest runs beside it.
+TEST(ConformanceVirtualTime, ABusyLoopIsAHarnessErrorNotAHang) {
+  const std::string spins =
+      "nice -n 19 python3 -c \"import os, socket; s = socket.create_connection(('127.0.0.1', int(os.environ['OCP_PORT'])))\n"
+      "while True: pass\"";
+  const auto start = std::chrono::steady_clock::now();
+  const SuiteRun r = run_suite("virtual_busy", "--time virtual --cases vehicle/3.3/1", spins);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("without ever waiting"), std::string::npos) << r.output;
+  EXPECT_LT(seconds_since(start), 90.0) << r.output;
+}
+
+TEST(ConformanceVirtualTime, NeedsALaunchedClient) {
+  const std::string dir = fresh_dir("virtual_no_command");
+  EXPECT_EQ(run(harness + " vehicle --time virtual", dir + "/out.txt"), 2);
+  EXPECT_NE(read_file(dir + "/out.txt").find("--time virtual launches the client"), std::string::npos)
+      << read_file(dir + "/out.txt");
+  EXPECT_EQ(run(harness + " vehicle --time warp -- true", dir + "/warp.txt"), 2);
+}
+
+}  // namespace
