@@ -5,6 +5,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -112,9 +113,9 @@ class FieldTable {
   // The field named `key`, or Field::unknown. `hint` is the position of the field expected
   // next (start at 0); a match moves it past the field found.
   Field find(std::string_view key, std::size_t& hint) const {
-    if (hint < size && names_[hint] == key) return static_cast<Field>(hint++);
+    if (hint < size && same_key(names_[hint], key)) return static_cast<Field>(hint++);
     for (std::size_t i = 0; i < size; ++i) {
-      if (names_[i] == key) {
+      if (same_key(names_[i], key)) {
         hint = i + 1;
         return static_cast<Field>(i);
       }
@@ -124,6 +125,32 @@ class FieldTable {
   std::string_view name(Field field) const { return names_[static_cast<std::size_t>(field)]; }
 
  private:
+  // name == key without a call to memcmp (a third of a key lookup): our field names are at
+  // most 16 bytes, compared as two overlapping words; longer ones take memcmp.
+  static bool same_key(std::string_view name, std::string_view key) {
+    const std::size_t n = name.size();
+    if (n != key.size()) return false;
+    if (n >= 8 && n <= 16) {
+      return load8(name.data()) == load8(key.data()) &&
+             load8(name.data() + n - 8) == load8(key.data() + n - 8);
+    }
+    if (n >= 4 && n < 8) {
+      return load4(name.data()) == load4(key.data()) &&
+             load4(name.data() + n - 4) == load4(key.data() + n - 4);
+    }
+    return name == key;
+  }
+  static std::uint64_t load8(const char* at) {
+    std::uint64_t word;
+    std::memcpy(&word, at, sizeof word);
+    return word;
+  }
+  static std::uint32_t load4(const char* at) {
+    std::uint32_t word;
+    std::memcpy(&word, at, sizeof word);
+    return word;
+  }
+
   std::array<std::string_view, size> names_;
 };
 

@@ -5,6 +5,10 @@
 #include <cstring>
 #include <limits>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "json_codec_rapidjson.hpp"
 #include "ocp/json_codec.hpp"
 
@@ -200,8 +204,29 @@ class FastTokenizer {
   }
 
  private:
+  static bool is_whitespace(char c) { return c == ' ' || c == '\n' || c == '\r' || c == '\t'; }
+  // Compact documents (what the encoders write) have no whitespace: one compare. Indented ones
+  // (the seeds, hand-written clients) have runs of a newline and spaces, skipped 16 bytes at a
+  // time: a byte-by-byte loop was a fifth of the pretty control message's decode.
   void skip_whitespace() {
-    while (at_ != end_ && (*at_ == ' ' || *at_ == '\n' || *at_ == '\r' || *at_ == '\t')) ++at_;
+    if (at_ == end_ || !is_whitespace(*at_)) return;
+#if defined(__SSE2__)
+    while (end_ - at_ >= 16) {
+      const __m128i bytes = _mm_loadu_si128(reinterpret_cast<const __m128i*>(at_));
+      const __m128i space = _mm_or_si128(_mm_cmpeq_epi8(bytes, _mm_set1_epi8(' ')),
+                                         _mm_cmpeq_epi8(bytes, _mm_set1_epi8('\n')));
+      const __m128i other = _mm_or_si128(_mm_cmpeq_epi8(bytes, _mm_set1_epi8('\r')),
+                                         _mm_cmpeq_epi8(bytes, _mm_set1_epi8('\t')));
+      const auto not_space =
+          ~static_cast<unsigned>(_mm_movemask_epi8(_mm_or_si128(space, other))) & 0xFFFFu;
+      if (not_space != 0) {
+        at_ += std::countr_zero(not_space);
+        return;
+      }
+      at_ += 16;
+    }
+#endif
+    while (at_ != end_ && is_whitespace(*at_)) ++at_;
   }
   std::uint32_t offset(const char* at) const { return static_cast<std::uint32_t>(at - begin_); }
   void push(TokenKind kind, const char* at, std::uint32_t text_begin = 0,
