@@ -137,14 +137,6 @@ bool Decoder::expect_object(std::size_t index) {
   return fail(PeerError::wrong_type, "expected object");
 }
 
-bool Decoder::read_bool(std::size_t index, bool& out) {
-  switch (kind(index)) {
-    case TokenKind::true_value: out = true; return true;
-    case TokenKind::false_value: out = false; return true;
-    default: return fail(PeerError::wrong_type, "expected boolean");
-  }
-}
-
 bool Decoder::read_u64(std::size_t index, std::uint64_t& out) {
   constexpr std::string_view expected = "expected unsigned 64-bit integer";
   if (kind(index) != TokenKind::number) return fail(PeerError::wrong_type, expected);

@@ -85,24 +85,21 @@ bool JsonWriter::short_decimal(double value) {
   for (int k = 1; k <= 15; ++k) {
     const double scaled = magnitude * powers_of_ten[k];
     if (scaled >= digits_limit) return false;
-    const auto digits = static_cast<std::uint64_t>(scaled + 0.5);
+    const auto digits = static_cast<std::int64_t>(scaled + 0.5);
     if (static_cast<double>(digits) / powers_of_ten[k] != magnitude) continue;
-    char text[24];
-    const auto length = static_cast<int>(std::to_chars(text, text + sizeof text, digits).ptr - text);
     room(40);
     if (value < 0) *at_++ = '-';
-    if (length <= k) {  // 0.1 <= magnitude < 1: "0." and the digits
+    if (magnitude < 1.0) {  // "0." and exactly k digits (magnitude >= 0.1)
       *at_++ = '0';
       *at_++ = '.';
-      std::memcpy(at_, text, static_cast<std::size_t>(length));
-      at_ += length;
+      at_ = std::to_chars(at_, at_ + 16, digits).ptr;
       return true;
     }
-    std::memcpy(at_, text, static_cast<std::size_t>(length - k));
-    at_ += length - k;
-    *at_++ = '.';
-    std::memcpy(at_, text + length - k, static_cast<std::size_t>(k));
-    at_ += k;
+    // The digits, then the last k of them moved one place right to make room for the point.
+    char* const end = std::to_chars(at_, at_ + 16, digits).ptr;
+    for (char* at = end; at != end - k; --at) *at = at[-1];
+    end[-k] = '.';
+    at_ = end + 1;
     return true;
   }
   return false;
