@@ -16,13 +16,28 @@ std::string quote_number(std::string_view text) {
 
 bool is_digit(char c) { return c >= '0' && c <= '9'; }
 
-// The tokenizer checked the JSON number grammar: digits alone mean no sign, fraction or
-// exponent.
-bool is_plain_integer(std::string_view text) {
-  for (const char c : text) {
-    if (!is_digit(c)) return false;
+// What a number token's text holds, read as an unsigned integer. The tokenizer checked the JSON
+// number grammar: digits alone mean no sign, fraction or exponent.
+enum class Digits { value, too_large, not_digits };
+
+// One pass: 19 digits cannot overflow (10^19 - 1 < 2^64), so only longer texts check each step.
+Digits read_digits(std::string_view text, std::uint64_t& out) {
+  constexpr std::size_t safe_digits = 19;
+  std::uint64_t value = 0;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const auto digit = static_cast<std::uint64_t>(static_cast<unsigned char>(text[i]) - '0');
+    if (digit > 9) return Digits::not_digits;
+    if (i >= safe_digits && value > (std::numeric_limits<std::uint64_t>::max() - digit) / 10) {
+      // Still report a non-digit further on as not_digits, as the two-pass check did.
+      for (std::size_t j = i + 1; j < text.size(); ++j) {
+        if (static_cast<unsigned char>(text[j]) - '0' > 9) return Digits::not_digits;
+      }
+      return Digits::too_large;
+    }
+    value = value * 10 + digit;
   }
-  return true;
+  out = value;
+  return Digits::value;
 }
 
 // Exact fast path for the decimals our encoders write ("-0.25", "57.7081"): at most 15
@@ -55,18 +70,6 @@ bool parse_short_decimal(std::string_view text, double& out) {
   if (fraction_digits > max_digits) return false;
   const double value = static_cast<double>(digits) / powers_of_ten[fraction_digits];
   out = negative ? -value : value;
-  return true;
-}
-
-// Digits only (the tokenizer already checked the JSON number grammar).
-bool parse_digits(std::string_view text, std::uint64_t& out) {
-  std::uint64_t value = 0;
-  for (const char c : text) {
-    const auto digit = static_cast<std::uint64_t>(c - '0');
-    if (value > (std::numeric_limits<std::uint64_t>::max() - digit) / 10) return false;
-    value = value * 10 + digit;
-  }
-  out = value;
   return true;
 }
 
@@ -141,7 +144,7 @@ bool Decoder::read_u64(std::size_t index, std::uint64_t& out) {
   constexpr std::string_view expected = "expected unsigned 64-bit integer";
   if (kind(index) != TokenKind::number) return fail(PeerError::wrong_type, expected);
   const std::string_view text = tape_.text_of(tape_.tokens[index]);
-  if (is_plain_integer(text) && parse_digits(text, out)) return true;
+  if (read_digits(text, out) == Digits::value) return true;
   return fail(PeerError::out_of_range,
               std::string(expected) + ", got " + quote_number(text));
 }
@@ -151,8 +154,7 @@ bool Decoder::read_u32(std::size_t index, std::uint32_t& out) {
   if (kind(index) != TokenKind::number) return fail(PeerError::wrong_type, expected);
   const std::string_view text = tape_.text_of(tape_.tokens[index]);
   std::uint64_t wide = 0;
-  if (is_plain_integer(text) && parse_digits(text, wide) &&
-      wide <= std::numeric_limits<std::uint32_t>::max()) {
+  if (read_digits(text, wide) == Digits::value && wide <= std::numeric_limits<std::uint32_t>::max()) {
     out = static_cast<std::uint32_t>(wide);
     return true;
   }
@@ -164,9 +166,9 @@ bool Decoder::read_integral(std::size_t index, std::uint64_t& out) {
   constexpr std::string_view expected = "expected non-negative integer";
   if (kind(index) != TokenKind::number) return fail(PeerError::wrong_type, expected);
   const std::string_view text = tape_.text_of(tape_.tokens[index]);
-  if (is_plain_integer(text)) {
-    if (parse_digits(text, out)) return true;
-  } else {
+  const Digits digits = read_digits(text, out);
+  if (digits == Digits::value) return true;
+  if (digits == Digits::not_digits) {
     // 2^64 as a double; every whole double below it converts exactly.
     constexpr double u64_limit = 18446744073709551616.0;
     double value = 0.0;

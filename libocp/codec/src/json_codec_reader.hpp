@@ -131,14 +131,16 @@ class FieldTable {
   std::string_view name(Field field) const { return names_[static_cast<std::size_t>(field)]; }
 
  private:
-  // name == key without a call to memcmp (a third of a key lookup): our field names are at
-  // most 16 bytes, compared as two overlapping words; longer ones take memcmp.
+  // name == key without a call to memcmp (a third of a key lookup): eight bytes at a time,
+  // the last word overlapping the one before it.
   static bool same_key(std::string_view name, std::string_view key) {
     const std::size_t n = name.size();
     if (n != key.size()) return false;
-    if (n >= 8 && n <= 16) {
-      return load8(name.data()) == load8(key.data()) &&
-             load8(name.data() + n - 8) == load8(key.data() + n - 8);
+    if (n >= 8) {
+      for (std::size_t i = 0; i + 8 < n; i += 8) {
+        if (load8(name.data() + i) != load8(key.data() + i)) return false;
+      }
+      return load8(name.data() + n - 8) == load8(key.data() + n - 8);
     }
     if (n >= 4 && n < 8) {
       return load4(name.data()) == load4(key.data()) &&

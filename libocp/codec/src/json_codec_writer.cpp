@@ -86,6 +86,11 @@ bool JsonWriter::short_decimal(double value) {
     const double scaled = magnitude * powers_of_ten[k];
     if (scaled >= digits_limit) return false;
     const auto digits = static_cast<std::int64_t>(scaled + 0.5);
+    // At the right k, scaled is within two of its units in the last place (2^-51 of it) of
+    // the digits; elsewhere it is almost never that close. The division, whose latency is
+    // the cost here, then only checks the likely k.
+    const double distance = std::fabs(scaled - static_cast<double>(digits));
+    if (distance > scaled * 1e-12) continue;
     if (static_cast<double>(digits) / powers_of_ten[k] != magnitude) continue;
     room(40);
     if (value < 0) *at_++ = '-';
