@@ -73,9 +73,10 @@ bool console_output(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  const bool console = console_output(argc, argv);   // before Initialize takes the flags out
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  if (console_output(argc, argv)) {
+  if (console) {
     RatioReporter reporter;
     benchmark::RunSpecifiedBenchmarks(&reporter);
   } else {

@@ -2,6 +2,9 @@
 #include "campaign/campaign.hpp"
 
 #include <sys/resource.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include <chrono>
 #include <mutex>
@@ -40,9 +43,27 @@ double cpu_seconds_of(int who) {
   return seconds_of(usage.ru_utime) + seconds_of(usage.ru_stime);
 }
 
+// Every world frees all it allocated and the next world allocates it again. With more than one
+// worker, glibc gave each worker arena's freed top back to the kernel after every world
+// (madvise) and faulted it in again: 7 times the page faults of one worker, about 90 a world
+// (docs/benchmarks.md, "Campaign scaling"), and in a process with many threads each give-back
+// also interrupts every core running one of them (TLB shootdown). So arenas keep up to 64 MiB
+// free, and blocks up to 32 MiB come from them rather than from mmap (fixed thresholds: glibc's
+// dynamic ones moved per block freed). Process-wide, set once; peak memory is unchanged.
+void keep_freed_memory_for_the_next_world() {
+#if defined(__GLIBC__)
+  static std::once_flag once;
+  std::call_once(once, [] {
+    mallopt(M_TRIM_THRESHOLD, 64 << 20);
+    mallopt(M_MMAP_THRESHOLD, 32 << 20);
+  });
+#endif
+}
+
 }  // namespace
 
 CampaignRun run_campaign(const CampaignOptions& options, const std::function<void(const Progress&)>& on_progress) {
+  keep_freed_memory_for_the_next_world();
   const auto wall_start = std::chrono::steady_clock::now();
   const double process_cpu_start = cpu_seconds_of(RUSAGE_SELF);
   const double children_cpu_start = cpu_seconds_of(RUSAGE_CHILDREN);
