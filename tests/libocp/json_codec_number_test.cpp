@@ -1,6 +1,7 @@
-// The encoder's doubles: its short-decimal path (JsonWriter::short_decimal) must write exactly
-// what the shortest round-trip std::to_chars writes, for the decimals it takes and for every
-// double it declines, and what it writes must read back to the same double.
+// The codec's doubles. The encoder's short-decimal path (JsonWriter::short_decimal) must write
+// exactly what the shortest round-trip std::to_chars writes, for the decimals it takes and for
+// every double it declines, and what it writes must read back to the same double. The
+// decoder's (Clinger's fast path, else from_chars) must read every number as from_chars does.
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -12,6 +13,7 @@
 #include <string>
 
 #include "json_codec_writer.hpp"
+#include "ocp/json_codec.hpp"
 
 namespace {
 
@@ -97,6 +99,40 @@ TEST(JsonCodecNumber, WriterGrowsPastItsBuffer) {
   std::string expected;
   for (int i = 0; i < 1000; ++i) expected += shortest(57.7089 + i);
   EXPECT_EQ(out, expected);
+}
+
+// lat read by the decoder against from_chars, bit for bit.
+void expect_read_as_from_chars(const std::string& number) {
+  const std::string text = R"({"ack_time":1,"ack_time_mac":2,"vehicle_user_data":{"pos":{"lat":)" + number +
+                           R"(,"lon":0.5},"user_data":null}})";
+  const auto decoded = ocp::decode_vehicle_response(text);
+  ASSERT_TRUE(decoded.ok()) << number;
+  double expected = 0.0;
+  std::from_chars(number.data(), number.data() + number.size(), expected);
+  ASSERT_EQ(std::bit_cast<std::uint64_t>(decoded->vehicle_user_data->pos->lat), std::bit_cast<std::uint64_t>(expected))
+      << number;
+}
+
+TEST(JsonCodecNumber, DecimalsReadAsFromChars) {
+  for (const char* number : {"0", "-0", "-0.0", "57.7089", "9007199254740992", "9007199254740993", "0.1",
+                             "0.0000000000000000000001", "1234567890123456789", "12345678901234567890",
+                             "4.35", "-1.5e3", "1E-7", "0.30000000000000004", "9007199254740993.5"}) {
+    expect_read_as_from_chars(number);
+  }
+  std::mt19937_64 random(7);
+  for (int i = 0; i < 100'000; ++i) {
+    const std::string digits = std::to_string(random() >> (random() % 64));
+    const std::size_t point = random() % (digits.size() + 1);
+    std::string number = random() % 2 ? "-" : "";
+    if (point == 0 || point >= digits.size()) {
+      number += digits;
+    } else {
+      number += digits.substr(0, point);
+      number += '.';
+      number += digits.substr(point);
+    }
+    expect_read_as_from_chars(number);
+  }
 }
 
 }  // namespace

@@ -14,7 +14,6 @@ std::string quote_number(std::string_view text) {
   return std::string(text.substr(0, max_echoed_chars)) + "...";
 }
 
-bool is_digit(char c) { return c >= '0' && c <= '9'; }
 
 // What a number token's text holds, read as an unsigned integer. The tokenizer checked the JSON
 // number grammar: digits alone mean no sign, fraction or exponent.
@@ -40,34 +39,36 @@ Digits read_digits(std::string_view text, std::uint64_t& out) {
   return Digits::value;
 }
 
-// Exact fast path for the decimals our encoders write ("-0.25", "57.7081"): at most 15
-// significant digits and no exponent. Both the digits (< 2^53) and the power of ten (<= 10^22)
-// are exact doubles, so one correctly rounded division gives the correctly rounded value
-// (Clinger's fast path). Anything else goes to from_chars.
+// Exact fast path for the decimals our encoders write ("-0.25", "57.7081"): no exponent, at
+// most 19 digits (so the integer cannot overflow), the digits as an integer at most 2^53 and at
+// most 22 of them after the point. Both the integer and the power of ten are then exact
+// doubles, so one correctly rounded division gives the correctly rounded value (Clinger's fast
+// path). Anything else goes to from_chars.
 bool parse_short_decimal(std::string_view text, double& out) {
-  static constexpr double powers_of_ten[] = {1e0, 1e1, 1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
-                                             1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15};
-  constexpr int max_digits = 15;
-  std::size_t at = 0;
+  static constexpr double powers_of_ten[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                             1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+                                             1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+  constexpr int max_digits = 19;              // 10^19 - 1 < 2^64
+  constexpr std::uint64_t max_exact = 1ULL << 53;
+  constexpr int max_fraction_digits = 22;     // 10^22 is the largest exact power of ten
   const bool negative = !text.empty() && text[0] == '-';
-  if (negative) at = 1;
   std::uint64_t digits = 0;
   int digit_count = 0;
   int fraction_digits = 0;
   bool in_fraction = false;
-  for (; at < text.size(); ++at) {
-    const char c = text[at];
-    if (is_digit(c)) {
-      digits = digits * 10 + static_cast<std::uint64_t>(c - '0');
-      if (digits != 0 && ++digit_count > max_digits) return false;
-      if (in_fraction) ++fraction_digits;
-    } else if (c == '.' && !in_fraction) {
+  for (std::size_t at = negative ? 1 : 0; at < text.size(); ++at) {
+    const unsigned digit = static_cast<unsigned char>(text[at]) - unsigned{'0'};
+    if (digit <= 9) {
+      if (++digit_count > max_digits) return false;
+      digits = digits * 10 + digit;
+      fraction_digits += in_fraction ? 1 : 0;
+    } else if (text[at] == '.' && !in_fraction) {
       in_fraction = true;
     } else {
       return false;  // exponent
     }
   }
-  if (fraction_digits > max_digits) return false;
+  if (digits > max_exact || fraction_digits > max_fraction_digits) return false;
   const double value = static_cast<double>(digits) / powers_of_ten[fraction_digits];
   out = negative ? -value : value;
   return true;

@@ -378,7 +378,8 @@ class FastTokenizer {
   int depth_ = 0;
   std::uint64_t object_depths_ = 0;  // bit d: the container open at depth d is an object
   static_assert(max_json_depth <= 64, "object_depths_ has a bit a level");
-  std::array<std::uint32_t, max_json_depth> open_indexes_{};
+  // Written at each open before any read: not cleared for every document.
+  std::array<std::uint32_t, max_json_depth> open_indexes_;
 };
 
 constexpr unsigned ascii_parse_flags =
