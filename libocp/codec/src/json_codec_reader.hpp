@@ -142,11 +142,12 @@ class FieldTable {
       }
       return load8(name.data() + n - 8) == load8(key.data() + n - 8);
     }
-    if (n >= 4 && n < 8) {
+    if (n >= 4) {
       return load4(name.data()) == load4(key.data()) &&
              load4(name.data() + n - 4) == load4(key.data() + n - 4);
     }
-    return name == key;
+    // 0 to 3 bytes ("a", "pos"): first, middle and last cover them all.
+    return n == 0 || (name[0] == key[0] && name[n / 2] == key[n / 2] && name[n - 1] == key[n - 1]);
   }
   static std::uint64_t load8(const char* at) {
     std::uint64_t word;
