@@ -32,17 +32,33 @@ std::string efficiency_text(const Efficiency& e) {
 }
 
 std::string efficiency_json(const Efficiency& e) {
-  char text[1024];
-  std::snprintf(text, sizeof text,
-                "{\n  \"worlds\": %zu,\n  \"workers\": %d,\n  \"wall_seconds\": %.6f,\n"
-                "  \"simulated_seconds\": %.6f,\n  \"cpu_seconds\": %.6f,\n  \"process_cpu_seconds\": %.6f,\n"
-                "  \"children_cpu_seconds\": %.6f,\n  \"world_cpu_seconds\": %.6f,\n"
-                "  \"worlds_per_second\": %.6f,\n  \"worlds_per_second_per_worker\": %.6f,\n"
-                "  \"simulated_seconds_per_cpu_second\": %.6f,\n  \"cpu_ms_per_world\": %.6f\n}\n",
-                e.worlds, e.workers, e.wall_seconds, e.simulated_seconds, e.cpu_seconds(), e.process_cpu_seconds,
-                e.children_cpu_seconds, e.world_cpu_seconds, e.worlds_per_second(), e.worlds_per_second_per_worker(),
-                e.simulated_per_cpu_second(), e.cpu_ms_per_world());
-  return text;
+  struct Field {
+    const char* name;
+    double value;
+    int decimals;
+  };
+  const Field fields[] = {
+      {"worlds", static_cast<double>(e.worlds), 0},
+      {"workers", static_cast<double>(e.workers), 0},
+      {"wall_seconds", e.wall_seconds, 6},
+      {"simulated_seconds", e.simulated_seconds, 6},
+      {"cpu_seconds", e.cpu_seconds(), 6},
+      {"process_cpu_seconds", e.process_cpu_seconds, 6},
+      {"children_cpu_seconds", e.children_cpu_seconds, 6},
+      {"world_cpu_seconds", e.world_cpu_seconds, 6},
+      {"worlds_per_second", e.worlds_per_second(), 6},
+      {"worlds_per_second_per_worker", e.worlds_per_second_per_worker(), 6},
+      {"simulated_seconds_per_cpu_second", e.simulated_per_cpu_second(), 6},
+      {"cpu_ms_per_world", e.cpu_ms_per_world(), 6},
+  };
+  std::string json = "{";
+  for (const Field& field : fields) {
+    char line[128];
+    std::snprintf(line, sizeof line, "%s\n  \"%s\": %.*f", json.size() > 1 ? "," : "", field.name, field.decimals,
+                  field.value);
+    json += line;
+  }
+  return json + "\n}\n";
 }
 
 }  // namespace ocp::campaign
