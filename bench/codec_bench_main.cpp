@@ -10,10 +10,13 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 namespace {
 
 class RatioReporter : public benchmark::ConsoleReporter {
  public:
+  explicit RatioReporter(bool color) : ConsoleReporter(color ? OO_Defaults : OO_Tabular) {}
   void ReportRuns(const std::vector<Run>& runs) override {
     ConsoleReporter::ReportRuns(runs);
     for (const Run& run : runs) {
@@ -70,14 +73,25 @@ bool console_output(int argc, char** argv) {
   return true;
 }
 
+// Colours only on a terminal, and never after --benchmark_color=false (or no).
+bool colour_output(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--benchmark_color=false") == 0 || std::strcmp(argv[i], "--benchmark_color=no") == 0) {
+      return false;
+    }
+  }
+  return isatty(STDOUT_FILENO) != 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   const bool console = console_output(argc, argv);   // before Initialize takes the flags out
+  const bool colour = colour_output(argc, argv);
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   if (console) {
-    RatioReporter reporter;
+    RatioReporter reporter(colour);
     benchmark::RunSpecifiedBenchmarks(&reporter);
   } else {
     benchmark::RunSpecifiedBenchmarks();
