@@ -29,6 +29,7 @@ class JsonWriter {
   JsonWriter& operator=(const JsonWriter&) = delete;
 
   void literal(std::string_view text) {
+    if (text.empty()) return;   // memcpy from a null view is undefined, even of 0 bytes
     room(text.size());
     std::memcpy(at_, text.data(), text.size());
     at_ += text.size();
