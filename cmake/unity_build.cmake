@@ -44,7 +44,8 @@ function(ocp_unity_build batch_size)
       continue()
     endif()
     # A target that compiles copies of other targets' sources (tests/campaign_mutants) opts out:
-    # its sources were never batched together anywhere else.
+    # its sources were never batched together anywhere else. So does a hot path whose speed
+    # depends on GCC's per-unit inlining budget (ocp_codec, libocp/CMakeLists.txt).
     get_target_property(no_unity ${target} OCP_NO_UNITY)
     if(no_unity)
       continue()

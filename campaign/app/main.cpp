@@ -19,6 +19,7 @@
 #include <unistd.h>
 
 #include "campaign/campaign.hpp"
+#include "campaign/efficiency.hpp"
 #include "campaign/failure_files.hpp"
 #include "campaign/generator.hpp"
 #include "campaign/results.hpp"
@@ -260,12 +261,11 @@ void write_campaign_results(const RunCommand& command, const CampaignOptions& op
   write_outputs(summary, fs::path(command.out));
 }
 
-void print_rates(const CampaignRun& run) {
-  double simulated = 0;
-  for (const WorldOutcome& outcome : run.outcomes) simulated += static_cast<double>(outcome.duration.count()) / 1e6;
-  std::printf("%zu worlds in %.2f s wall (%.1f worlds/s), %.2f s CPU, %.0f simulated s per CPU s\n", run.outcomes.size(),
-              run.wall_seconds, run.wall_seconds > 0 ? static_cast<double>(run.outcomes.size()) / run.wall_seconds : 0.0,
-              run.cpu_seconds, run.cpu_seconds > 0 ? simulated / run.cpu_seconds : 0.0);
+// The closing efficiency lines, and efficiency.json beside the results (efficiency.hpp).
+void report_efficiency(const CampaignRun& run, const std::string& out) {
+  const Efficiency efficiency = efficiency_of(run);
+  std::cout << efficiency_text(efficiency);
+  std::ofstream(fs::path(out) / "efficiency.json") << efficiency_json(efficiency);
 }
 
 int run_command(const RunCommand& command) {
@@ -288,7 +288,7 @@ int run_command(const RunCommand& command) {
     return exit_usage;
   }
   std::cout << summary_table(summary);
-  print_rates(run);
+  report_efficiency(run, command.out);
   std::cout << "results: " << (fs::path(command.out) / "index.html").string() << "\n";
   if (run.interrupted || ocp::cli::interrupt_requested()) {
     std::cout << "interrupted\n";

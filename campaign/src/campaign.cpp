@@ -1,6 +1,11 @@
 // The campaign runner (campaign.hpp): workers pull world indices from one counter.
 #include "campaign/campaign.hpp"
 
+#include <sys/resource.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 #include <chrono>
 #include <mutex>
 #include <thread>
@@ -26,8 +31,42 @@ WorldOutcome check_campaign_world(const CampaignOptions& options, std::uint64_t 
   return outcome;
 }
 
+namespace {
+
+double seconds_of(const timeval& time) { return static_cast<double>(time.tv_sec) + 1e-6 * static_cast<double>(time.tv_usec); }
+
+// User + system CPU of `who` (RUSAGE_SELF: every thread of this process; RUSAGE_CHILDREN: the
+// children it has waited for).
+double cpu_seconds_of(int who) {
+  rusage usage{};
+  getrusage(who, &usage);
+  return seconds_of(usage.ru_utime) + seconds_of(usage.ru_stime);
+}
+
+// Every world frees all it allocated and the next world allocates it again. With more than one
+// worker, glibc gave each worker arena's freed top back to the kernel after every world
+// (madvise) and faulted it in again: 7 times the page faults of one worker, about 90 a world
+// (docs/benchmarks.md, "Campaign scaling"), and in a process with many threads each give-back
+// also interrupts every core running one of them (TLB shootdown). So arenas keep up to 64 MiB
+// free, and blocks up to 32 MiB come from them rather than from mmap (fixed thresholds: glibc's
+// dynamic ones moved per block freed). Process-wide, set once; peak memory is unchanged.
+void keep_freed_memory_for_the_next_world() {
+#if defined(__GLIBC__)
+  static std::once_flag once;
+  std::call_once(once, [] {
+    mallopt(M_TRIM_THRESHOLD, 64 << 20);
+    mallopt(M_MMAP_THRESHOLD, 32 << 20);
+  });
+#endif
+}
+
+}  // namespace
+
 CampaignRun run_campaign(const CampaignOptions& options, const std::function<void(const Progress&)>& on_progress) {
+  keep_freed_memory_for_the_next_world();
   const auto wall_start = std::chrono::steady_clock::now();
+  const double process_cpu_start = cpu_seconds_of(RUSAGE_SELF);
+  const double children_cpu_start = cpu_seconds_of(RUSAGE_CHILDREN);
   std::vector<std::uint64_t> indices;
   for (std::uint64_t i = 0; i < options.worlds; ++i) {
     if (options.shard.contains(i)) indices.push_back(i);
@@ -80,6 +119,9 @@ CampaignRun run_campaign(const CampaignOptions& options, const std::function<voi
     run.outcomes.push_back(std::move(outcomes[slot]));
   }
   run.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  run.process_cpu_seconds = cpu_seconds_of(RUSAGE_SELF) - process_cpu_start;
+  run.children_cpu_seconds = cpu_seconds_of(RUSAGE_CHILDREN) - children_cpu_start;
+  run.workers = jobs;
   return run;
 }
 

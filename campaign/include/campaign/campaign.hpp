@@ -40,7 +40,11 @@ struct CampaignRun {
   std::vector<WorldOutcome> outcomes;   // by world index
   bool interrupted = false;
   std::string harness_error;   // --client: the client could not be started (exit 2)
-  double wall_seconds = 0, cpu_seconds = 0;
+  double wall_seconds = 0, cpu_seconds = 0;   // cpu: the worlds' own, on their workers' thread clocks
+  // getrusage over the run: the whole process (all threads) and its reaped children (the
+  // clients of a --client campaign). efficiency.hpp turns these into the closing figures.
+  double process_cpu_seconds = 0, children_cpu_seconds = 0;
+  int workers = 1;
 };
 
 // World `index` of the campaign, checked as `options` say (virtual time, or against the client).

@@ -14,59 +14,63 @@ std::string quote_number(std::string_view text) {
   return std::string(text.substr(0, max_echoed_chars)) + "...";
 }
 
-bool is_digit(char c) { return c >= '0' && c <= '9'; }
 
-// The tokenizer checked the JSON number grammar: digits alone mean no sign, fraction or
-// exponent.
-bool is_plain_integer(std::string_view text) {
-  for (const char c : text) {
-    if (!is_digit(c)) return false;
+// What a number token's text holds, read as an unsigned integer. The tokenizer checked the JSON
+// number grammar: digits alone mean no sign, fraction or exponent.
+enum class Digits { value, too_large, not_digits };
+
+// One pass: 19 digits cannot overflow (10^19 - 1 < 2^64), so only longer texts check each step.
+Digits read_digits(std::string_view text, std::uint64_t& out) {
+  constexpr std::size_t safe_digits = 19;
+  std::uint64_t value = 0;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const auto digit = static_cast<std::uint64_t>(static_cast<unsigned char>(text[i]) - '0');
+    if (digit > 9) return Digits::not_digits;
+    if (i >= safe_digits && value > (std::numeric_limits<std::uint64_t>::max() - digit) / 10) {
+      // Still report a non-digit further on as not_digits, as the two-pass check did.
+      for (std::size_t j = i + 1; j < text.size(); ++j) {
+        if (static_cast<unsigned char>(text[j]) - '0' > 9) return Digits::not_digits;
+      }
+      return Digits::too_large;
+    }
+    value = value * 10 + digit;
   }
-  return true;
+  out = value;
+  return Digits::value;
 }
 
-// Exact fast path for the decimals our encoders write ("-0.25", "57.7081"): at most 15
-// significant digits and no exponent. Both the digits (< 2^53) and the power of ten (<= 10^22)
-// are exact doubles, so one correctly rounded division gives the correctly rounded value
-// (Clinger's fast path). Anything else goes to from_chars.
+// Exact fast path for the decimals our encoders write ("-0.25", "57.7081"): no exponent, at
+// most 19 digits (so the integer cannot overflow), the digits as an integer at most 2^53 and at
+// most 22 of them after the point. Both the integer and the power of ten are then exact
+// doubles, so one correctly rounded division gives the correctly rounded value (Clinger's fast
+// path). Anything else goes to from_chars.
 bool parse_short_decimal(std::string_view text, double& out) {
-  static constexpr double powers_of_ten[] = {1e0, 1e1, 1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
-                                             1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15};
-  constexpr int max_digits = 15;
-  std::size_t at = 0;
+  static constexpr double powers_of_ten[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                             1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+                                             1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+  constexpr int max_digits = 19;              // 10^19 - 1 < 2^64
+  constexpr std::uint64_t max_exact = 1ULL << 53;
+  constexpr int max_fraction_digits = 22;     // 10^22 is the largest exact power of ten
   const bool negative = !text.empty() && text[0] == '-';
-  if (negative) at = 1;
   std::uint64_t digits = 0;
   int digit_count = 0;
   int fraction_digits = 0;
   bool in_fraction = false;
-  for (; at < text.size(); ++at) {
-    const char c = text[at];
-    if (is_digit(c)) {
-      digits = digits * 10 + static_cast<std::uint64_t>(c - '0');
-      if (digits != 0 && ++digit_count > max_digits) return false;
-      if (in_fraction) ++fraction_digits;
-    } else if (c == '.' && !in_fraction) {
+  for (std::size_t at = negative ? 1 : 0; at < text.size(); ++at) {
+    const unsigned digit = static_cast<unsigned char>(text[at]) - unsigned{'0'};
+    if (digit <= 9) {
+      if (++digit_count > max_digits) return false;
+      digits = digits * 10 + digit;
+      fraction_digits += in_fraction ? 1 : 0;
+    } else if (text[at] == '.' && !in_fraction) {
       in_fraction = true;
     } else {
       return false;  // exponent
     }
   }
-  if (fraction_digits > max_digits) return false;
+  if (digits > max_exact || fraction_digits > max_fraction_digits) return false;
   const double value = static_cast<double>(digits) / powers_of_ten[fraction_digits];
   out = negative ? -value : value;
-  return true;
-}
-
-// Digits only (the tokenizer already checked the JSON number grammar).
-bool parse_digits(std::string_view text, std::uint64_t& out) {
-  std::uint64_t value = 0;
-  for (const char c : text) {
-    const auto digit = static_cast<std::uint64_t>(c - '0');
-    if (value > (std::numeric_limits<std::uint64_t>::max() - digit) / 10) return false;
-    value = value * 10 + digit;
-  }
-  out = value;
   return true;
 }
 
@@ -137,19 +141,11 @@ bool Decoder::expect_object(std::size_t index) {
   return fail(PeerError::wrong_type, "expected object");
 }
 
-bool Decoder::read_bool(std::size_t index, bool& out) {
-  switch (kind(index)) {
-    case TokenKind::true_value: out = true; return true;
-    case TokenKind::false_value: out = false; return true;
-    default: return fail(PeerError::wrong_type, "expected boolean");
-  }
-}
-
 bool Decoder::read_u64(std::size_t index, std::uint64_t& out) {
   constexpr std::string_view expected = "expected unsigned 64-bit integer";
   if (kind(index) != TokenKind::number) return fail(PeerError::wrong_type, expected);
   const std::string_view text = tape_.text_of(tape_.tokens[index]);
-  if (is_plain_integer(text) && parse_digits(text, out)) return true;
+  if (read_digits(text, out) == Digits::value) return true;
   return fail(PeerError::out_of_range,
               std::string(expected) + ", got " + quote_number(text));
 }
@@ -159,8 +155,7 @@ bool Decoder::read_u32(std::size_t index, std::uint32_t& out) {
   if (kind(index) != TokenKind::number) return fail(PeerError::wrong_type, expected);
   const std::string_view text = tape_.text_of(tape_.tokens[index]);
   std::uint64_t wide = 0;
-  if (is_plain_integer(text) && parse_digits(text, wide) &&
-      wide <= std::numeric_limits<std::uint32_t>::max()) {
+  if (read_digits(text, wide) == Digits::value && wide <= std::numeric_limits<std::uint32_t>::max()) {
     out = static_cast<std::uint32_t>(wide);
     return true;
   }
@@ -172,9 +167,9 @@ bool Decoder::read_integral(std::size_t index, std::uint64_t& out) {
   constexpr std::string_view expected = "expected non-negative integer";
   if (kind(index) != TokenKind::number) return fail(PeerError::wrong_type, expected);
   const std::string_view text = tape_.text_of(tape_.tokens[index]);
-  if (is_plain_integer(text)) {
-    if (parse_digits(text, out)) return true;
-  } else {
+  const Digits digits = read_digits(text, out);
+  if (digits == Digits::value) return true;
+  if (digits == Digits::not_digits) {
     // 2^64 as a double; every whole double below it converts exactly.
     constexpr double u64_limit = 18446744073709551616.0;
     double value = 0.0;

@@ -1,5 +1,6 @@
 #include "json_codec_writer.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace ocp::json_detail {
@@ -31,6 +32,13 @@ std::size_t utf8_sequence_length(std::string_view text) {
 
 }  // namespace
 
+void JsonWriter::grow(std::size_t bytes) {
+  const auto used = static_cast<std::size_t>(at_ - out_.data());
+  out_.resize(std::max<std::size_t>({used + bytes, 2 * out_.size(), 256}));
+  at_ = out_.data() + used;
+  end_ = out_.data() + out_.size();
+}
+
 void JsonWriter::number(double value) {
   // Whole values of small magnitude (most axes sit at 0, -1 or 1) skip the shortest
   // round-trip search: below 10^4 it prints their integer digits anyway (fixed notation wins
@@ -39,31 +47,72 @@ void JsonWriter::number(double value) {
     const auto whole = static_cast<int>(value);
     if (static_cast<double>(whole) == value) {
       if (whole == 0 && std::signbit(value)) {
-        out_.append("-0.0");
+        literal("-0.0");
         return;
       }
-      char digits[8];
-      const auto result = std::to_chars(digits, digits + sizeof digits, whole);
-      out_.append(digits, result.ptr);
-      out_.append(".0");
+      room(8);
+      at_ = std::to_chars(at_, at_ + 8, whole).ptr;
+      literal(".0");
       return;
     }
   }
+  if (short_decimal(value)) return;
   if (!std::isfinite(value)) {
     null();
     return;
   }
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-  const std::string_view text(buffer, static_cast<std::size_t>(result.ptr - buffer));
-  out_.append(text);
+  room(32);
+  char* const begin = at_;
+  at_ = std::to_chars(at_, at_ + 32, value).ptr;
   // Keep whole numbers visibly floating point ("-1.0", not "-1") as the product docs show.
-  if (text.find_first_of(".e") == std::string_view::npos) out_.append(".0");
+  const std::string_view text(begin, static_cast<std::size_t>(at_ - begin));
+  if (text.find_first_of(".e") == std::string_view::npos) literal(".0");
+}
+
+// Positions, speeds and stick angles are short decimals ("57.7089"); the shortest round-trip
+// search of to_chars was a sixth of a vehicle response. When |value| is at least 0.1 and the
+// correctly rounded quotient digits / 10^k equals it for an integer digits < 10^15 and some k
+// in 1..15, the smallest such k gives exactly to_chars's text: a decimal string with fewer
+// fraction digits would read back to another double (the quotient is what reading it gives,
+// digits and 10^k being exact doubles), and at these magnitudes fixed notation is shorter than
+// exponent notation. tests/libocp/json_codec_number_test.cpp compares the two.
+bool JsonWriter::short_decimal(double value) {
+  static constexpr double powers_of_ten[] = {1e0, 1e1, 1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                             1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15};
+  constexpr double digits_limit = 1e15;  // below 2^50: scaled values are exact to 1/8
+  const double magnitude = std::fabs(value);
+  if (!(magnitude >= 0.1 && magnitude < digits_limit)) return false;  // NaN too
+  for (int k = 1; k <= 15; ++k) {
+    const double scaled = magnitude * powers_of_ten[k];
+    if (scaled >= digits_limit) return false;
+    const auto digits = static_cast<std::int64_t>(scaled + 0.5);
+    // At the right k, scaled is within two of its units in the last place (2^-51 of it) of
+    // the digits; elsewhere it is almost never that close. The division, whose latency is
+    // the cost here, then only checks the likely k.
+    const double distance = std::fabs(scaled - static_cast<double>(digits));
+    if (distance > scaled * 1e-12) continue;
+    if (static_cast<double>(digits) / powers_of_ten[k] != magnitude) continue;
+    room(40);
+    if (value < 0) *at_++ = '-';
+    if (magnitude < 1.0) {  // "0." and exactly k digits (magnitude >= 0.1)
+      *at_++ = '0';
+      *at_++ = '.';
+      at_ = std::to_chars(at_, at_ + 16, digits).ptr;
+      return true;
+    }
+    // The digits, then the last k of them moved one place right to make room for the point.
+    char* const end = std::to_chars(at_, at_ + 16, digits).ptr;
+    for (char* at = end; at != end - k; --at) *at = at[-1];
+    end[-k] = '.';
+    at_ = end + 1;
+    return true;
+  }
+  return false;
 }
 
 void JsonWriter::string(std::string_view text) {
   static constexpr char hex[] = "0123456789abcdef";
-  out_.push_back('"');
+  literal('"');
   std::size_t clean_begin = 0;
   std::size_t i = 0;
   while (i < text.size()) {
@@ -79,28 +128,28 @@ void JsonWriter::string(std::string_view text) {
         continue;
       }
     }
-    out_.append(text.substr(clean_begin, i - clean_begin));
+    literal(text.substr(clean_begin, i - clean_begin));
     switch (c) {
-      case '"': out_.append("\\\""); break;
-      case '\\': out_.append("\\\\"); break;
-      case '\n': out_.append("\\n"); break;
-      case '\r': out_.append("\\r"); break;
-      case '\t': out_.append("\\t"); break;
-      case '\b': out_.append("\\b"); break;
-      case '\f': out_.append("\\f"); break;
+      case '"': literal("\\\""); break;
+      case '\\': literal("\\\\"); break;
+      case '\n': literal("\\n"); break;
+      case '\r': literal("\\r"); break;
+      case '\t': literal("\\t"); break;
+      case '\b': literal("\\b"); break;
+      case '\f': literal("\\f"); break;
       default:
         if (c < 0x20) {
           const char escaped[] = {'\\', 'u', '0', '0', hex[c >> 4], hex[c & 0xF]};
-          out_.append(escaped, sizeof escaped);
+          literal(std::string_view(escaped, sizeof escaped));
         } else {
-          out_.append("\\ufffd");  // a byte that does not start valid UTF-8
+          literal("\\ufffd");  // a byte that does not start valid UTF-8
         }
     }
     ++i;
     clean_begin = i;
   }
-  out_.append(text.substr(clean_begin));
-  out_.push_back('"');
+  literal(text.substr(clean_begin));
+  literal('"');
 }
 
 void JsonWriter::controller(const Controller& controller) {
