@@ -79,6 +79,8 @@ inline std::string python_client(const std::string& mode) { return "python3 " + 
 // Every case of a run is OK, but for `allowed` (case id → the verdict it may get instead): the
 // one check behind the reference client's and the example clients' runs. Prints the per-case
 // durations. Returns the number of cases.
+inline bool have_node() { return std::system("command -v node > /dev/null 2>&1") == 0; }
+
 inline std::size_t expect_every_case_ok(const SuiteRun& r, const std::map<std::string, std::string>& allowed = {}) {
   std::size_t cases = 0;
   if (!r.index.IsObject()) {

@@ -359,7 +359,6 @@ TEST(ExampleClient, OperatorClientPassesTheOperatorSuite) {
 
 // The Node.js examples (standard library only) pass both suites: they keep ack_time's digits
 // although JSON.parse would round them (vehicle/2/2 and operator/4.2/2 send pairs above 2^53).
-bool have_node() { return std::system("command -v node > /dev/null 2>&1") == 0; }
 
 TEST(ExampleClient, NodeVehicleClientPassesTheVehicleSuite) {
   if (!have_node()) GTEST_SKIP() << "node is not installed (scripts/setup --test installs it)";

@@ -119,6 +119,21 @@ TEST(VirtualTimeClients, StaticBinaryIsRefusedWithTheReason) {
   EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(30));
 }
 
+// A loop of zero-timeout polls lets virtual time pass (1 µs every 64 fruitless polls, as Shadow
+// models unblocked system calls): a client that polls until its clock moves (here for 2 ms,
+// before it runs the Python example) gets there, and is not called a busy loop. Without the
+// tick it spins at one instant for ever; Python's float time arithmetic does that by itself at
+// some instants ("wait 0 s", "not due yet").
+TEST(VirtualTimeClients, ZeroTimeoutPollsLetVirtualTimePass) {
+  const std::string program = "import runpy, select, sys, time\n"
+                              "start = time.monotonic()\n"
+                              "while time.monotonic() - start < 0.002: select.select([], [], [], 0)\n"
+                              "sys.argv = sys.argv[1:]\n"
+                              "runpy.run_path(sys.argv[0], run_name='__main__')\n";
+  expect_echoes("zero-timeout polls, then the python example",
+                {OCP_PYTHON3_PATH, "-c", program, std::string(OCP_EXAMPLES_DIR) + "/vehicle_client.py", "127.0.0.1:{port}"});
+}
+
 // A client that never waits is found out after a bounded amount of CPU.
 TEST(VirtualTimeClients, BusyLoopIsFoundOut) {
   ControllerOptions controller;

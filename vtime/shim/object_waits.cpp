@@ -404,14 +404,18 @@ int pthread_mutex_timedlock(pthread_mutex_t* mutex, const timespec* abstime) {
   return mutex_lock_until(mutex, absolute_deadline(CLOCK_REALTIME, *abstime), CLOCK_REALTIME, abstime);
 }
 
-// syscall() itself: futex waits with a timeout are virtual; everything else goes to libc. The
-// six arguments are read whatever the call takes (they are registers on the ABIs we run on).
+// syscall() itself: futex waits with a timeout are virtual, and a close goes through the shim's
+// own close() (libuv closes every descriptor with syscall(SYS_close) to dodge cancellation: the
+// shim must still see an OCP socket close, or its connection table fills after 16 reconnects);
+// everything else goes to libc. The six arguments are read whatever the call takes (they are
+// registers on the ABIs we run on).
 long syscall(long number, ...) {
   va_list list;
   va_start(list, number);
   long args[6];
   for (long& arg : args) arg = va_arg(list, long);
   va_end(list);
+  if (number == SYS_close && active) return close(static_cast<int>(args[0]));
   if (number == SYS_futex && active) {
     long result = 0;
     if (futex_virtually(args, result)) return result;

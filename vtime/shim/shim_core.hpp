@@ -67,12 +67,37 @@ int real_ppoll_call(pollfd* fds, nfds_t count, const timespec* timeout, const si
 // under. Returns check's result, or 0 when the deadline came first.
 inline constexpr int max_watched = 256;
 
+// A wait whose deadline has already come, and that finds nothing: in real time the clock moves
+// on between such calls, so a loop of them ends; in virtual time it would not (time stands
+// still while a thread runs). A client whose float time arithmetic says "wait 0 s" while "not
+// due yet" (Python's time.monotonic() at some instants) would spin for ever. So, as Shadow
+// models the latency of unblocked system calls, the 64th fruitless zero-timeout wait in a row
+// of one thread at one instant waits 1 µs of virtual time instead. It counts calls, not wall
+// time, so it stays deterministic.
+inline constexpr int fruitless_waits_before_a_tick = 64;
+inline thread_local std::int64_t fruitless_instant = -1;
+inline thread_local int fruitless_waits = 0;
+
+inline bool spinning_at_one_instant() {
+  const std::int64_t now = now_us();
+  if (now != fruitless_instant) {
+    fruitless_instant = now;
+    fruitless_waits = 0;
+  }
+  if (++fruitless_waits < fruitless_waits_before_a_tick) return false;
+  fruitless_waits = 0;
+  return true;
+}
+
 template <class Check>
 int virtual_wait(WaitKind kind, std::int64_t deadline, const pollfd* watch, int watched, const sigset_t* sigmask,
                  Check&& check) {
   int result = check();
   if (result != 0) return result;
-  if (deadline <= now_us()) return 0;
+  if (deadline <= now_us()) {
+    if (!spinning_at_one_instant()) return 0;
+    deadline = now_us() + 1;
+  }
   if (!ensure_channel()) {
     active = false;   // no controller (any more): real time
     return check();
