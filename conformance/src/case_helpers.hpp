@@ -95,11 +95,18 @@ inline Outcome failed_with_cause(std::string actual, const std::vector<AckPair>&
   return outcome;
 }
 
+// Every pair the Streamer sent on the vehicle wire, in order.
+inline std::vector<AckPair> sent_pairs(const Observations& observed) {
+  std::vector<AckPair> sent;
+  for (const SentPair& pair : observed.sent) sent.push_back(pair.ack);
+  return sent;
+}
+
 // The same on the vehicle wire; `crafted`: hand-made pairs written besides the Streamer's own.
 inline Outcome failed_over_altered_pairs(std::string actual, const std::vector<AckPair>& altered,
                                          const Observations& observed, const std::vector<AckPair>& crafted = {}) {
   std::vector<AckPair> sent = crafted;
-  for (const SentPair& pair : observed.sent) sent.push_back(pair.ack);
+  for (const AckPair& pair : sent_pairs(observed)) sent.push_back(pair);
   return failed_with_cause(std::move(actual), altered, sent);
 }
 

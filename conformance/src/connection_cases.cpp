@@ -39,15 +39,9 @@ Outcome grade_reconnect(CaseContext& context, std::int64_t break_us, const std::
   return ok(counts);
 }
 
-std::vector<AckPair> pairs_sent(CaseContext& context) {
-  std::vector<AckPair> out;
-  for (const SentPair& s : Observations::from(context.entries()).sent) out.push_back(s.ack);
-  return out;
-}
-
 Outcome after_server_close(CaseContext& context) {
   context.run_for(milliseconds(400));
-  const auto old_pairs = pairs_sent(context);
+  const auto old_pairs = sent_pairs(Observations::from(context.entries()));
   const std::int64_t break_us = context.now_us();
   context.note("server closes the vehicle connection");
   context.streamer().close_vehicle_connection();
@@ -56,7 +50,7 @@ Outcome after_server_close(CaseContext& context) {
 
 Outcome after_restart(CaseContext& context) {
   context.run_for(milliseconds(400));
-  const auto old_pairs = pairs_sent(context);
+  const auto old_pairs = sent_pairs(Observations::from(context.entries()));
   const std::int64_t break_us = context.now_us();
   StreamerSetup fresh;
   fresh.ack_time_offset = (std::uint64_t{1} << 53) + (std::uint64_t{1} << 44);

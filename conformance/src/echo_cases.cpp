@@ -190,8 +190,7 @@ Outcome no_pair_before_control(CaseContext& context) {
   // messages with pairs no one sent: name that cause, since the pairs are not made up.
   std::vector<AckPair> made_up;
   std::optional<std::pair<AckPair, AckPair>> rounded;  // (what it wrote, what was sent)
-  std::vector<AckPair> sent;
-  for (const SentPair& one : observed.sent) sent.push_back(one.ack);
+  const std::vector<AckPair> sent = sent_pairs(observed);
   for (const AckPair& pair : early) {
     const PairJudgement judged = judge_altered_pair(pair, sent);  // the one rule (ocp/pair_diagnosis.hpp)
     if (judged.cause == PairCause::rounded_through_double) {
