@@ -78,11 +78,12 @@ inline Ran expect_echoes(const std::string& name, const std::vector<std::string>
   expect_all_pass(ran);
   const ControllerStats& stats = ran.run.stats;
   std::printf("%s: %d s simulated in %.2f s wall (%.0fx); run %.0f ms: quiescence waits %.0f ms (/proc looks %.0f ms), "
-              "simulator and exchange %.0f ms; %llu instants, %llu settles, %llu /proc looks, %llu shim messages\n",
+              "simulator and exchange %.0f ms; %llu instants, %llu settles, %llu /proc looks (%llu single), %llu shim messages\n",
               name.c_str(), seconds, ran.wall_seconds, seconds / ran.wall_seconds, stats.run_us / 1000.0, stats.settle_us / 1000.0,
               stats.proc_us / 1000.0, (static_cast<double>(stats.run_us) - static_cast<double>(stats.settle_us)) / 1000.0,
               static_cast<unsigned long long>(stats.instants), static_cast<unsigned long long>(stats.settles),
-              static_cast<unsigned long long>(stats.proc_checks), static_cast<unsigned long long>(stats.messages));
+              static_cast<unsigned long long>(stats.proc_checks), static_cast<unsigned long long>(stats.single_looks),
+              static_cast<unsigned long long>(stats.messages));
   return ran;
 }
 

@@ -8,6 +8,7 @@
 #include <sys/socket.h>
 #include <sys/un.h>
 #include <sched.h>
+#include <sys/resource.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -25,6 +26,7 @@
 #include <utility>
 
 #include "clock_page.hpp"
+#include "cpu_pin.hpp"
 #include "proc_scan.hpp"
 #include "socket_stream.hpp"
 #include "vtime/protocol.hpp"
@@ -95,6 +97,8 @@ struct Controller::Impl {
   std::map<pid_t, ProcessRecord> processes;
   std::map<pid_t, int> wakers;                    // each process's waker, by its control connection
   ProcScanner proc;                               // the /proc looks, files kept open
+  std::unique_ptr<CpuPin> pin;                    // null: not pinned
+  std::map<pid_t, bool> pinned_threads;           // by thread id: may run on the pinned CPU only
   std::map<std::uint32_t, pid_t> connected_ports; // announced by a shim
   std::set<std::uint16_t> to_accept;              // connected to a listener of ours, not accepted yet
   std::vector<Listener> listeners;
@@ -139,6 +143,8 @@ struct Controller::Impl {
       if (const char* path = std::getenv("OCP_VTIME_WAIT_TRACE"); path != nullptr) options.wait_trace_path = path;
     }
     if (!options.wait_trace_path.empty()) trace.open(options.wait_trace_path, std::ios::trunc);
+    const char* no_pin = std::getenv("OCP_VTIME_NO_PIN");
+    if (options.pin_cpu && (no_pin == nullptr || std::strcmp(no_pin, "1") != 0)) pin = std::make_unique<CpuPin>();
   }
 
   ~Impl() {
@@ -373,6 +379,12 @@ struct Controller::Impl {
   }
 
   bool asleep_in_proc_now() {
+    if (pin && pin->cpu() >= 0) {
+      if (const std::optional<bool> asleep = single_look()) {
+        ++stats.single_looks;
+        return *asleep;
+      }
+    }
     const std::vector<pid_t> pids = watched_pids();
     std::vector<std::vector<ThreadLook>> first;
     for (const pid_t pid : pids) first.push_back(proc.look_at_threads(pid));
@@ -382,6 +394,37 @@ struct Controller::Impl {
     // A process that forked just before the first look and fell asleep is asleep in both; its
     // child is not in `pids`: the same processes must still be all there are.
     return watched_pids() == pids;
+  }
+
+  // One look is a true picture when nothing of the clients' could run while it was taken:
+  // every thread may run on the controller's CPU only, and the controller was not switched out
+  // meanwhile. (Two looks and their run counts are what show it otherwise.) Empty when the
+  // look cannot tell: then two are taken.
+  std::optional<bool> single_look() {
+    const long switches = own_switches();
+    bool holds = true;
+    for (const pid_t pid : watched_pids()) {
+      for (const ThreadLook& thread : proc.look_at_threads(pid, false)) {
+        if (thread.state == 'Z' || thread.state == 'X') continue;
+        if (thread.state != 'S') return false;
+        holds = holds && thread.cpu == pin->cpu() && pinned_here(thread.tid);
+      }
+    }
+    if (!holds || own_switches() != switches) return std::nullopt;
+    return true;
+  }
+
+  bool pinned_here(pid_t tid) {
+    if (pinned_threads.size() > 4 * max_threads) pinned_threads.clear();   // bounded: ids of ended threads
+    const auto [entry, added] = pinned_threads.try_emplace(tid, false);
+    if (added) entry->second = pin->holds(tid);
+    return entry->second;
+  }
+
+  static long own_switches() {
+    rusage usage{};
+    getrusage(RUSAGE_THREAD, &usage);
+    return usage.ru_nvcsw + usage.ru_nivcsw;
   }
 
   // Why the clients are not quiescent yet, for the wait trace.

@@ -38,6 +38,21 @@ std::vector<std::string> stat_fields(const std::string& text) {
   return fields;
 }
 
+// The state (field 3 of stat) and the CPU it last ran on (field 39), without splitting the
+// whole line: a look reads it for every thread at every quiescence wait.
+bool read_state_and_cpu(const std::string& text, ThreadLook& look) {
+  const auto close_paren = text.rfind(')');
+  if (close_paren == std::string::npos || close_paren + 2 >= text.size()) return false;
+  look.state = text[close_paren + 2];
+  std::size_t at = close_paren + 2;
+  for (int field = 3; field < 39 && at != std::string::npos; ++field) {
+    at = text.find(' ', at);
+    if (at != std::string::npos) ++at;
+  }
+  if (at != std::string::npos && at < text.size()) look.cpu = std::atoi(text.c_str() + at);
+  return true;
+}
+
 }  // namespace
 
 ProcScanner::~ProcScanner() {
@@ -115,15 +130,18 @@ std::string ProcScanner::read_task_file(pid_t pid, pid_t tid, const char* name, 
   return got > 0 ? std::string(buffer, static_cast<std::size_t>(got)) : std::string();
 }
 
-std::vector<ThreadLook> ProcScanner::look_at_threads(pid_t pid) {
+std::vector<ThreadLook> ProcScanner::look_at_threads(pid_t pid, bool runs) {
   std::vector<ThreadLook> threads;
   for (const pid_t tid : task_ids(pid)) {
     TaskFiles& files = processes_[pid].task[tid];
     ThreadLook look;
     look.tid = tid;
-    const std::vector<std::string> fields = stat_fields(read_task_file(pid, tid, "stat", files.stat));
-    if (fields.empty()) continue;   // ended meanwhile
-    look.state = fields[0].empty() ? '?' : fields[0][0];
+    const std::string stat = read_task_file(pid, tid, "stat", files.stat);
+    if (!read_state_and_cpu(stat, look)) continue;   // ended meanwhile
+    if (!runs) {
+      threads.push_back(look);
+      continue;
+    }
     const std::string schedstat = read_task_file(pid, tid, "schedstat", files.schedstat);
     const auto last_space = schedstat.rfind(' ');
     look.runs = last_space == std::string::npos ? 0 : std::strtoull(schedstat.c_str() + last_space + 1, nullptr, 10);

@@ -16,7 +16,8 @@ namespace ocp::vtime {
 struct ThreadLook {
   pid_t tid = 0;
   char state = '?';
-  std::uint64_t runs = 0;   // times scheduled in
+  std::uint64_t runs = 0;   // times scheduled in (0 when not asked for)
+  int cpu = -1;             // the CPU it last ran on
 };
 
 // The looks, with the /proc files kept open between them and read again with pread: a
@@ -32,8 +33,9 @@ class ProcScanner {
   ProcScanner(const ProcScanner&) = delete;
   ProcScanner& operator=(const ProcScanner&) = delete;
 
-  // Every thread of `pid` now; empty when the process is gone.
-  std::vector<ThreadLook> look_at_threads(pid_t pid);
+  // Every thread of `pid` now; empty when the process is gone. Without `runs`, only each
+  // thread's stat file is read.
+  std::vector<ThreadLook> look_at_threads(pid_t pid, bool runs = true);
   // `pid` and every process below it (/proc/PID/task/*/children), at most `limit`.
   std::vector<pid_t> process_tree(pid_t pid, std::size_t limit);
 
