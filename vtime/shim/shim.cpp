@@ -151,6 +151,10 @@ std::int64_t absolute_deadline(clockid_t clock, const timespec& when) {
 struct ThreadChannel {
   int fd = -1;
   std::uint64_t seq = 0;
+  // Who sends, read once per channel (getpid and gettid are system calls, and every message
+  // carries them); a fork's child opens a new channel, so they are read again there.
+  pid_t pid = 0;
+  pid_t tid = 0;
   ~ThreadChannel() {
     if (fd >= 0) REAL(close)(fd);
   }
@@ -158,8 +162,8 @@ struct ThreadChannel {
 thread_local ThreadChannel channel;
 
 void send_message(ShimMessage& message) {
-  message.pid = getpid();
-  message.tid = static_cast<std::int32_t>(gettid());
+  message.pid = channel.pid;
+  message.tid = static_cast<std::int32_t>(channel.tid);
   (void)REAL(send)(channel.fd, &message, sizeof message, MSG_NOSIGNAL);
 }
 
@@ -175,6 +179,8 @@ bool ensure_channel(ShimKind greeting) {
     return false;
   }
   channel.fd = fd;
+  channel.pid = getpid();
+  channel.tid = gettid();
   ShimMessage hello{};
   hello.kind = greeting;
   send_message(hello);

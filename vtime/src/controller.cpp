@@ -51,6 +51,7 @@ struct Controller::Impl {
     pid_t tid = 0;
     bool blocked = false;
     std::uint64_t seq = 0;
+    std::uint64_t seq_at_flush = 0;   // its wait when the simulator's bytes of the instant went out
     std::int64_t deadline = no_deadline;
     WaitKind wait = WaitKind::none;
     bool waker = false;            // the process's waker: always in recv, wakes waits on objects
@@ -110,7 +111,6 @@ struct Controller::Impl {
   std::uint64_t accepted = 0;
   std::uint64_t sweeps = 0;                       // rounds, for the sweeps of every 64th
   bool thread_left = false;
-  std::uint64_t cpu_at_rest = 0;                  // client CPU ticks at the last quiescence
   std::map<pid_t, std::uint64_t> cpu_seen;
   std::map<pid_t, Clock::time_point> unshimmed;   // in the client's tree, without the shim, since
 
@@ -385,9 +385,13 @@ struct Controller::Impl {
         return *asleep;
       }
     }
-    const std::vector<pid_t> pids = watched_pids();
+    std::vector<pid_t> pids;
     std::vector<std::vector<ThreadLook>> first;
-    for (const pid_t pid : pids) first.push_back(proc.look_at_threads(pid));
+    {
+      const ProcScanner::OneListing one_listing(proc);
+      pids = watched_pids();
+      for (const pid_t pid : pids) first.push_back(proc.look_at_threads(pid));
+    }
     for (std::size_t i = 0; i < pids.size(); ++i) {
       if (!asleep_in_both(first[i], proc.look_at_threads(pids[i]))) return false;
     }
@@ -401,6 +405,7 @@ struct Controller::Impl {
   // meanwhile. (Two looks and their run counts are what show it otherwise.) Empty when the
   // look cannot tell: then two are taken.
   std::optional<bool> single_look() {
+    const ProcScanner::OneListing one_listing(proc);
     const long switches = own_switches();
     bool holds = true;
     for (const pid_t pid : watched_pids()) {
@@ -489,12 +494,27 @@ struct Controller::Impl {
                                "dropped LD_PRELOAD); use --time real");
       }
     }
-    static const long ticks_per_second = sysconf(_SC_CLK_TCK);
+  }
+
+  // A client that never lets the instant end: a busy loop, or a wait the shim cannot see that
+  // spins. Found by its CPU since the wait for quiescence began (read first at the first check,
+  // so that a short wait reads no CPU at all), or, when a loaded machine starves it so that it
+  // never burns that much, by the wall time.
+  void check_busy(Clock::time_point settle_began, std::optional<std::uint64_t>& cpu_at_start) {
+    static const std::uint64_t ticks_per_second = static_cast<std::uint64_t>(sysconf(_SC_CLK_TCK));
     const std::uint64_t cpu = client_cpu();
-    if (cpu > cpu_at_rest && static_cast<double>(cpu - cpu_at_rest) / static_cast<double>(ticks_per_second) * 1000.0 >
-                                 static_cast<double>(options.busy_cpu.count())) {
-      throw VirtualTimeError("the client used " + std::to_string((cpu - cpu_at_rest) * 1000 / static_cast<std::uint64_t>(ticks_per_second)) +
+    if (!cpu_at_start) cpu_at_start = cpu;
+    const std::uint64_t used_ms = (cpu - std::min(cpu, *cpu_at_start)) * 1000 / ticks_per_second;
+    const auto waited = Clock::now() - settle_began;
+    if (used_ms > static_cast<std::uint64_t>(options.busy_cpu.count())) {
+      throw VirtualTimeError("the client used " + std::to_string(used_ms) +
                              " ms of CPU without ever waiting (a busy loop, or a wait the shim cannot see); awake: " +
+                             awake_description());
+    }
+    if (waited > options.busy_wall) {
+      throw VirtualTimeError("the client ran for " + std::to_string(std::chrono::duration_cast<std::chrono::seconds>(waited).count()) +
+                             " s of wall time without ever waiting (" + std::to_string(used_ms) +
+                             " ms of CPU: a busy loop on a loaded machine, or a wait the shim cannot see); awake: " +
                              awake_description());
     }
   }
@@ -538,6 +558,8 @@ struct Controller::Impl {
   // a wait the shim cannot see: a mutex, a blocking read). Processes that exited count as waiting.
   void settle() {
     ++stats.settles;
+    const auto began = Clock::now();
+    std::optional<std::uint64_t> cpu_at_start;
     int naps = 0;
     int quiet = 0;   // 1 ms waits in a row without a message
     for (int round = 0;; ++round) {
@@ -552,6 +574,7 @@ struct Controller::Impl {
       }
       if ((round & 15) == 15) {
         check_limits();
+        check_busy(began, cpu_at_start);
         if (trace.is_open() && (round & 4095) == 4095) trace_line("still waiting for quiescence: " + waiting_for());
       }
       if (!all_said_so && !none_woken_silent()) {
@@ -570,7 +593,6 @@ struct Controller::Impl {
       }
       ++naps;
     }
-    cpu_at_rest = client_cpu();
   }
 
   // ------------------------------------------------------------ the OCP connections
@@ -649,11 +671,15 @@ struct Controller::Impl {
 
   // This instant's writes to the sockets; true when anything reached a client.
   bool flush_to_clients() {
-    bool changed = false;
+    // The counts first: a thread the bytes wake (at once, on a shared CPU) waits until all of
+    // this instant's bytes arrived, on every connection, before it looks at its sockets.
     for (const std::shared_ptr<SocketStream>& stream : streams) {
-      // The count first: a woken thread waits for the bytes it announces.
-      stats.bytes_out += stream->flush(changed);
+      if (stream->queued_bytes() > 0) publish_delivered(*page, stream->peer_port(), stream->written_total() + stream->queued_bytes());
     }
+    for (auto& [fd, thread] : threads) thread.seq_at_flush = thread.seq;
+    bool changed = false;
+    for (const std::shared_ptr<SocketStream>& stream : streams) stats.bytes_out += stream->flush(changed);
+    // As sent: fewer when a socket's buffer was full.
     for (const std::shared_ptr<SocketStream>& stream : streams) publish_delivered(*page, stream->peer_port(), stream->written_total());
     std::erase_if(streams, [&](const std::shared_ptr<SocketStream>& stream) {
       if (!stream->finished()) return false;
@@ -702,10 +728,13 @@ struct Controller::Impl {
   bool wake_due_and_poke(bool delivered) {
     const std::int64_t now = executor.now().count();
     bool told = false;
+    // A thread the bytes already woke (on a shared CPU it runs at once) said RUNNING, and may
+    // wait again by now: a poke would only wake it once more for nothing.
+    if (delivered) pump(0);
     for (auto& [fd, thread] : threads) {
       if (!thread.blocked || thread.waker) continue;
       if (delivered) {
-        if (thread.wait != WaitKind::sleep && !waits_on_object(thread.wait)) {
+        if (thread.seq == thread.seq_at_flush && thread.wait != WaitKind::sleep && !waits_on_object(thread.wait)) {
           send_to(fd, thread, thread.deadline <= now ? ControlKind::wake : ControlKind::poke);
           told = true;
         }

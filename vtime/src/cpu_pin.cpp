@@ -57,9 +57,22 @@ CpuPin::CpuPin() {
   if (sched_setaffinity(thread_, sizeof one, &one) != 0) return;
   restore_ = true;
   cpu_ = chosen;
+  // SCHED_BATCH: a woken batch thread does not preempt the one running. So the controller,
+  // woken by a client's BLOCKED, lets the client reach its wait; and a client (it inherits the
+  // policy) woken by the simulator's bytes lets the controller finish the instant. Each runs
+  // until it waits, and the CPU changes hands once per hand-off.
+  policy_ = sched_getscheduler(thread_);
+  if (policy_ == SCHED_OTHER) {
+    const sched_param none{};
+    batch_ = sched_setscheduler(thread_, SCHED_BATCH, &none) == 0;
+  }
 }
 
 CpuPin::~CpuPin() {
+  if (batch_) {
+    const sched_param none{};
+    (void)sched_setscheduler(thread_, SCHED_OTHER, &none);
+  }
   if (restore_) (void)sched_setaffinity(thread_, sizeof before_, &before_);
   if (lock_fd_ >= 0) close(lock_fd_);
 }

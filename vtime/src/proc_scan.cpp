@@ -93,6 +93,7 @@ ProcScanner::ProcessFiles* ProcScanner::process(pid_t pid) {
 }
 
 std::vector<pid_t> ProcScanner::task_ids(pid_t pid) {
+  if (const auto listed = listed_.find(pid); caching_ && listed != listed_.end()) return listed->second;
   std::vector<pid_t> tids;
   ProcessFiles* files = process(pid);
   if (files == nullptr) return tids;
@@ -114,6 +115,7 @@ std::vector<pid_t> ProcScanner::task_ids(pid_t pid) {
       it = files->task.erase(it);
     }
   }
+  if (caching_) listed_[pid] = tids;
   return tids;
 }
 

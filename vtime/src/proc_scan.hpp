@@ -38,6 +38,21 @@ class ProcScanner {
   std::vector<ThreadLook> look_at_threads(pid_t pid, bool runs = true);
   // `pid` and every process below it (/proc/PID/task/*/children), at most `limit`.
   std::vector<pid_t> process_tree(pid_t pid, std::size_t limit);
+  // While a OneListing lives, each process's /proc/PID/task is listed once, for its tree and
+  // for its threads alike (one look at every thread; outside, every call lists afresh).
+  class OneListing {
+   public:
+    explicit OneListing(ProcScanner& scanner) : scanner_(scanner) { scanner_.caching_ = true; }
+    ~OneListing() {
+      scanner_.caching_ = false;
+      scanner_.listed_.clear();
+    }
+    OneListing(const OneListing&) = delete;
+    OneListing& operator=(const OneListing&) = delete;
+
+   private:
+    ProcScanner& scanner_;
+  };
 
  private:
   struct TaskFiles {
@@ -57,6 +72,8 @@ class ProcScanner {
   void forget(pid_t pid);
 
   std::map<pid_t, ProcessFiles> processes_;
+  std::map<pid_t, std::vector<pid_t>> listed_;   // this look's thread lists (OneListing)
+  bool caching_ = false;
   std::size_t open_ = 0;
   std::size_t max_open_;
 };

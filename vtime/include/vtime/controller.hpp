@@ -36,8 +36,10 @@ struct ControllerOptions {
   std::string shim_path;   // the shim library (find_shim())
   // A client process that never says hello (a static binary, Go) is found out this soon.
   std::chrono::milliseconds handshake_timeout{2000};
-  // CPU a client may burn without ever waiting before it is a busy loop.
+  // CPU a client may burn without ever waiting before it is a busy loop; and the wall time,
+  // for a busy client starved of CPU by a loaded machine (it never burns busy_cpu).
   std::chrono::milliseconds busy_cpu{3000};
+  std::chrono::milliseconds busy_wall{20'000};
   // Wall time for the whole run: a client that hangs never hangs the tool.
   std::chrono::milliseconds watchdog{120'000};
   // Every wait of every thread, one line each ("" → none): how to debug a hang.
