@@ -146,5 +146,21 @@ TEST(VirtualTimeClients, BusyLoopIsFoundOut) {
   }
 }
 
+// A busy client that a loaded machine starves of CPU never burns busy_cpu: it is found out by
+// the wall time it ran without a quiescent instant (here with a CPU budget of an hour).
+TEST(VirtualTimeClients, BusyLoopStarvedOfCpuIsFoundOutByWallTime) {
+  ControllerOptions controller;
+  controller.busy_cpu = std::chrono::hours(1);
+  controller.busy_wall = std::chrono::milliseconds(1500);
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    (void)run_client(world_yaml("3s", echoing_client_expectations), {OCP_PYTHON3_PATH, "-c", "while True: pass"}, controller);
+    FAIL() << "a busy loop must end the run";
+  } catch (const VirtualTimeError& error) {
+    EXPECT_NE(std::string(error.what()).find("s of wall time without ever waiting"), std::string::npos) << error.what();
+  }
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(60));
+}
+
 }  // namespace
 }  // namespace ocp::vtime
