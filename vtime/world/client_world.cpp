@@ -57,6 +57,8 @@ VirtualClientRun run_with_virtual_clients(const scenario::Scenario& scenario, co
     throw;
   }
   if (controller) run.stats = controller->stats();
+  for (LaunchedClient& client : run.clients) client.running_at_end = client.process->running();
+  if (run.operator_client) run.operator_client->running_at_end = run.operator_client->process->running();
   controller.reset();
   return run;
 }

@@ -37,6 +37,9 @@ struct LaunchedClient {
   std::string vehicle;
   std::string log_path;
   std::unique_ptr<sim_app::ClientProcess> process;
+  // Whether it still ran when the world ended. Asked afterwards, a process may have ended
+  // already: a wait it was in returns once the Controller is gone (a `sleep 600` exits).
+  bool running_at_end = false;
 };
 
 struct VirtualClientRun {
