@@ -362,12 +362,23 @@ struct Controller::Impl {
       const auto close_paren = text.rfind(')');
       if (open_paren == std::string::npos || close_paren == std::string::npos || close_paren + 2 >= text.size()) continue;
       if (text[close_paren + 2] == 'Z' || text[close_paren + 2] == 'X') continue;
+      if (runnable(pid)) continue;   // still starting, perhaps starved of CPU: refused once it waits
       const std::string name = text.substr(open_paren + 1, close_paren - open_paren - 1);
       throw VirtualTimeError("the client's process " + std::to_string(pid) + " (" + name +
                              ") cannot run in virtual time (no shim handshake within " +
                              std::to_string(options.handshake_timeout.count()) +
                              " ms: a static binary, or a runtime that does not call libc for time, such as Go); use --time real");
     }
+  }
+
+  // A thread of `pid` is running or waits for a CPU. The handshake timeout is wall time, and a
+  // loaded machine can starve a process's start-up (a shell at nice 19 beside stress-ng) past
+  // it: such a process is not refused while it runs, only once it waits without a shim.
+  bool runnable(pid_t pid) {
+    for (const ThreadLook& thread : proc.look_at_threads(pid, false)) {
+      if (thread.state == 'R') return true;
+    }
+    return false;
   }
 
   bool asleep_in_proc() {
@@ -480,7 +491,8 @@ struct Controller::Impl {
     }
     for (Expected& launched : expected) {
       const bool silent = !launched.greeted || processes.empty();
-      if (silent && launched.alive && launched.alive() && now - launched.launched > options.handshake_timeout) {
+      if (silent && launched.alive && launched.alive() && now - launched.launched > options.handshake_timeout &&
+          !runnable(launched.pid)) {
         throw VirtualTimeError(launched.name + " cannot run in virtual time (no shim handshake within " +
                                std::to_string(options.handshake_timeout.count()) +
                                " ms: a static binary, or a runtime that does not call libc for time, such as Go); use --time real");
