@@ -84,6 +84,14 @@ class Hazards {
     const SimTime at = draw_.duration(first_hazard_at, latest_start);
     data.until = std::min(world_.duration - Micros{1'000'000}, at + draw_.duration(Micros{2'000'000}, world_.duration / 2));
     push(at, data);
+    // Then the plugin goes on returning the pair to the end, without user data, as a plugin
+    // does. Silent, it would stay the locked source with no pair returned (SPEC §4.3: no
+    // self-echo after a lock): the latency loop open for good, HighLatency up to the end, and
+    // every such world a liveness failure that says nothing about the vehicle client.
+    ClientDataAction keep_echoing = data;
+    keep_echoing.until.reset();
+    for (auto& [vehicle, entry] : keep_echoing.vehicles) entry = ClientDataAction::Entry{std::nullopt, std::nullopt, ClientDataAction::Echo::latest};
+    push(*data.until, keep_echoing);
   }
 
   // A control-path fault, so control frames carry the default controller for a while: the

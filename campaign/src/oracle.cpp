@@ -39,12 +39,14 @@ std::string_view check_name(Check check) {
 
 // As client_world.cpp sets the tolerances (judge_timing off) and prepares the world (no
 // operator client), and as only client worlds have a ClientWatch.
-std::string_view not_judged_because(Check check, bool client_worlds) {
+std::string_view not_judged_because(Check check, bool client_worlds, bool client_real_time) {
   switch (check) {
     case Check::fault_model:
     case Check::latency_loop:
-    case Check::liveness:
-    case Check::determinism: return client_worlds ? "not judged in real time" : "";
+    case Check::liveness: return client_real_time ? "not judged in real time" : "";
+    case Check::determinism:
+      if (client_real_time) return "not judged in real time";
+      return client_worlds ? "one run of the client per world" : "";
     case Check::operator_port:
     case Check::operator_feedback: return client_worlds ? "no operator client in client worlds" : "";
     case Check::client_echo:

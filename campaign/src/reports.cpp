@@ -140,7 +140,7 @@ std::string summary_table(const Summary& s) {
   std::vector<std::pair<std::string, std::string_view>> rows;   // name, why not judged
   for (int c = 0; c < check_count; ++c) {
     const auto check = static_cast<Check>(c);
-    rows.emplace_back(std::string(check_name(check)), not_judged_because(check, s.client_worlds));
+    rows.emplace_back(std::string(check_name(check)), not_judged_because(check, s.client_worlds, s.client_real_time));
   }
   rows.emplace_back("world_refused_to_start", "");
   for (const auto& [check, count] : by_check) {

@@ -41,6 +41,7 @@ Summary summarise(const CampaignOptions& options, const CampaignRun& run) {
   summary.shard = options.shard;
   summary.interrupted = run.interrupted;
   summary.client_worlds = options.client.has_value();
+  summary.client_real_time = options.client && options.client->time == ClientTime::real_time;
   for (const WorldOutcome& outcome : run.outcomes) {
     WorldRecord record;
     record.index = outcome.index;
@@ -82,7 +83,9 @@ std::string summary_json(const Summary& s) {
       << ",\n  \"profile_digest\": " << s.profile_digest << ",\n  \"worlds\": " << s.worlds
       << ",\n  \"shard\": {\"index\": " << s.shard.index << ", \"count\": " << s.shard.count << "}"
       << ",\n  \"interrupted\": " << (s.interrupted ? "true" : "false")
-      << ",\n  \"client_worlds\": " << (s.client_worlds ? "true" : "false") << ",\n  \"worlds_run\": " << s.records.size()
+      << ",\n  \"client_worlds\": " << (s.client_worlds ? "true" : "false");
+  if (s.client_worlds) out << ",\n  \"client_time\": " << (s.client_real_time ? "\"real\"" : "\"virtual\"");
+  out << ",\n  \"worlds_run\": " << s.records.size()
       << ",\n  \"failures\": " << failures << ",\n  \"failures_by_check\": {";
   bool first = true;
   for (const auto& [check, count] : by_check) {
@@ -134,6 +137,9 @@ Summary read_summary_json(const std::string& text, const std::string& path) {
     s.shard.count = d["shard"]["count"].GetUint();
     s.interrupted = d["interrupted"].GetBool();
     s.client_worlds = d.HasMember("client_worlds") && d["client_worlds"].GetBool();
+    // Without the field (a summary from before virtual time): real time, as client worlds were.
+    s.client_real_time = s.client_worlds && !(d.HasMember("client_time") && d["client_time"].IsString() &&
+                                              std::string_view(d["client_time"].GetString()) == "virtual");
     for (const auto& item : d["results"].GetArray()) {
       WorldRecord r;
       r.index = item["index"].GetUint64();
@@ -168,6 +174,7 @@ Summary merge_summaries(const std::vector<Summary>& shards) {
   merged.profile_digest = first.profile_digest;
   merged.worlds = first.worlds;
   merged.client_worlds = first.client_worlds;
+  merged.client_real_time = first.client_real_time;
   std::set<std::uint32_t> seen;
   for (const Summary& shard : shards) {
     if (shard.seed != first.seed || shard.profile_digest != first.profile_digest || shard.worlds != first.worlds ||

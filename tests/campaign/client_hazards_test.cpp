@@ -85,7 +85,7 @@ TEST(ClientHazards, UserDataUpToTheFrameLimitNullControllersAndTheDefaultControl
     const scenario::Scenario world = client_world(i);
     for (const scenario::TimelineEvent& event : world.timeline) {
       const auto* data = std::get_if<scenario::ClientDataAction>(&event.action);
-      if (data == nullptr || data->every != Micros{10'000}) continue;
+      if (data == nullptr || data->every != Micros{10'000} || !data->until) continue;   // the episode, not what follows
       for (const auto& [vehicle, entry] : data->vehicles) {
         ASSERT_TRUE(entry.user_data_json.has_value());
         rapidjson::Document parsed;
@@ -116,6 +116,35 @@ TEST(ClientHazards, AClientWorldIsAPureFunctionOfItsSeedAndWritesBack) {
     // What world.yaml holds parses back to the same world.
     EXPECT_EQ(scenario::write_scenario_yaml(scenario::parse_scenario(first, "world.yaml")), first) << "world " << i;
   }
+}
+
+// The plugin that sent the user data goes on returning the pair to the end of the world: a
+// locked source gone silent would leave the latency loop open for good (SPEC §4.3, no self-echo
+// after a lock), and the oracle would fail the world's liveness whatever the client did.
+TEST(ClientHazards, ThePluginGoesOnReturningThePairAfterItsUserData) {
+  int episodes = 0;
+  for (std::uint64_t i = 0; i < worlds; ++i) {
+    const scenario::Scenario world = client_world(i);
+    for (const scenario::TimelineEvent& event : world.timeline) {
+      const auto* data = std::get_if<scenario::ClientDataAction>(&event.action);
+      if (data == nullptr || !data->until) continue;
+      ++episodes;
+      const auto follows = std::find_if(world.timeline.begin(), world.timeline.end(), [&](const scenario::TimelineEvent& next) {
+        const auto* after = std::get_if<scenario::ClientDataAction>(&next.action);
+        return after != nullptr && next.at == *data->until && !after->until && after->source == data->source &&
+               after->every == data->every;
+      });
+      ASSERT_NE(follows, world.timeline.end()) << "world " << i << ": nothing returns the pair after " << data->until->count() << " us";
+      const auto& after = std::get<scenario::ClientDataAction>(follows->action);
+      ASSERT_EQ(after.vehicles.size(), data->vehicles.size()) << "world " << i;
+      for (const auto& [vehicle, entry] : after.vehicles) {
+        EXPECT_EQ(entry.echo, scenario::ClientDataAction::Echo::latest) << "world " << i;
+        EXPECT_FALSE(entry.user_data_json.has_value()) << "world " << i;
+        EXPECT_FALSE(entry.disable_gamepad.value_or(false)) << "world " << i << ": the gamepad again";
+      }
+    }
+  }
+  EXPECT_GT(episodes, worlds / 2);
 }
 
 }  // namespace

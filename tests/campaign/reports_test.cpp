@@ -8,12 +8,13 @@
 namespace ocp::campaign {
 namespace {
 
-Summary with_one_failure(bool client_worlds, std::vector<std::string> files) {
+Summary with_one_failure(bool client_worlds, std::vector<std::string> files, bool real_time = true) {
   Summary s;
   s.seed = 9;
   s.profile = "default";
   s.worlds = 2;
   s.client_worlds = client_worlds;
+  s.client_real_time = client_worlds && real_time;
   WorldRecord pass;
   pass.index = 0;
   pass.hazards = {"streamer_close"};
@@ -41,6 +42,22 @@ TEST(CampaignReports, ATableSaysWhichChecksWereNotJudgedAndWhy) {
   EXPECT_TRUE(has(in_process, "✓  fault_model               0")) << in_process;
   EXPECT_TRUE(has(in_process, "—  client.alive              — (only with --client)")) << in_process;
   EXPECT_FALSE(has(in_process, "client hazards")) << in_process;
+}
+
+// In virtual time (the default with --client) the whole oracle judges the client's worlds:
+// only determinism is not, as each world runs the client once.
+TEST(CampaignReports, AVirtualTimeClientCampaignJudgesTheTimingChecks) {
+  const Summary virtual_time = with_one_failure(true, {"world.yaml"}, false);
+  const std::string table = summary_table(virtual_time);
+  EXPECT_TRUE(has(table, "✓  fault_model               0")) << table;
+  EXPECT_TRUE(has(table, "✓  liveness                  0")) << table;
+  EXPECT_TRUE(has(table, "✓  latency_loop              0")) << table;
+  EXPECT_TRUE(has(table, "—  determinism               — (one run of the client per world)")) << table;
+  EXPECT_FALSE(has(table, "not judged in real time")) << table;
+  const Summary read = read_summary_json(summary_json(virtual_time), "summary.json");
+  EXPECT_FALSE(read.client_real_time);
+  EXPECT_EQ(summary_table(read), table);
+  EXPECT_TRUE(read_summary_json(summary_json(with_one_failure(true, {"world.yaml"})), "summary.json").client_real_time);
 }
 
 TEST(CampaignReports, EachFailingWorldShowsItsFirstViolationAndReplay) {

@@ -44,8 +44,9 @@ enum class Check {
 inline constexpr int check_count = 14;
 std::string_view check_name(Check check);
 // Why `check` is not judged in a campaign of this kind ("not judged in real time"), or "" when
-// it is. `client_worlds`: --client worlds, which run in real time without an operator client.
-std::string_view not_judged_because(Check check, bool client_worlds);
+// it is. `client_worlds`: --client worlds (no operator client, one run of the client per
+// world); `client_real_time`: with --time real (the oracle's timing checks off).
+std::string_view not_judged_because(Check check, bool client_worlds, bool client_real_time);
 
 struct Violation {
   Check check = Check::fault_model;

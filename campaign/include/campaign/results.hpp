@@ -45,7 +45,8 @@ struct Summary {
   std::uint64_t worlds = 0;        // the whole campaign's
   Shard shard;
   bool interrupted = false;
-  bool client_worlds = false;         // --client: real time, the oracle's timing checks off
+  bool client_worlds = false;         // --client
+  bool client_real_time = false;      // --client --time real: the oracle's timing checks off
   std::vector<WorldRecord> records;   // by index
 };
 
