@@ -6,6 +6,8 @@
 // there is no "works, but not the preferred way" in a vehicle that ignores a fault.
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <string>
 
 #include "conformance/vehicle_cases.hpp"
 #include "safety_report.hpp"
@@ -103,6 +105,32 @@ Outcome actuator_limits(CaseContext& context) {
   return ok(counts + "; every one within the limits");
 }
 
+// How vehicle/10/3 and vehicle/10/4 judge their scripts: the client, driving when the first
+// cause comes, reaches `rule` within the latency_limit after each of two causes and keeps it
+// while the cause lasts (the first until `first_until_phase` starts, the second to the end).
+struct TwoReactions {
+  std::string driving_when;  // the first cause, for not_driving: "when the fault came"
+  std::size_t first_phase = 0, first_until_phase = 0, second_phase = 0;
+  std::string first_label, second_label;  // each cause in the actual text
+  std::string wanted;                     // the rule in words: "safe state with throttle 0"
+  std::function<bool(const SafetyReport&)> rule;
+};
+
+// `prefix`: what the case judged before, for the actual text; `failure_hint`: added to it when failed.
+Outcome judge_two_reactions(const ScriptRun& run, const InterlockButtons& interlock, const TwoReactions& check,
+                            const std::string& prefix, const std::string& failure_hint) {
+  const auto& start = run.phase_start_us;
+  if (auto idle = not_driving(run, start[check.first_phase], check.driving_when, interlock)) return *idle;
+  const Settling first =
+      settle_within(run, start[check.first_phase], start[check.first_until_phase], safety_react_bound_us, check.rule);
+  const Settling second = settle_within(run, start[check.second_phase], run.end_us, safety_react_bound_us, check.rule);
+  const std::string counts = fmt::format(
+      "{}{}: {}; {}: {}", prefix, check.first_label, describe_settling(first, start[check.first_phase], check.wanted),
+      check.second_label, describe_settling(second, start[check.second_phase], check.wanted));
+  if (!first.holds() || !second.holds()) return failed(counts + failure_hint);
+  return ok(counts);
+}
+
 // Interlock phases: full throttle never enabled; enable and drive; emergency stop (back) and
 // throttle after it; enable and drive; a fault and throttle after it.
 std::vector<SafetyPhase> interlock_script(const InterlockButtons& interlock) {
@@ -132,18 +160,16 @@ Outcome drive_interlocks(CaseContext& context) {
       "full throttle before any enable: " + describe_settling(never_enabled, start[0], "disabled with throttle 0");
   if (!never_enabled.holds())
     return failed(first + (never_enabled.broken ? " (no interlock: it drives without being enabled)" : ""));
-  if (auto idle = not_driving(run, start[interlock_stop_phase], "before the emergency stop", context.interlock()))
-    return *idle;
-  const Settling stop = settle_within(run, start[interlock_stop_phase], start[interlock_after_stop_phase + 1],
-                                      safety_react_bound_us, disabled_and_still);
-  const Settling fault =
-      settle_within(run, start[interlock_fault_phase], run.end_us, safety_react_bound_us, disabled_and_still);
-  const std::string counts = fmt::format(
-      "{}; stop button '{}', then throttle without enable: {}; fault, then throttle without enable: {}", first,
-      context.interlock().stop, describe_settling(stop, start[interlock_stop_phase], "disabled with throttle 0"),
-      describe_settling(fault, start[interlock_fault_phase], "disabled with throttle 0"));
-  if (!stop.holds() || !fault.holds()) return failed(counts);
-  return ok(counts);
+  const TwoReactions check{
+      .driving_when = "before the emergency stop",
+      .first_phase = interlock_stop_phase,
+      .first_until_phase = interlock_after_stop_phase + 1,
+      .second_phase = interlock_fault_phase,
+      .first_label = "stop button '" + context.interlock().stop + "', then throttle without enable",
+      .second_label = "fault, then throttle without enable",
+      .wanted = "disabled with throttle 0",
+      .rule = disabled_and_still};
+  return judge_two_reactions(run, context.interlock(), check, first + "; ", "");
 }
 
 // Fault phases: the default controller with fault true (a control-path fault), and the
@@ -169,20 +195,16 @@ Outcome fault_safe_state(CaseContext& context) {
   if (auto early = safety_prologue(context)) return *early;
   const ScriptRun run = play_safety_script(context, 104, fault_script(context.interlock()), milliseconds(50));
   if (auto not_judged = safety_not_judged(run)) return *not_judged;
-  const auto& start = run.phase_start_us;
-  if (auto idle = not_driving(run, start[fault_default_phase], "when the fault came", context.interlock()))
-    return *idle;
-  const Settling path = settle_within(run, start[fault_default_phase], start[fault_default_phase + 1],
-                                      safety_react_bound_us, in_safe_state);
-  const Settling camera =
-      settle_within(run, start[fault_passed_through_phase], run.end_us, safety_react_bound_us, in_safe_state);
-  const std::string counts =
-      fmt::format("fault with the default controller: {}; fault with the controller passed through (camera lost): {}",
-                  describe_settling(path, start[fault_default_phase], "safe state with throttle 0"),
-                  describe_settling(camera, start[fault_passed_through_phase], "safe state with throttle 0"));
-  if (!path.holds() || !camera.holds())
-    return failed(counts + " (telemetry.fault must bring the safe state, whatever the controller says)");
-  return ok(counts);
+  const TwoReactions check{.driving_when = "when the fault came",
+                           .first_phase = fault_default_phase,
+                           .first_until_phase = fault_default_phase + 1,
+                           .second_phase = fault_passed_through_phase,
+                           .first_label = "fault with the default controller",
+                           .second_label = "fault with the controller passed through (camera lost)",
+                           .wanted = "safe state with throttle 0",
+                           .rule = in_safe_state};
+  return judge_two_reactions(run, context.interlock(), check, "",
+                             " (telemetry.fault must bring the safe state, whatever the controller says)");
 }
 
 const std::string safety_source = "SPEC §10, seed 000 (safety; Handle faults safely)";

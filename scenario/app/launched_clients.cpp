@@ -101,20 +101,34 @@ std::optional<std::string> exited_before_connecting(std::vector<LaunchedClient>&
   return std::nullopt;
 }
 
+// The operator client's command line: a shell line, as in virtual time (vtime/client_world.hpp).
+std::vector<std::string> shell_line(const std::string& line) { return {"/bin/sh", "-c", line}; }
+
+// Starts one client process on `address`'s port (real time: no shim), kept in `clients`.
+void launch_real(std::vector<LaunchedClient>& clients, const std::string& name, const std::vector<std::string>& command,
+                 const std::string& address, const LaunchOptions& launch) {
+  LaunchedClient client{name, log_path(launch, name), nullptr};
+  const auto port = static_cast<std::uint16_t>(std::stoul(address.substr(address.rfind(':') + 1)));
+  auto launched = sim_app::ClientProcess::launch(command, port, client.log_path);
+  if (!launched) throw HarnessError("cannot start " + who(name) + ": " + launched.error().message());
+  client.process = std::move(*launched);
+  clients.push_back(std::move(client));
+}
+
 LaunchedRun run_real(const Scenario& scenario, const RunOptions& options, const LaunchOptions& launch) {
-  std::vector<LaunchedClient> clients;
+  std::vector<LaunchedClient> clients;   // the vehicles' and the operator client (vtime::operator_name)
   RealTimeOptions real_time;
   real_time.tcp_port = 0;
   real_time.start_at_connection = true;
   real_time.connect_timeout = std::chrono::milliseconds(static_cast<std::int64_t>(launch.connect_timeout_s * 1000));
   real_time.on_listening = [&](const std::string& vehicle, const std::string& address) {
-    LaunchedClient client{vehicle, log_path(launch, vehicle), nullptr};
-    const auto port = static_cast<std::uint16_t>(std::stoul(address.substr(address.rfind(':') + 1)));
-    auto launched = sim_app::ClientProcess::launch(launch.command, port, client.log_path);
-    if (!launched) throw HarnessError("cannot start the client: " + launched.error().message());
-    client.process = std::move(*launched);
-    clients.push_back(std::move(client));
+    launch_real(clients, vehicle, launch.command, address, launch);
   };
+  if (!launch.operator_command.empty()) {
+    real_time.on_operator_listening = [&](const std::string& address) {
+      launch_real(clients, vtime::operator_name, shell_line(launch.operator_command), address, launch);
+    };
+  }
   real_time.client_problem = [&clients] { return exited_before_connecting(clients); };
   Connections connections;
   LaunchedRun out{run_scenario_realtime(scenario, counting_connections(options, scenario, connections), real_time), {}};
@@ -136,7 +150,6 @@ std::string launch_problem(const Scenario& scenario, const LaunchOptions& launch
     return "--operator-client takes the Player's :4001 API, and this scenario has its own operator client "
            "(world.operator_client.connect: true)";
   }
-  if (!launch.operator_command.empty() && !launch.virtual_time) return "--operator-client runs in virtual time only";
   return "";
 }
 

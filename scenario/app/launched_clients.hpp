@@ -2,13 +2,13 @@
 // `ocp_scenario run FILE -- CMD ARGS…`: the tool launches the external clients itself, one
 // process of CMD per vehicle with `in_process_client: false` ({port} and $OCP_PORT: that
 // vehicle's Streamer port), and with --operator-client one operator client process on the
-// Player's :4001 API (virtual time only).
+// Player's :4001 API, in both times.
 //   * virtual time (the default): every process lives on the World's clock through the shim
 //     (vtime/, docs/virtual-time.md); the run is exact and reproducible from its seed. A client
 //     that cannot (a static binary, Go) is exit 2 with the reason; a busy loop or a hang ends at
 //     the wall-clock watchdog (--world-timeout).
-//   * real time: the clock starts when every client has connected (at most
-//     --connect-timeout-s after the launch).
+//   * real time: the clock starts when every launched client, the operator client's included,
+//     has connected (at most --connect-timeout-s after the launch; then exit 2).
 // Each launched process must connect and still run when the world ends: a verdict of its own
 // (kind "client"). One that exits before it ever connected is a harness error (exit 2) with the
 // last lines it wrote.
@@ -24,7 +24,7 @@ struct LaunchOptions {
   std::vector<std::string> command;     // -- CMD ARGS…; empty: no vehicle client is launched
   std::string operator_command;         // --operator-client, a shell line with {port}; "" → none
   bool virtual_time = true;
-  double connect_timeout_s = 10.0;      // real time: every vehicle's client connected by then
+  double connect_timeout_s = 10.0;      // real time: every launched client connected by then
   double world_timeout_s = 120.0;       // virtual time: wall seconds the run may take
   std::string log_dir;                  // the clients' output, <log_dir>/client-<name>.log
 };

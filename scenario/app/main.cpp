@@ -103,7 +103,7 @@ void add_launch_options(CLI::App& run, ToolOptions& options) {
       ->check(CLI::IsMember({"virtual", "real"}));
   run.add_option("--operator-client", options.launch.operator_command,
                  "launch this operator client (a shell line with {port}, also $OCP_PORT) on the Player's :4001 API "
-                 "(virtual time)")
+                 "(in both times; in real time the clock waits for its connection too)")
       ->check(CLI::Validator(
           [](std::string& text) {
             return text.find_first_not_of(" \t") == std::string::npos ? std::string("empty command") : std::string();

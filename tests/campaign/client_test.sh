@@ -12,9 +12,10 @@
 #   * A client that cannot be started, or exits before it connects, is exit 2 with the reason.
 # Bounds are verdicts, not timings: nothing here depends on the machine's speed. The long runs go
 # side by side in the background: they mostly wait on real time.
-# Usage: client_test.sh OCP_CAMPAIGN VEHICLE_CLIENT WORK_DIR [EXAMPLES_DIR]
+# Usage: client_test.sh OCP_CAMPAIGN VEHICLE_CLIENT WORK_DIR [EXAMPLES_DIR [NODE]]
+# NODE: the node CMake found (tests/CMakeLists.txt, OCP_NODE); empty or absent: the Node example is skipped.
 set -uo pipefail
-campaign=$1 client=$2 work=$3 examples=${4:-}
+campaign=$1 client=$2 work=$3 examples=${4:-} node=${5:-}
 rm -rf "$work" && mkdir -p "$work"
 fail() { echo "FAIL: $*"; exit 1; }
 
@@ -56,7 +57,8 @@ start regression "'$client' 127.0.0.1:{port} --no-status" --seed 2 --worlds 6 --
 start no-reconnect "'$client' 127.0.0.1:{port} --no-status --no-reconnect" --seed 5 --worlds 4 -j 2 --max-world-seconds 15
 if [ -n "$examples" ]; then
   start python "python3 '$examples/vehicle_client.py' 127.0.0.1:{port}" --seed 3 --worlds 2 -j 2 --max-world-seconds 15
-  command -v node >/dev/null && start node "node '$examples/vehicle_client.js' 127.0.0.1:{port}" --seed 6 --worlds 2 -j 2 --max-world-seconds 15
+  [ -n "$node" ] && start node "'$node' '$examples/vehicle_client.js' 127.0.0.1:{port}" --seed 6 --worlds 2 -j 2 \
+    --max-world-seconds 15
 fi
 
 run good 0 "'$client' 127.0.0.1:{port} --no-status"
@@ -91,7 +93,7 @@ finish regression 0
 if [ -n "$examples" ]; then
   finish python 0
   summary_check python "all('streamer_close' in r['hazards'] for r in worlds)"
-  if command -v node >/dev/null; then finish node 0; fi
+  if [ -n "$node" ]; then finish node 0; fi
 fi
 wait
 echo "PASS"

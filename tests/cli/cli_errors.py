@@ -133,9 +133,9 @@ def main():
           says=["--operator-client", "empty command"], limit_s=20)
     check("scenario: -- with nothing after it", ["ocp_scenario", "run", str(ext), "--"], 2,
           says=["needs the client's command"], limit_s=20)
-    check("scenario: --operator-client in real time", ["ocp_scenario", "run", str(ext), "--time", "real",
-                                                        "--operator-client", "true {port}", "--", "true"], 2,
-          says=["virtual time only"], limit_s=20)
+    check("scenario: --operator-client with --wait-for-clients", ["ocp_scenario", "run", str(ext), "--time", "real",
+                                                                  "--wait-for-clients", "--operator-client", "true {port}"], 2,
+          says=["--wait-for-clients is for clients started by hand"], limit_s=20)
     check("scenario: --realtime with --time virtual", ["ocp_scenario", "run", str(ext), "--realtime", "--time", "virtual"], 2,
           says=["contradict"], limit_s=20)
     check("campaign slurm: --max-events-per-s 5 is below its range",

@@ -15,6 +15,8 @@
 #include <sstream>
 #include <string>
 
+#include "node_program.hpp"
+
 namespace ocp::conformance_test {
 
 inline const std::string harness = OCP_CONFORMANCE_PATH;
@@ -79,8 +81,6 @@ inline std::string python_client(const std::string& mode) { return "python3 " + 
 // Every case of a run is OK, but for `allowed` (case id → the verdict it may get instead): the
 // one check behind the reference client's and the example clients' runs. Prints the per-case
 // durations. Returns the number of cases.
-inline bool have_node() { return std::system("command -v node > /dev/null 2>&1") == 0; }
-
 inline std::size_t expect_every_case_ok(const SuiteRun& r, const std::map<std::string, std::string>& allowed = {}) {
   std::size_t cases = 0;
   if (!r.index.IsObject()) {
@@ -106,6 +106,10 @@ inline std::size_t expect_every_case_ok(const SuiteRun& r, const std::map<std::s
 // suites: the docs' first steps are tested.
 inline std::string example_client(const std::string& file) {
   return "python3 " + std::string(OCP_EXAMPLES_DIR) + "/" + file + " 127.0.0.1:{port}";
+}
+// The same for the Node.js examples (OCP_SKIP_WITHOUT_NODE() first).
+inline std::string node_example_client(const std::string& file) {
+  return ocp::testing::node_program() + " " + std::string(OCP_EXAMPLES_DIR) + "/" + file + " 127.0.0.1:{port}";
 }
 
 }  // namespace ocp::conformance_test

@@ -361,8 +361,8 @@ TEST(ExampleClient, OperatorClientPassesTheOperatorSuite) {
 // although JSON.parse would round them (vehicle/2/2 and operator/4.2/2 send pairs above 2^53).
 
 TEST(ExampleClient, NodeVehicleClientPassesTheVehicleSuite) {
-  if (!have_node()) GTEST_SKIP() << "node is not installed (scripts/setup --test installs it)";
-  const SuiteRun r = run_suite("example_vehicle_js", "-j 2", "node " + std::string(OCP_EXAMPLES_DIR) + "/vehicle_client.js 127.0.0.1:{port}");
+  OCP_SKIP_WITHOUT_NODE();
+  const SuiteRun r = run_suite("example_vehicle_js", "-j 2", node_example_client("vehicle_client.js"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::map<std::string, std::string> allowed = wall_clock_allowance;
   for (const char* id : {"vehicle/10/1", "vehicle/10/2", "vehicle/10/3", "vehicle/10/4"}) allowed[id] = "INFORMATIONAL";
@@ -371,9 +371,8 @@ TEST(ExampleClient, NodeVehicleClientPassesTheVehicleSuite) {
 }
 
 TEST(ExampleClient, NodeOperatorClientPassesTheOperatorSuite) {
-  if (!have_node()) GTEST_SKIP() << "node is not installed (scripts/setup --test installs it)";
-  const SuiteRun r = run_suite("example_operator_js", "-j 2", "node " + std::string(OCP_EXAMPLES_DIR) + "/operator_client.js 127.0.0.1:{port}",
-                               "operator");
+  OCP_SKIP_WITHOUT_NODE();
+  const SuiteRun r = run_suite("example_operator_js", "-j 2", node_example_client("operator_client.js"), "operator");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_GE(expect_every_case_ok(r, operator_info_cases), 19u);
   EXPECT_EQ(r.verdict("operator/4.2/2"), "OK");

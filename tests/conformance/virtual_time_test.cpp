@@ -63,14 +63,13 @@ TEST(ConformanceVirtualTime, ABrokenClientFailsExactlyItsOwnCases) {
 // multi-thread runtime (futex parking through syscall()). None sends a safety report.
 
 TEST(ConformanceVirtualTime, NodeExamplesPassBothSuites) {
-  if (!have_node()) GTEST_SKIP() << "node is not installed (scripts/setup --test installs it)";
-  const std::string examples = OCP_EXAMPLES_DIR;
+  OCP_SKIP_WITHOUT_NODE();
   const SuiteRun vehicle =
-      run_suite("virtual_node_vehicle", "-j 2 --time virtual", "node " + examples + "/vehicle_client.js 127.0.0.1:{port}");
+      run_suite("virtual_node_vehicle", "-j 2 --time virtual", node_example_client("vehicle_client.js"));
   ASSERT_EQ(vehicle.exit_code, 0) << vehicle.output;
   EXPECT_GE(expect_every_case_ok(vehicle, no_safety_report), 19u);
-  const SuiteRun operator_side = run_suite("virtual_node_operator", "-j 2 --time virtual",
-                                           "node " + examples + "/operator_client.js 127.0.0.1:{port}", "operator");
+  const SuiteRun operator_side =
+      run_suite("virtual_node_operator", "-j 2 --time virtual", node_example_client("operator_client.js"), "operator");
   ASSERT_EQ(operator_side.exit_code, 0) << operator_side.output;
   EXPECT_GE(expect_every_case_ok(operator_side, operator_info), 19u);
 }

@@ -29,6 +29,14 @@ FramedConnection::Handlers recording(std::optional<CloseReason>& closed) {
   return handlers;
 }
 
+// The connection under test on `stream`, its close reason recorded in `closed`.
+std::shared_ptr<FramedConnection> open_recording(Executor& executor, std::shared_ptr<ByteStream> stream,
+                                                 const FramedConnection::Options& options,
+                                                 std::optional<CloseReason>& closed) {
+  return FramedConnection::open(executor, Logger(executor, "test", make_null_sink()), std::move(stream), options, {},
+                                recording(closed));
+}
+
 TEST(WriteQueueLimit, APipePeerThatNeverReadsIsDisconnectedAtTheLimitExactly) {
   VirtualExecutor executor;
   PipeEnds ends = make_pipe(executor, PipeOptions{});
@@ -36,8 +44,7 @@ TEST(WriteQueueLimit, APipePeerThatNeverReadsIsDisconnectedAtTheLimitExactly) {
   std::optional<CloseReason> closed;
   FramedConnection::Options options;
   options.write_queue_limit_bytes = 1000;
-  auto connection = FramedConnection::open(executor, Logger(executor, "test", make_null_sink()), ends.a,
-                                           options, {}, recording(closed));
+  auto connection = open_recording(executor, ends.a, options, closed);
   const std::string payload(96, 'x');   // 100 bytes a frame with its header
   for (int frame = 1; frame <= 10; ++frame) {
     ASSERT_TRUE(connection->send(payload)) << "frame " << frame << " fits: " << frame * 100 << " bytes";
@@ -65,8 +72,7 @@ TEST(WriteQueueLimit, APeerThatReadsIsNeverDisconnected) {
   std::optional<CloseReason> closed;
   FramedConnection::Options options;
   options.write_queue_limit_bytes = 1000;
-  auto connection = FramedConnection::open(executor, Logger(executor, "test", make_null_sink()), ends.a,
-                                           options, {}, recording(closed));
+  auto connection = open_recording(executor, ends.a, options, closed);
   for (int frame = 0; frame < 1000; ++frame) {
     ASSERT_TRUE(connection->send(std::string(96, 'x')));
     executor.run_for(Micros{10});
@@ -89,18 +95,26 @@ std::shared_ptr<ByteStream> accept_deaf_loopback_peer(asio::io_context& io, asio
   return make_tcp_stream(std::move(server_socket));
 }
 
-TEST(WriteQueueLimit, ALoopbackPeerThatNeverReadsIsDisconnectedAndOurQueueStaysBounded) {
+// A loopback peer that never reads (above), and the connection under test on our end of it.
+class WriteQueueLimitLoopback : public ::testing::Test {
+ protected:
+  void SetUp() override { ASSERT_TRUE(server) << "the loopback connection did not come up"; }
+  std::shared_ptr<FramedConnection> open(const FramedConnection::Options& options) {
+    return open_recording(executor, server, options, closed);
+  }
+
   asio::io_context io;
-  AsioExecutor executor(io);
-  asio::ip::tcp::socket client_socket(io);   // connected, never read from
-  auto server = accept_deaf_loopback_peer(io, client_socket);
-  ASSERT_TRUE(server);
+  AsioExecutor executor{io};
+  asio::ip::tcp::socket client_socket{io};   // connected, never read from
+  std::shared_ptr<ByteStream> server = accept_deaf_loopback_peer(io, client_socket);
   std::optional<CloseReason> closed;
+};
+
+TEST_F(WriteQueueLimitLoopback, APeerThatNeverReadsIsDisconnectedAndOurQueueStaysBounded) {
   FramedConnection::Options options;
   options.read_timeout = Micros{0};   // this peer is silent on purpose; only the queue may end it
   options.write_queue_limit_bytes = 256 * 1024;
-  auto connection = FramedConnection::open(executor, Logger(executor, "test", make_null_sink()), server,
-                                           options, {}, recording(closed));
+  auto connection = open(options);
   const std::string payload(max_payload_bytes, 'x');
   std::size_t most_queued = 0;
   std::size_t frames_sent = 0;
@@ -121,19 +135,12 @@ TEST(WriteQueueLimit, ALoopbackPeerThatNeverReadsIsDisconnectedAndOurQueueStaysB
 // a peer that never reads is dropped because it took nothing for the stall time — once the
 // kernel's buffers are full our queue holds bytes, and no byte of it is taken again — long
 // before a generous byte cap. Virtual time, exactly, on both ports: tests/world/not_reading_test.cpp.
-TEST(WriteQueueLimit, ALoopbackPeerThatTakesNothingForTheStallTimeIsDisconnected) {
-  asio::io_context io;
-  AsioExecutor executor(io);
-  asio::ip::tcp::socket client_socket(io);   // connected, never read from
-  auto server = accept_deaf_loopback_peer(io, client_socket);
-  ASSERT_TRUE(server);
-  std::optional<CloseReason> closed;
+TEST_F(WriteQueueLimitLoopback, APeerThatTakesNothingForTheStallTimeIsDisconnected) {
   FramedConnection::Options options;
   options.read_timeout = Micros{0};
   options.write_stall_timeout = Micros{300'000};
   options.write_queue_limit_bytes = 512 * 1024 * 1024;   // never the reason here
-  auto connection = FramedConnection::open(executor, Logger(executor, "test", make_null_sink()), server,
-                                           options, {}, recording(closed));
+  auto connection = open(options);
   const std::string payload(4096, 'x');
   std::optional<std::chrono::steady_clock::time_point> queue_first_held;
   const bool disconnected = testing::run_until(io, [&] {

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "node_program.hpp"
 #include "scratch_dir.hpp"
 #include "virtual_run.hpp"
 
@@ -103,9 +104,9 @@ TEST(VirtualTimeThreads, TwoThreadClientGivesTheSameVerdictsTenTimes) {
 
 // Node's one JavaScript thread beside libuv's and V8's threads.
 TEST(VirtualTimeThreads, NodeExampleGivesTheSameVerdictsTenTimes) {
-  if (std::string(OCP_NODE_PATH).empty()) GTEST_SKIP() << "node is not installed (scripts/setup --test installs it)";
-  expect_same_verdicts_ten_times("node example",
-                                 {OCP_NODE_PATH, std::string(OCP_EXAMPLES_DIR) + "/vehicle_client.js", "127.0.0.1:{port}"});
+  OCP_SKIP_WITHOUT_NODE();
+  const std::string script = std::string(OCP_EXAMPLES_DIR) + "/vehicle_client.js";
+  expect_same_verdicts_ten_times("node example", {testing::node_program(), script, "127.0.0.1:{port}"});
 }
 
 TEST(VirtualTimeThreads, TokioClientGivesTheSameVerdictsTenTimes) {

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "node_program.hpp"
 #include "virtual_run.hpp"
 
 namespace ocp::vtime {
@@ -27,11 +28,11 @@ TEST(VirtualTimeClients, ReferenceClientEchoesEveryPairOnTheWorldsClock) {
 }
 
 std::vector<std::string> node_example() {
-  return {OCP_NODE_PATH, std::string(OCP_EXAMPLES_DIR) + "/vehicle_client.js", "127.0.0.1:{port}"};
+  return {testing::node_program(), std::string(OCP_EXAMPLES_DIR) + "/vehicle_client.js", "127.0.0.1:{port}"};
 }
 
 TEST(VirtualTimeClients, NodeExampleEchoesEveryPairOnTheWorldsClock) {
-  if (std::string(OCP_NODE_PATH).empty()) GTEST_SKIP() << "node is not installed (scripts/setup --test installs it)";
+  OCP_SKIP_WITHOUT_NODE();
   expect_echoes("node example", node_example());
 }
 

@@ -89,11 +89,16 @@ struct RealTimeOptions {
   // as when several worlds run at once on threads (ocp_campaign --client).
   bool handle_signals = true;
   std::function<void(const std::string& vehicle, const std::string& address)> on_listening;
-  // The clock starts when every external vehicle's client has connected (ocp_scenario run
-  // -- CMD, or --wait-for-clients), not when the servers start listening: a client's start-up
-  // time is no part of the scenario. Waited for at most `connect_timeout`; `client_problem`,
-  // polled meanwhile, ends the wait early with its text (a launched client that exited).
-  // Either is a HarnessError.
+  // Set: the Player's :4001 API gets a TCP server too (an ephemeral port, told here), for one
+  // external operator client process (ocp_scenario run --operator-client). The scenario's own
+  // operator client must be off (world.operator_client.connect: false).
+  std::function<void(const std::string& address)> on_operator_listening;
+  // The clock starts when every external client (each external vehicle's, and the operator
+  // client's when on_operator_listening is set) has connected (ocp_scenario run -- CMD, or
+  // --wait-for-clients), not when the servers start listening: a client's start-up time is no
+  // part of the scenario. Waited for at most `connect_timeout`; `client_problem`, polled
+  // meanwhile, ends the wait early with its text (a launched client that exited). Either is a
+  // HarnessError.
   bool start_at_connection = false;
   std::chrono::milliseconds connect_timeout{10'000};
   std::function<std::optional<std::string>()> client_problem;
