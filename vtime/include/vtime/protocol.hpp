@@ -75,9 +75,13 @@ inline constexpr const char* wait_name(WaitKind kind) {
   return "wait";
 }
 
+// Per OCP connection, with every BLOCKED: what the controller needs to take the client's bytes
+// and to model its kernel's Nagle algorithm (docs/virtual-time.md, "Nagle's algorithm").
 struct WrittenCount {
   std::uint32_t port;
-  std::uint64_t written;   // bytes the process wrote to that socket so far
+  std::uint32_t no_delay;          // 1: the program set TCP_NODELAY (the real socket always has it)
+  std::uint64_t written;           // bytes the process wrote to that socket so far
+  std::uint64_t first_write_end;   // `written` after the first write since the last report; 0: none
 };
 
 inline constexpr int max_reported = 8;
