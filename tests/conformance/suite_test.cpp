@@ -96,11 +96,6 @@ TEST_P(CoverageBrokenClient, GetsItsVerdict) {
   const CoverageRun& p = GetParam();
   const bool python = p.client.rfind("broken_client.py ", 0) == 0;
   const std::string args = p.client.substr(p.client.find(' ') + 1);
-  if (p.time == "virtual" && args == "split-write") {
-    // Nagle's delay is the kernel's, in wall time: in virtual time the controller waits for
-    // the held payload and hands it over at the instant the client wrote it (docs/virtual-time.md).
-    GTEST_SKIP() << "Nagle's delay on a split write cannot be seen in virtual time; the real-time row catches it";
-  }
   const std::string client = python ? python_client(args) : reference + " 127.0.0.1:{port} --no-status " + args;
   const SuiteRun r = run_suite("coverage_" + coverage_run_name({p, 0}), "--cases " + p.cases + " --time " + p.time, client, p.suite);
   EXPECT_EQ(r.verdict(p.case_id), p.verdict) << r.output;

@@ -13,7 +13,7 @@ using ocp::vtime::NagleModel;
 
 constexpr SimTime at_ms(std::int64_t ms) { return SimTime{ms * 1000}; }
 
-TEST(NagleModel, ASplitWriteHoldsThePayloadUntilOurNextWrite) {
+TEST(VirtualTimeNagleModel, ASplitWriteHoldsThePayloadUntilOurNextWrite) {
   NagleModel nagle;
   // The prefix (4 bytes) and the payload (96) at one instant: the prefix goes, the payload waits.
   EXPECT_EQ(nagle.arrived(100, 4, false, at_ms(0)), 4u);
@@ -27,7 +27,7 @@ TEST(NagleModel, ASplitWriteHoldsThePayloadUntilOurNextWrite) {
   EXPECT_EQ(nagle.acknowledged(at_ms(20)), 200u);
 }
 
-TEST(NagleModel, WithoutOurWriteTheDelayedAckReleasesAfter40Ms) {
+TEST(VirtualTimeNagleModel, WithoutOurWriteTheDelayedAckReleasesAfter40Ms) {
   NagleModel nagle;
   EXPECT_EQ(nagle.arrived(100, 4, false, at_ms(5)), 4u);
   EXPECT_EQ(nagle.delayed_ack_due(), at_ms(45));
@@ -37,7 +37,7 @@ TEST(NagleModel, WithoutOurWriteTheDelayedAckReleasesAfter40Ms) {
   EXPECT_EQ(nagle.delayed_ack_due(), std::nullopt);
 }
 
-TEST(NagleModel, OneWritePerFrameGoesAtOnceWhenNothingIsInFlight) {
+TEST(VirtualTimeNagleModel, OneWritePerFrameGoesAtOnceWhenNothingIsInFlight) {
   NagleModel nagle;
   EXPECT_EQ(nagle.arrived(100, 100, false, at_ms(0)), 100u);
   EXPECT_EQ(nagle.acknowledged(at_ms(10)), 100u);   // our next frame
@@ -45,20 +45,20 @@ TEST(NagleModel, OneWritePerFrameGoesAtOnceWhenNothingIsInFlight) {
   EXPECT_EQ(nagle.held(), 0u);
 }
 
-TEST(NagleModel, TcpNoDelayNeverHolds) {
+TEST(VirtualTimeNagleModel, TcpNoDelayNeverHolds) {
   NagleModel nagle;
   EXPECT_EQ(nagle.arrived(100, 4, true, at_ms(0)), 100u);
   EXPECT_EQ(nagle.arrived(200, 104, true, at_ms(0)), 200u);
   EXPECT_EQ(nagle.delayed_ack_due(), std::nullopt);   // no ACK awaited, no event scheduled
 }
 
-TEST(NagleModel, SettingTcpNoDelayPushesWhatIsHeld) {
+TEST(VirtualTimeNagleModel, SettingTcpNoDelayPushesWhatIsHeld) {
   NagleModel nagle;
   EXPECT_EQ(nagle.arrived(100, 4, false, at_ms(0)), 4u);
   EXPECT_EQ(nagle.arrived(100, 0, true, at_ms(3)), 100u);
 }
 
-TEST(NagleModel, BytesWithoutAReportedWriteGoAsOneWriteAndACloseSendsAll) {
+TEST(VirtualTimeNagleModel, BytesWithoutAReportedWriteGoAsOneWriteAndACloseSendsAll) {
   NagleModel nagle;
   EXPECT_EQ(nagle.arrived(50, 0, false, at_ms(0)), 50u);   // a sweep found them: one write
   EXPECT_EQ(nagle.arrived(80, 60, false, at_ms(1)), 50u);  // held behind the first
