@@ -584,19 +584,15 @@ struct Controller::Impl {
       ClientWrites reported;   // of every process (a fork's child may write to its parent's connection)
       bool expect_eof = false;
       for (auto& [pid, process] : processes) {
-        if (auto found = process.written.find(stream->peer_port()); found != process.written.end()) {
-          const ClientWrites& its = found->second;
-          reported.merge({stream->peer_port(), its.no_delay ? 1u : 0u, its.written, std::exchange(found->second.first_write_end, 0)});
-        }
+        if (auto found = process.written.find(stream->peer_port()); found != process.written.end()) reported.take(found->second);
         if (process.closed.erase(stream->peer_port()) > 0) expect_eof = true;
       }
-      const std::uint64_t expected_bytes = reported.written;
-      if (!sweep && !expect_eof && expected_bytes <= stream->received_total()) continue;
+      if (!sweep && !expect_eof && reported.written <= stream->received_total()) continue;
       const auto taking = Clock::now();
       const std::size_t got = stream->take(reported, expect_eof);
       if (trace.is_open() && Clock::now() - taking > std::chrono::milliseconds(100)) {
         trace_line("waited for the client's bytes on port " + std::to_string(stream->peer_port()) + ": expected " +
-                   std::to_string(expected_bytes) + (expect_eof ? " and its close" : "") + ", have " +
+                   std::to_string(reported.written) + (expect_eof ? " and its close" : "") + ", have " +
                    std::to_string(stream->received_total()));
       }
       stats.bytes_in += got;

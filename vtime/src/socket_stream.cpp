@@ -28,6 +28,10 @@ void ClientWrites::merge(const WrittenCount& count) {
   no_delay = count.no_delay != 0;
 }
 
+void ClientWrites::take(ClientWrites& other) {
+  merge({0, other.no_delay ? 1u : 0u, other.written, std::exchange(other.first_write_end, 0)});
+}
+
 SocketStream::SocketStream(VirtualExecutor& executor, int fd, std::uint16_t peer_port, std::string name)
     : executor_(executor), fd_(fd), peer_port_(peer_port), name_(std::move(name)) {}
 

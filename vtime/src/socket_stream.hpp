@@ -22,6 +22,8 @@ struct ClientWrites {
   std::uint64_t first_write_end = 0;   // the end of the first write not taken yet (0: none reported)
   bool no_delay = false;               // the program's TCP_NODELAY, as last reported
   void merge(const WrittenCount& count);
+  // Adds one process's report, whose first write is then taken (cleared there).
+  void take(ClientWrites& other);
 };
 
 class SocketStream final : public ByteStream, public std::enable_shared_from_this<SocketStream> {
