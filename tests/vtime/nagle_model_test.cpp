@@ -45,6 +45,17 @@ TEST(VirtualTimeNagleModel, OneWritePerFrameGoesAtOnceWhenNothingIsInFlight) {
   EXPECT_EQ(nagle.held(), 0u);
 }
 
+// Linux sends full-sized segments whatever is in flight; only the small rest waits. So the
+// Controller never holds more than one MSS of a connection.
+TEST(VirtualTimeNagleModel, FullSizedSegmentsGoAndLessThanOneMssIsHeld) {
+  NagleModel nagle;
+  constexpr std::uint64_t mss = NagleModel::loopback_mss;
+  EXPECT_EQ(nagle.arrived(4 + 3 * mss + 100, 4, false, at_ms(0)), 4 + 3 * mss);
+  EXPECT_EQ(nagle.held(), 100u);
+  EXPECT_EQ(nagle.delayed_ack_due(), at_ms(40));   // the prefix's: still the small segment in flight
+  EXPECT_EQ(nagle.acknowledged(at_ms(5)), 4 + 3 * mss + 100);
+}
+
 TEST(VirtualTimeNagleModel, TcpNoDelayNeverHolds) {
   NagleModel nagle;
   EXPECT_EQ(nagle.arrived(100, 4, true, at_ms(0)), 100u);

@@ -17,6 +17,9 @@ std::uint64_t NagleModel::arrived(std::uint64_t written, std::uint64_t first_wri
     const bool known = first_write_end > seen && first_write_end <= arrived_;
     send_up_to(known ? first_write_end : arrived_, now);
   }
+  // Full-sized segments go whatever is unacknowledged: only a small one waits (Minshall). So
+  // less than one MSS is ever held.
+  sent_ += held() / loopback_mss * loopback_mss;
   return sent_;
 }
 

@@ -7,8 +7,9 @@
 //   * with TCP_NODELAY (the program's own setting, reported by the shim), at once;
 //   * without it, a small segment waits while an earlier one is unacknowledged (Linux's
 //     tcp_nagle_check with Minshall's variant; every OCP frame is far below loopback's MSS of
-//     65 483 bytes, so every segment is small). So the first write at an instant with nothing
-//     in flight goes at once, and every later write is held;
+//     65 483 bytes). So the first write at an instant with nothing
+//     in flight goes at once, and every later write is held (but for whole segments of a full
+//     MSS, which Linux sends whatever is in flight: less than one MSS is ever held);
 //   * the simulator acknowledges what it received when it writes to the client (the ACK rides
 //     on its next frame) or, writing nothing, after Linux's delayed-ACK minimum of 40 ms; the
 //     held bytes then go as one segment, and are in flight in turn;
@@ -26,6 +27,8 @@ class NagleModel {
  public:
   // Linux's TCP_DELACK_MIN (HZ/25): how long the receiver waits for data to carry its ACK.
   static constexpr Micros delayed_ack{40'000};
+  // Loopback's MSS: its MTU of 65 536 bytes less the IP and TCP headers and TCP timestamps.
+  static constexpr std::uint64_t loopback_mss = 65'483;
 
   // The client's bytes up to `written` reached us at `now`; the first write among those not
   // seen before ended at `first_write_end` (0, or one already seen: unknown, taken as one
