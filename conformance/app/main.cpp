@@ -1,5 +1,5 @@
 // ocp_conformance: command line only; everything else is in the conformance library.
-//   ocp_conformance vehicle|operator [options] [--time real|virtual] [-- CMD ARGS…]
+//   ocp_conformance vehicle|operator [options] [--time virtual|real] [-- CMD ARGS…]
 // Exit codes: 0 every MUST case passed (or failed as the baseline expects), 1 a failure,
 // 2 a harness error (bad options, port in use, client could not be launched), 130 Ctrl-C.
 #include <CLI/CLI.hpp>
@@ -39,7 +39,8 @@ struct SuiteCommandLine {
   double connect_timeout_s = 3.0;
   bool list = false, markdown = false, coverage = false, broken_clients = false;
   std::string include, exclude, out_dir, junit, baseline_path, write_baseline;
-  std::string time = "real";   // --time: real (the default) or virtual
+  // --time: virtual (the default with -- CMD) or real (the only one for a client started by hand)
+  std::string time;
   std::vector<std::string> command;
 };
 
@@ -91,10 +92,10 @@ void add_suite_options(CLI::App& suite, bool is_vehicle, SuiteCommandLine& line)
   suite.add_option("command", line.command, "-- CMD ARGS…: launch the client; OCP_PORT and {port} carry the port");
   suite
       .add_option("--time", line.time,
-                  "real (the default: wall-clock cases) or virtual (with -- CMD: the client runs on the suite's clock "
-                  "through a preloaded shim, every case's timing exact, the suite in seconds; a static binary or Go "
-                  "cannot: exit 2; docs/virtual-time.md)")
-      ->capture_default_str()
+                  "virtual (the default with -- CMD: the client runs on the suite's clock through a preloaded shim, "
+                  "every case's timing exact, the suite in seconds; a static binary or Go cannot: exit 2 and use "
+                  "--time real; docs/virtual-time.md) or real (wall-clock cases; the default, and the only choice, "
+                  "without -- CMD: a client you start by hand)")
       ->check(CLI::IsMember({"real", "virtual"}));
   if (is_vehicle) {
     // A client whose interlock works other buttons than the reference client's is judged on
@@ -152,6 +153,7 @@ class TemporaryLogFolder {
 bool complete_run_options(SuiteCommandLine& line, bool operator_suite, TemporaryLogFolder& temporary_logs) {
   RunOptions& options = line.options;
   options.command = line.command;
+  if (line.time.empty()) line.time = line.command.empty() ? "real" : "virtual";
   if (line.time == "virtual") {
     if (line.command.empty()) {
       std::cerr << "ocp_conformance: --time virtual launches the client: give it as -- CMD ARGS…\n";

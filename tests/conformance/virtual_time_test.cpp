@@ -137,6 +137,23 @@ TEST(ConformanceVirtualTime, ABusyLoopIsAHarnessErrorNotAHang) {
   EXPECT_LT(seconds_since(start), 90.0) << r.output;
 }
 
+// With -- CMD and no --time the suite runs in virtual time, and Nagle's delay on a split write
+// (the prefix and the payload in two writes, no TCP_NODELAY) is caught there as in real time:
+// vehicle/3.3/2 NON-STRICT, the cause named (docs/virtual-time.md, "Nagle's algorithm").
+TEST(ConformanceVirtualTime, TheDefaultWithALaunchedClientIsVirtualAndCatchesNaglesDelay) {
+  const std::string dir = fresh_dir("virtual_default_split_write");
+  const auto start = std::chrono::steady_clock::now();
+  const int code = run(harness + " vehicle --cases vehicle/3.3/2 --connect-timeout-s 60 --out " + dir + " -- " +
+                           python_client("split-write"),
+                       dir + "/out.txt");
+  const std::string output = read_file(dir + "/out.txt");
+  EXPECT_EQ(code, 0) << output;   // a SHOULD case: NON-STRICT is not a failure
+  EXPECT_NE(output.find("in virtual time"), std::string::npos) << output;
+  EXPECT_NE(output.find("NON-STRICT  ] vehicle/3.3/2"), std::string::npos) << output;
+  EXPECT_NE(output.find("Cause found: Nagle's delay on a split write"), std::string::npos) << output;
+  EXPECT_LT(seconds_since(start), 60.0) << output;
+}
+
 TEST(ConformanceVirtualTime, NeedsALaunchedClient) {
   const std::string dir = fresh_dir("virtual_no_command");
   EXPECT_EQ(run(harness + " vehicle --time virtual", dir + "/out.txt"), 2);

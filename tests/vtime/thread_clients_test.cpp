@@ -55,6 +55,8 @@ TEST(VirtualTimeThreads, TimedWaitsEndAtTheirVirtualDeadlineOrWhenAnotherThreadE
       {"sem_clockwait_posted", expect(0, 20'000)},            {"timedlock_acquired", expect(0, 40'000)},
       {"timedlock_timeout", expect(ETIMEDOUT, 50'000)},       {"futex_wait_timeout", expect(ETIMEDOUT, 60'000)},
       {"futex_bitset_timeout", expect(ETIMEDOUT, 80'000)},    {"futex_bitset_woken", expect(0, 10'000)},
+      {"rwlock_timedwrlock_timeout", expect(ETIMEDOUT, 50'000)}, {"rwlock_timedrdlock_timeout", expect(ETIMEDOUT, 60'000)},
+      {"rwlock_clockrdlock_acquired", expect(0, 40'000)},     {"rwlock_clockwrlock_acquired", expect(0, 30'000)},
   };
   for (const auto& [name, line] : wanted) EXPECT_EQ(seen[name], line) << name;
   EXPECT_TRUE(seen.contains("done")) << "the client did not finish its waits";

@@ -1,6 +1,6 @@
 // Waits on an object, on the simulator's clock (docs/virtual-time.md): pthread_cond_timedwait
 // and pthread_cond_clockwait, sem_timedwait and sem_clockwait, pthread_mutex_timedlock and
-// pthread_mutex_clocklock, and futex waits with a timeout made through syscall() (Rust's std
+// pthread_mutex_clocklock, pthread_rwlock_timed/clock{rd,wr}lock, and futex waits with a timeout made through syscall() (Rust's std
 // and tokio park threads that way).
 //
 // Such a wait sleeps in the kernel on the object (a futex word), where the control socket does
@@ -22,6 +22,10 @@
 // 64-bit): a semaphore's value and waiter count in one 64-bit word; a mutex's lock word 0/1/2
 // (2: waiters, so the unlock wakes one). Robust, priority-inheriting and priority-protecting
 // mutexes have other protocols: their timed locks go to libc unchanged (not virtualised).
+// A reader-writer lock's protocol (glibc's phases on three futex words) is left to glibc: the
+// waiter calls glibc's own timed lock with a deadline the shim owns (in its slot), far in the
+// future; the waker moves that deadline to the past and wakes the three words, and glibc,
+// waiting again, times out and backs out as it always does.
 #include <linux/futex.h>
 #include <pthread.h>
 #include <sched.h>
@@ -48,6 +52,8 @@ int (*real_sem_clockwait)(sem_t*, clockid_t, const timespec*);
 int (*real_pthread_mutex_trylock)(pthread_mutex_t*);
 int (*real_pthread_mutex_timedlock)(pthread_mutex_t*, const timespec*);
 int (*real_pthread_mutex_clocklock)(pthread_mutex_t*, clockid_t, const timespec*);
+int (*real_pthread_rwlock_clockrdlock)(pthread_rwlock_t*, clockid_t, const timespec*);
+int (*real_pthread_rwlock_clockwrlock)(pthread_rwlock_t*, clockid_t, const timespec*);
 long (*real_syscall)(long, ...);
 }  // namespace
 
@@ -68,6 +74,7 @@ struct WaitSlot {
   WaitKind kind = WaitKind::none;
   void* object = nullptr;
   std::uint32_t futex_flags = 0;
+  timespec rwlock_deadline{};    // a reader-writer lock wait: the real deadline glibc waits to
 };
 WaitSlot slots[max_slots];
 
@@ -98,9 +105,16 @@ WaitSlot* claim_slot() {
 }
 
 // Wakes the object for real (the waker, or everybody when the controller went away).
-void wake_object(const WaitSlot& slot) {
+void wake_object(WaitSlot& slot) {
   if (slot.kind == WaitKind::cond) {
     REAL(pthread_cond_broadcast)(static_cast<pthread_cond_t*>(slot.object));
+  } else if (slot.kind == WaitKind::rwlock) {
+    __atomic_store_n(&slot.rwlock_deadline.tv_sec, 0, __ATOMIC_RELEASE);   // the past: glibc's next wait times out
+    auto& data = static_cast<pthread_rwlock_t*>(slot.object)->__data;
+    unsigned* words[] = {&data.__readers, &data.__wrphase_futex, &data.__writers_futex};
+    for (unsigned* word : words) {
+      futex(word, FUTEX_WAKE | static_cast<int>(slot.futex_flags), INT_MAX);
+    }
   } else {
     futex(slot.object, FUTEX_WAKE | static_cast<int>(slot.futex_flags), INT_MAX);
   }
@@ -313,6 +327,28 @@ int mutex_lock_until(pthread_mutex_t* mutex, std::int64_t deadline, clockid_t cl
   }
 }
 
+// ---------------------------------------------------------------- reader-writer locks
+
+// glibc's timed rwlock lock, `lock` (its clockrdlock or clockwrlock), until the virtual
+// `deadline`: first a look (the deadline already past: glibc then acquires, fails with
+// EDEADLK, or times out at once), then the wait on the slot's own real deadline.
+int rwlock_until(pthread_rwlock_t* rwlock, std::int64_t deadline,
+                 int (*lock)(pthread_rwlock_t*, clockid_t, const timespec*), clockid_t clock, const timespec* abstime) {
+  const timespec past{0, 0};
+  const int looked = lock(rwlock, CLOCK_MONOTONIC, &past);
+  if (looked != ETIMEDOUT || deadline <= now_us()) return looked;
+  WaitSlot* slot = claim_slot();
+  if (slot == nullptr) return lock(rwlock, clock, abstime);
+  ::ocp_vtime_shim::lock(*slot);
+  slot->rwlock_deadline = timespec{4'000'000'000, 0};   // 127 years of the real monotonic clock: never, for real
+  ::ocp_vtime_shim::unlock(*slot);
+  const std::uint32_t flags = rwlock->__data.__shared != 0 ? 0 : FUTEX_PRIVATE_FLAG;
+  const Outcome outcome = object_wait(WaitKind::rwlock, rwlock, flags, deadline,
+                                      [&] { return lock(rwlock, CLOCK_MONOTONIC, &slot->rwlock_deadline); });
+  if (!outcome.virtualised) return lock(rwlock, clock, abstime);
+  return static_cast<int>(outcome.result);   // 0 (acquired, also when the waker came too late), ETIMEDOUT, EDEADLK
+}
+
 // ---------------------------------------------------------------- futex words (syscall)
 
 bool futex_virtually(long* args, long& result) {
@@ -402,6 +438,29 @@ int pthread_mutex_clocklock(pthread_mutex_t* mutex, clockid_t clock, const times
 int pthread_mutex_timedlock(pthread_mutex_t* mutex, const timespec* abstime) {
   if (!active || bad_time(abstime)) return REAL(pthread_mutex_timedlock)(mutex, abstime);
   return mutex_lock_until(mutex, absolute_deadline(CLOCK_REALTIME, *abstime), CLOCK_REALTIME, abstime);
+}
+
+int pthread_rwlock_clockrdlock(pthread_rwlock_t* rwlock, clockid_t clock, const timespec* abstime) {
+  if (!active || bad_time(abstime) || (clock != CLOCK_MONOTONIC && clock != CLOCK_REALTIME)) {
+    return REAL(pthread_rwlock_clockrdlock)(rwlock, clock, abstime);
+  }
+  return rwlock_until(rwlock, absolute_deadline(clock, *abstime), REAL(pthread_rwlock_clockrdlock), clock, abstime);
+}
+
+int pthread_rwlock_clockwrlock(pthread_rwlock_t* rwlock, clockid_t clock, const timespec* abstime) {
+  if (!active || bad_time(abstime) || (clock != CLOCK_MONOTONIC && clock != CLOCK_REALTIME)) {
+    return REAL(pthread_rwlock_clockwrlock)(rwlock, clock, abstime);
+  }
+  return rwlock_until(rwlock, absolute_deadline(clock, *abstime), REAL(pthread_rwlock_clockwrlock), clock, abstime);
+}
+
+// The timed forms are glibc's clock forms on CLOCK_REALTIME.
+int pthread_rwlock_timedrdlock(pthread_rwlock_t* rwlock, const timespec* abstime) {
+  return pthread_rwlock_clockrdlock(rwlock, CLOCK_REALTIME, abstime);
+}
+
+int pthread_rwlock_timedwrlock(pthread_rwlock_t* rwlock, const timespec* abstime) {
+  return pthread_rwlock_clockwrlock(rwlock, CLOCK_REALTIME, abstime);
 }
 
 // syscall() itself: futex waits with a timeout are virtual, and a close goes through the shim's

@@ -76,6 +76,8 @@ ssize_t (*real_writev)(int, const iovec*, int);
 ssize_t (*real_send)(int, const void*, size_t, int);
 ssize_t (*real_sendto)(int, const void*, size_t, int, const sockaddr*, socklen_t);
 ssize_t (*real_sendmsg)(int, const msghdr*, int);
+int (*real_setsockopt)(int, int, int, const void*, socklen_t);
+int (*real_getsockopt)(int, int, int, void*, socklen_t*);
 
 // ---------------------------------------------------------------- process state
 
@@ -86,10 +88,16 @@ char socket_path[108] = {};
 std::int64_t now_us() { return page->now_us.load(std::memory_order_acquire); }
 
 // OCP sockets: loopback TCP connections this process made, and the bytes it wrote to each.
+// The controller models the kernel's Nagle algorithm in virtual time (docs/virtual-time.md), so
+// the real socket always has TCP_NODELAY (its bytes arrive at once, whatever the machine's
+// load); the program's own setting is kept here and reported, with where its first write since
+// the last report ended (the one write Nagle lets go at once when nothing is in flight).
 struct Tagged {
   std::atomic<int> fd{-1};
   std::atomic<std::uint32_t> port{0};
   std::atomic<std::uint64_t> written{0};
+  std::atomic<std::uint64_t> first_write_end{0};
+  std::atomic<bool> no_delay{false};
 };
 Tagged tagged[ocp::vtime::max_connections];
 std::atomic<int> tagged_count{0};
@@ -215,7 +223,10 @@ void add_written(ShimMessage& message) {
   if (tagged_count.load(std::memory_order_relaxed) == 0) return;
   for (Tagged& entry : tagged) {
     if (entry.fd.load(std::memory_order_relaxed) < 0 || message.reported >= ocp::vtime::max_reported) continue;
-    message.written[message.reported++] = {entry.port.load(), entry.written.load()};
+    // The end first: a write made between the two loads is then reported whole.
+    const std::uint64_t first_write_end = entry.first_write_end.exchange(0);
+    message.written[message.reported++] = {entry.port.load(), entry.no_delay.load() ? 1u : 0u, entry.written.load(),
+                                           first_write_end};
   }
 }
 
@@ -450,6 +461,17 @@ int select_virtually(int nfds, fd_set* in, fd_set* out, fd_set* except, std::int
   });
 }
 
+// A new OCP socket: the program's TCP_NODELAY (set before connect, as libuv may) becomes the
+// shim's, and the real socket's is turned on.
+bool take_over_no_delay(int fd) {
+  int value = 0;
+  socklen_t size = sizeof value;
+  const bool on = REAL(getsockopt)(fd, IPPROTO_TCP, TCP_NODELAY, &value, &size) == 0 && value != 0;
+  const int yes = 1;
+  (void)REAL(setsockopt)(fd, IPPROTO_TCP, TCP_NODELAY, &yes, sizeof yes);
+  return on;
+}
+
 }  // namespace ocp_vtime_shim
 
 extern "C" {
@@ -576,6 +598,8 @@ int connect(int fd, const sockaddr* address, socklen_t length) {
         if (entry.fd.load() != -1) continue;
         entry.port = port;
         entry.written = 0;
+        entry.first_write_end = 0;
+        entry.no_delay = take_over_no_delay(fd);
         if (!entry.fd.compare_exchange_strong(empty, fd)) continue;
         tagged_count.fetch_add(1);
         if (ensure_channel()) {
@@ -624,10 +648,16 @@ int close(int fd) {
 namespace ocp_vtime_shim __attribute__((visibility("hidden"))) {
 ssize_t count_written(int fd, ssize_t result) {
   if (result > 0) {
-    if (Tagged* entry = find_tagged(fd)) entry->written.fetch_add(static_cast<std::uint64_t>(result));
+    if (Tagged* entry = find_tagged(fd)) {
+      const std::uint64_t end = entry->written.fetch_add(static_cast<std::uint64_t>(result)) + static_cast<std::uint64_t>(result);
+      std::uint64_t none = 0;
+      entry->first_write_end.compare_exchange_strong(none, end);
+    }
   }
   return result;
 }
+
+bool is_no_delay_option(int level, int name) { return level == IPPROTO_TCP && name == TCP_NODELAY; }
 }  // namespace ocp_vtime_shim
 
 extern "C" {
@@ -639,5 +669,27 @@ ssize_t sendto(int fd, const void* data, size_t size, int flags, const sockaddr*
   return count_written(fd, REAL(sendto)(fd, data, size, flags, to, length));
 }
 ssize_t sendmsg(int fd, const msghdr* message, int flags) { return count_written(fd, REAL(sendmsg)(fd, message, flags)); }
+
+// TCP_NODELAY of an OCP socket is the program's, kept by the shim (Tagged); the real one stays on.
+int setsockopt(int fd, int level, int name, const void* value, socklen_t length) {
+  if (active && is_no_delay_option(level, name) && value != nullptr && length >= sizeof(int)) {
+    if (Tagged* entry = find_tagged(fd)) {
+      entry->no_delay = *static_cast<const int*>(value) != 0;
+      return 0;
+    }
+  }
+  return REAL(setsockopt)(fd, level, name, value, length);
+}
+
+int getsockopt(int fd, int level, int name, void* value, socklen_t* length) {
+  if (active && is_no_delay_option(level, name) && value != nullptr && length != nullptr && *length >= sizeof(int)) {
+    if (Tagged* entry = find_tagged(fd)) {
+      *static_cast<int*>(value) = entry->no_delay.load() ? 1 : 0;
+      *length = sizeof(int);
+      return 0;
+    }
+  }
+  return REAL(getsockopt)(fd, level, name, value, length);
+}
 
 }  // extern "C"

@@ -66,7 +66,7 @@ struct Controller::Impl {
     // program, or a forked child): it is starting up (see starting_up()).
     bool waited = false;
     Clock::time_point began = Clock::now();
-    std::map<std::uint32_t, std::uint64_t> written;   // by the client's local port
+    std::map<std::uint32_t, ClientWrites> written;   // by the client's local port
     std::map<std::uint32_t, Clock::time_point> closed;   // OCP sockets it closed, not yet seen
   };
   struct Listener {
@@ -235,8 +235,7 @@ struct Controller::Impl {
     }
     ProcessRecord& process = processes[thread.pid];
     for (std::uint32_t i = 0; i < message.reported && i < static_cast<std::uint32_t>(max_reported); ++i) {
-      std::uint64_t& written = process.written[message.written[i].port];
-      written = std::max(written, message.written[i].written);
+      process.written[message.written[i].port].merge(message.written[i]);
     }
     switch (message.kind) {
       case ShimKind::blocked:
@@ -659,20 +658,18 @@ struct Controller::Impl {
     const bool sweep = (sweeps & 63) == 0 || std::exchange(thread_left, false);
     for (const std::shared_ptr<SocketStream>& stream : streams) {
       if (stream->finished()) continue;
-      std::uint64_t expected_bytes = 0;
+      ClientWrites reported;   // of every process (a fork's child may write to its parent's connection)
       bool expect_eof = false;
       for (auto& [pid, process] : processes) {
-        if (auto found = process.written.find(stream->peer_port()); found != process.written.end()) {
-          expected_bytes = std::max(expected_bytes, found->second);
-        }
+        if (auto found = process.written.find(stream->peer_port()); found != process.written.end()) reported.take(found->second);
         if (process.closed.erase(stream->peer_port()) > 0) expect_eof = true;
       }
-      if (!sweep && !expect_eof && expected_bytes <= stream->received_total()) continue;
+      if (!sweep && !expect_eof && reported.written <= stream->received_total()) continue;
       const auto taking = Clock::now();
-      const std::size_t got = stream->take(expected_bytes, expect_eof);
+      const std::size_t got = stream->take(reported, expect_eof);
       if (trace.is_open() && Clock::now() - taking > std::chrono::milliseconds(100)) {
         trace_line("waited for the client's bytes on port " + std::to_string(stream->peer_port()) + ": expected " +
-                   std::to_string(expected_bytes) + (expect_eof ? " and its close" : "") + ", have " +
+                   std::to_string(reported.written) + (expect_eof ? " and its close" : "") + ", have " +
                    std::to_string(stream->received_total()));
       }
       stats.bytes_in += got;

@@ -7,6 +7,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <utility>
@@ -18,6 +19,18 @@ namespace {
 constexpr int arrival_wait_ms = 2000;
 constexpr std::size_t read_chunk = 65536;
 }  // namespace
+
+void ClientWrites::merge(const WrittenCount& count) {
+  written = std::max(written, count.written);
+  if (count.first_write_end != 0 && (first_write_end == 0 || count.first_write_end < first_write_end)) {
+    first_write_end = count.first_write_end;
+  }
+  no_delay = count.no_delay != 0;
+}
+
+void ClientWrites::take(ClientWrites& other) {
+  merge({0, other.no_delay ? 1u : 0u, other.written, std::exchange(other.first_write_end, 0)});
+}
 
 SocketStream::SocketStream(VirtualExecutor& executor, int fd, std::uint16_t peer_port, std::string name)
     : executor_(executor), fd_(fd), peer_port_(peer_port), name_(std::move(name)) {}
@@ -66,7 +79,10 @@ std::size_t SocketStream::flush(bool& changed) {
     sent += static_cast<std::size_t>(wrote);
   }
   written_total_ += sent;
-  if (sent > 0) changed = true;
+  if (sent > 0) {
+    changed = true;
+    send_unsent(nagle_.acknowledged(executor_.now()));   // the ACK rides on our bytes
+  }
   if (close_requested_ && (outbox_.empty() || eof_seen_)) {
     close_socket();
     changed = true;
@@ -74,7 +90,8 @@ std::size_t SocketStream::flush(bool& changed) {
   return sent;
 }
 
-std::size_t SocketStream::take(std::uint64_t expected, bool expect_eof) {
+std::size_t SocketStream::take(const ClientWrites& reported, bool expect_eof) {
+  const std::uint64_t expected = reported.written;
   if (fd_ < 0 || eof_seen_) return 0;
   std::string got;
   const auto give_up = std::chrono::steady_clock::now() + std::chrono::milliseconds(arrival_wait_ms);
@@ -96,13 +113,39 @@ std::size_t SocketStream::take(std::uint64_t expected, bool expect_eof) {
     (void)::poll(&wait, 1, 1);
   }
   const std::size_t size = got.size();
-  if (!got.empty()) hand_over(std::move(got));
+  unsent_ += got;
+  send_unsent(nagle_.arrived(received_total_, reported.first_write_end, reported.no_delay, executor_.now()));
   if (eof_seen_) {
+    send_unsent(nagle_.closed());
     eof_news_ = true;
     open_ = false;
     hand_over_close("connection closed by peer");
   }
   return size;
+}
+
+void SocketStream::send_unsent(std::uint64_t sent_end) {
+  const std::uint64_t handed = received_total_ - unsent_.size();
+  if (sent_end > handed) {
+    const std::size_t count = static_cast<std::size_t>(sent_end - handed);
+    hand_over(unsent_.substr(0, count));
+    unsent_.erase(0, count);
+  }
+  schedule_delayed_ack();
+}
+
+// Writing nothing to the client, we acknowledge its segment in flight after the delayed-ACK
+// time; then what its kernel held goes.
+void SocketStream::schedule_delayed_ack() {
+  const std::optional<SimTime> due = nagle_.delayed_ack_due();
+  if (!due || *due == delayed_ack_at_) return;
+  delayed_ack_at_ = *due;
+  executor_.call_at(*due, [weak = weak_from_this()] {
+    const auto self = weak.lock();
+    if (!self || self->fd_ < 0) return;
+    const std::optional<SimTime> now_due = self->nagle_.delayed_ack_due();
+    if (now_due && *now_due <= self->executor_.now()) self->send_unsent(self->nagle_.acknowledged(self->executor_.now()));
+  });
 }
 
 void SocketStream::hand_over(std::string bytes) {

@@ -2,7 +2,8 @@
 // One accepted OCP connection in virtual time: a ByteStream over a real loopback TCP socket.
 // Writes wait in `outbox` until the controller flushes them at the end of the instant; bytes
 // the client wrote are taken by the controller when the client waits, and handed to the
-// handlers through the executor at that instant.
+// handlers through the executor at that instant — or later, when the client's kernel would
+// hold them (Nagle's algorithm without TCP_NODELAY: NagleModel).
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -10,8 +11,20 @@
 
 #include "ocp/byte_stream.hpp"
 #include "ocp/virtual_executor.hpp"
+#include "vtime/nagle.hpp"
+#include "vtime/protocol.hpp"
 
 namespace ocp::vtime {
+
+// What the shims reported about one connection (every WrittenCount since it was last taken).
+struct ClientWrites {
+  std::uint64_t written = 0;           // bytes written to it so far
+  std::uint64_t first_write_end = 0;   // the end of the first write not taken yet (0: none reported)
+  bool no_delay = false;               // the program's TCP_NODELAY, as last reported
+  void merge(const WrittenCount& count);
+  // Adds one process's report, whose first write is then taken (cleared there).
+  void take(ClientWrites& other);
+};
 
 class SocketStream final : public ByteStream, public std::enable_shared_from_this<SocketStream> {
  public:
@@ -36,15 +49,19 @@ class SocketStream final : public ByteStream, public std::enable_shared_from_thi
   // the bytes written (and whether anything changed at all, through `changed`).
   std::size_t flush(bool& changed);
   std::uint64_t written_total() const { return written_total_; }
-  // Reads what is there (waiting, bounded, until `expected` bytes in all have come, or the
-  // client's close when `expect_eof`); hands it over at this instant. Returns the bytes read.
-  std::size_t take(std::uint64_t expected, bool expect_eof);
+  // Reads what is there (waiting, bounded, until `reported.written` bytes in all have come, or
+  // the client's close when `expect_eof`); hands over, at this instant, what the client's kernel
+  // would send now (NagleModel). Returns the bytes read.
+  std::size_t take(const ClientWrites& reported, bool expect_eof);
   std::uint64_t received_total() const { return received_total_; }
   // True once after take() saw the client's close.
   bool take_eof_news() { return std::exchange(eof_news_, false); }
 
  private:
   void hand_over(std::string bytes);
+  // What the client's kernel sent, up to `sent_end` of its bytes: handed over now.
+  void send_unsent(std::uint64_t sent_end);
+  void schedule_delayed_ack();
   void hand_over_close(std::string reason);
   void close_socket();
 
@@ -63,6 +80,9 @@ class SocketStream final : public ByteStream, public std::enable_shared_from_thi
   bool have_handlers_ = false;
   std::uint64_t written_total_ = 0;
   std::uint64_t received_total_ = 0;
+  std::string unsent_;          // read, but held by the client's kernel (Nagle)
+  NagleModel nagle_;
+  SimTime delayed_ack_at_{-1};  // the last delayed ACK scheduled
 };
 
 }  // namespace ocp::vtime

@@ -121,6 +121,46 @@ void timed_locks() {
   measure("timedlock_timeout", try_lock_for(50ms), hold_for(200ms));
 }
 
+// pthread_rwlock_timed{rd,wr}lock and pthread_rwlock_clock{rd,wr}lock, against a thread that
+// holds the lock the other way (a writer against readers, a reader against a writer).
+void reader_writer_locks() {
+  pthread_rwlock_t rwlock = PTHREAD_RWLOCK_INITIALIZER;
+  std::atomic<bool> held{false};
+  auto hold_for = [&](bool write, std::chrono::milliseconds how_long) {
+    return [&, write, how_long] {
+      if (write) {
+        pthread_rwlock_wrlock(&rwlock);
+      } else {
+        pthread_rwlock_rdlock(&rwlock);
+      }
+      held = true;
+      std::this_thread::sleep_for(how_long);
+      pthread_rwlock_unlock(&rwlock);
+    };
+  };
+  auto lock_within = [&](bool write, bool clock_form, std::int64_t patience_us) {
+    return [&, write, clock_form, patience_us] {
+      while (!held) std::this_thread::yield();   // the other thread holds it first (no virtual time passes)
+      const clockid_t clock = clock_form ? CLOCK_MONOTONIC : CLOCK_REALTIME;
+      const timespec deadline = in(patience_us, clock);
+      int result = 0;
+      if (clock_form) {
+        result = write ? pthread_rwlock_clockwrlock(&rwlock, clock, &deadline) : pthread_rwlock_clockrdlock(&rwlock, clock, &deadline);
+      } else {
+        result = write ? pthread_rwlock_timedwrlock(&rwlock, &deadline) : pthread_rwlock_timedrdlock(&rwlock, &deadline);
+      }
+      if (result == 0) pthread_rwlock_unlock(&rwlock);
+      held = false;
+      return static_cast<long>(result);
+    };
+  };
+  measure("rwlock_timedwrlock_timeout", lock_within(true, false, 50'000), hold_for(false, 200ms));
+  measure("rwlock_timedrdlock_timeout", lock_within(false, false, 60'000), hold_for(true, 200ms));
+  measure("rwlock_clockrdlock_acquired", lock_within(false, true, 500'000), hold_for(true, 40ms));
+  measure("rwlock_clockwrlock_acquired", lock_within(true, true, 500'000), hold_for(false, 30ms));
+  pthread_rwlock_destroy(&rwlock);
+}
+
 long futex_wait(std::atomic<std::uint32_t>& word, int op, const timespec* timeout) {
   const long result = syscall(SYS_futex, &word, op | FUTEX_PRIVATE_FLAG, 0u, timeout, nullptr, FUTEX_BITSET_MATCH_ANY);
   return result == 0 ? 0L : static_cast<long>(errno);
@@ -154,6 +194,7 @@ int main() {
   condition_variables();
   semaphores();
   timed_locks();
+  reader_writer_locks();
   futex_words();
   std::printf("done\n");
   std::fflush(stdout);

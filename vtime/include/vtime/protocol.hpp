@@ -13,7 +13,7 @@
 //     OCP socket. The controller answers a BLOCKED with WAKE(seq) (deadline reached) or
 //     POKE(seq) (something was delivered: look again).
 //   * Waits on an object (a condition variable, a futex word: timed cond waits, sem_timedwait,
-//     timed locks, syscall(SYS_futex)) sleep in the kernel on the object itself, not on the
+//     timed locks and reader-writer locks, syscall(SYS_futex)) sleep in the kernel on the object itself, not on the
 //     control socket, so their WAKE goes to the process's *waker*: a thread the shim starts on
 //     the first such wait, with its own connection (WAKER_HELLO), always asleep in recv. It
 //     wakes the object for real (a broadcast, a FUTEX_WAKE); the waiter sees its deadline passed.
@@ -51,12 +51,14 @@ struct ClockPage {
 static_assert(std::atomic<std::int64_t>::is_always_lock_free && std::atomic<std::uint64_t>::is_always_lock_free);
 
 enum class ShimKind : std::uint32_t { hello = 1, blocked = 2, running = 3, connected = 4, closed = 5, waker_hello = 6 };
-// futex, cond, lock and semaphore waits sleep on an object (`object`): their WAKE goes to the waker.
+// futex, cond, lock, semaphore and rwlock waits sleep on an object (`object`): their WAKE goes to the waker.
 enum class WaitKind : std::uint32_t {
-  none = 0, sleep = 1, poll = 2, select = 3, epoll = 4, futex = 5, cond = 6, lock = 7, semaphore = 8, read = 9
+  none = 0, sleep = 1, poll = 2, select = 3, epoll = 4, futex = 5, cond = 6, lock = 7, semaphore = 8, read = 9,
+  rwlock = 10
 };
 inline constexpr bool waits_on_object(WaitKind kind) {
-  return kind == WaitKind::futex || kind == WaitKind::cond || kind == WaitKind::lock || kind == WaitKind::semaphore;
+  return kind == WaitKind::futex || kind == WaitKind::cond || kind == WaitKind::lock || kind == WaitKind::semaphore ||
+         kind == WaitKind::rwlock;
 }
 // For the wait trace: "waits in <name>".
 inline constexpr const char* wait_name(WaitKind kind) {
@@ -68,6 +70,7 @@ inline constexpr const char* wait_name(WaitKind kind) {
     case WaitKind::futex: return "a futex wait";
     case WaitKind::cond: return "a timed condition wait";
     case WaitKind::lock: return "a timed lock";
+    case WaitKind::rwlock: return "a timed reader-writer lock";
     case WaitKind::semaphore: return "sem_timedwait";
     case WaitKind::read: return "a blocking read";
     case WaitKind::none: break;
@@ -75,9 +78,13 @@ inline constexpr const char* wait_name(WaitKind kind) {
   return "wait";
 }
 
+// Per OCP connection, with every BLOCKED: what the controller needs to take the client's bytes
+// and to model its kernel's Nagle algorithm (docs/virtual-time.md, "Nagle's algorithm").
 struct WrittenCount {
   std::uint32_t port;
-  std::uint64_t written;   // bytes the process wrote to that socket so far
+  std::uint32_t no_delay;          // 1: the program set TCP_NODELAY (the real socket always has it)
+  std::uint64_t written;           // bytes the process wrote to that socket so far
+  std::uint64_t first_write_end;   // `written` after the first write since the last report; 0: none
 };
 
 inline constexpr int max_reported = 8;
