@@ -49,9 +49,9 @@ CLI::App* add_fleet_command(CLI::App& app, FleetOptions& options) {
       ->capture_default_str()->check(CLI::Range(0, 64));
   fleet->add_option("--client-threads", options.client_threads,
                     "loopback: threads the reference clients are spread over, each with its own io_context\n"
-                    "(default 0: each client on its own Streamer's thread, both ends of its traffic on one thread,\n"
-                    "so a frame wakes no other thread; K > 0: vehicle i's client on client thread i mod K)")
-      ->capture_default_str()->check(CLI::Range(0, 64));
+                    "(default: as many as --streamer-threads, at least 1; 0: each client on its own Streamer's thread,\n"
+                    "both ends of its traffic on one thread)")
+      ->check(CLI::Range(0, 64));
   fleet->add_option("--tick-slots", options.tick_slots,
                     "loopback: one shared control ticker per thread with this many slots over the 10 ms period (0: a timer per Streamer)")
       ->capture_default_str()->check(CLI::Range(0, 10000));
@@ -350,7 +350,7 @@ int run_fleet(const FleetOptions& options) {
   for (const int vehicles : options.loopback_vehicles) {
     if (vehicles == 0) continue;
     plan.push_back({FleetMode::loopback, vehicles, options.warm_up_s, options.window_s, 60.0, true, options.streamer_threads,
-                    options.client_threads,
+                    options.client_threads.value_or(std::max(1, options.streamer_threads)),
                     static_cast<std::size_t>(options.tick_slots),
                     options.kernel_floor ? floor_s : 0.0, 0.0});
   }

@@ -4,6 +4,7 @@
 // memory per vehicle, faults, each thread's CPU; a table, --json and an SVG of the curve (--svg).
 #include <CLI/CLI.hpp>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,11 +19,10 @@ struct FleetOptions {
   double point_timeout_s = 180.0;  // a point still running after this is killed and reported
   bool unobserved = false;         // virtual points without subscribing (the world's own speed)
   int streamer_threads = 2;        // loopback: threads hosting the Streamers (0: the main thread)
-  // Loopback: threads hosting the reference clients; 0 (default): each client on its own
-  // Streamer's thread, so the clients are spread as the Streamers are (one client thread for a
-  // whole fleet was the saturated thread of issue #41) and a frame wakes no other thread (a
-  // wake-up of a thread on the other, idle vCPU costs ~30 µs of CPU on a VM: issue #41 part 3).
-  int client_threads = 0;
+  // Loopback: threads hosting the reference clients (0: the Streamers' own); unset: as many as
+  // --streamer-threads, at least 1, so a fleet given more Streamer threads gets client threads
+  // to match (one client thread for a whole fleet was the saturated thread of issue #41).
+  std::optional<int> client_threads;
   int tick_slots = 10;             // loopback: WorldConfig::control_tick_slots (0: a timer per Streamer)
   bool kernel_floor = true;        // loopback: measure the kernel's TCP cost of the traffic after each point
   bool codec_floor = true;         // virtual, observed: measure the wire codec's cost alone after each point

@@ -1,6 +1,6 @@
 #pragma once
 // One point of the fleet scale curve: N vehicles hosted by one process, either over real
-// loopback TCP (N Streamers on --streamer-threads threads, N reference clients on theirs or on --client-threads others,
+// loopback TCP (N Streamers on --streamer-threads threads, N reference clients on --client-threads others,
 // real time) or in virtual time (a World with N in-process clients over pipes). Each point runs in a forked
 // child (fleet_command.cpp), so CPU and resident memory are that point's alone; the result is
 // a plain struct sent back through a pipe.
@@ -28,7 +28,7 @@ struct FleetPointOptions {
   int streamer_threads = 2;
   // Loopback: threads the reference clients are spread over, each with its own io_context;
   // 0: each client on its own Streamer's executor.
-  int client_threads = 0;
+  int client_threads = 1;
   // WorldConfig::control_tick_slots: one shared control ticker per executor with this many
   // slots over the 10 ms period (0: a timer per Streamer). Loopback only: in virtual time the
   // reference clients' keep-alive timers (response_period = 10 ms) fire just before control
