@@ -116,7 +116,11 @@ class MeasuredWindow {
 class ClientSet {
  public:
   void add(AsioExecutor& executor, std::uint16_t port) {
-    clients_.push_back(std::make_unique<VehicleClient>(executor, VehicleClientConfig{}, Logger(executor, "vehicle", {})));
+    // The model ticks of an executor's clients on one grid (model_step): one wake-up per model
+    // period for them all, not one per client at its own phase (~20 µs of CPU each on a VM).
+    VehicleClientConfig client;
+    client.model_grid = client.model_step;
+    clients_.push_back(std::make_unique<VehicleClient>(executor, client, Logger(executor, "vehicle", {})));
     TcpRunnerConfig config;
     config.server.port = port;
     runners_.push_back(std::make_unique<TcpRunner>(executor, *clients_.back(), config, Logger(executor, "tcp", {})));

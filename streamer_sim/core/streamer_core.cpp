@@ -1,5 +1,7 @@
 #include "streamer/streamer_core.hpp"
 
+#include <algorithm>
+
 #include "streamer_impl.hpp"
 
 namespace ocp {
@@ -15,10 +17,10 @@ StreamerCore::Impl::Impl(Executor& executor_in, StreamerConfig config_in, Logger
       control_timer(executor, config.control_period,
                     [this](SimTime deadline) { on_control_tick(deadline); }) {}
 
-void StreamerCore::Impl::start() {
+void StreamerCore::Impl::start(SimTime t0) {
   if (started) return;
   started = true;
-  start_time = executor.now();
+  start_time = t0;
   last_operator_arrival = start_time;
   latency_loop.start(start_time);
   logger.info("streamer {} started: control every {} us, frame loop {} Hz, {} camera(s)",
@@ -74,7 +76,8 @@ StreamerCore::~StreamerCore() {
   impl_->stop();
 }
 
-void StreamerCore::start() { impl_->start(); }
+void StreamerCore::start() { impl_->start(impl_->executor.now()); }
+void StreamerCore::start(SimTime t0) { impl_->start(std::min(t0, impl_->executor.now())); }
 void StreamerCore::stop() { impl_->stop(); }
 void StreamerCore::set_link(Link* to_player) { impl_->to_player = to_player; }
 void StreamerCore::use_control_ticker(ControlTicker* ticker) { impl_->control_ticker = ticker; }

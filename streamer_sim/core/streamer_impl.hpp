@@ -26,7 +26,7 @@ struct StreamerCore::Impl {
   Impl(Executor& executor, StreamerConfig config, Logger logger);
 
   // streamer_core.cpp
-  void start();
+  void start(SimTime t0);   // t0 <= now
   void stop();
 
   // vehicle_side.cpp

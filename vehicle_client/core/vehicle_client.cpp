@@ -26,6 +26,7 @@ std::optional<std::string> validate(const VehicleClientConfig& config) {
   if (!(config.start.lon >= -180.0 && config.start.lon <= 180.0)) return "start longitude must be in [-180, 180]";
   if (config.response_period.count() <= 0) return "response period must be positive";
   if (config.model_step.count() <= 0) return "model step must be positive";
+  if (config.model_grid.count() < 0) return "model grid must be >= 0 (0: ticks from attach)";
   if (config.server_silence_limit.count() <= 0) return "server silence limit must be positive";
   if (config.user_data_limit_bytes == 0 || config.user_data_limit_bytes > max_payload_bytes / 2) {
     return "user data limit must be in [1, 8192] bytes";
@@ -80,7 +81,7 @@ void VehicleClient::attach(std::shared_ptr<ByteStream> stream) {
   safety_.reset(now);
   if (!model_timer_.running()) {
     model_.reset_time(now);
-    model_timer_.start(now + config_.model_step);
+    model_timer_.start(first_model_tick(now));
   }
   logger_.debug("attached to {}", stream_->peer_name());
 
@@ -273,6 +274,13 @@ void VehicleClient::on_silence_check() {
     return;
   }
   arm_silence_check(deadline);
+}
+
+SimTime VehicleClient::first_model_tick(SimTime attached) const {
+  const SimTime earliest = attached + config_.model_step;
+  const std::int64_t grid = config_.model_grid.count();
+  if (grid <= 0) return earliest;
+  return SimTime{(earliest.count() + grid - 1) / grid * grid};
 }
 
 void VehicleClient::on_model_tick(SimTime deadline) {

@@ -1,5 +1,6 @@
 #include "world/world.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <set>
@@ -251,7 +252,16 @@ void World::wire_link_receivers(Vehicle& vehicle) {
 // The Streamers first, so that with player_phase 0 the Player's frames fall on their ticks.
 void World::start_parts() {
   running_ = true;
-  for (auto& vehicle : vehicles_) vehicle->streamer->start();
+  // The Streamers of one executor start on one instant, as they do in virtual time: their frame
+  // loops and cameras then share deadlines, one wake-up per frame for them all (each distinct
+  // timer instant costs a wake-up, ~20 µs of CPU on a VM: docs/benchmarks.md, issue #41).
+  std::vector<std::pair<Executor*, SimTime>> started_at;
+  for (auto& vehicle : vehicles_) {
+    Executor& on = vehicle->thread ? *vehicle->thread->executor : executor_;
+    auto same = std::find_if(started_at.begin(), started_at.end(), [&on](const auto& at) { return at.first == &on; });
+    if (same == started_at.end()) same = started_at.insert(started_at.end(), {&on, on.now()});
+    vehicle->streamer->start(same->second);
+  }
   if (config_.player_phase > Micros{0}) {
     player_start_timer_ = executor_.call_after(config_.player_phase, [this] {
       player_start_timer_ = 0;

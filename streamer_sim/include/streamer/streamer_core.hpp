@@ -16,7 +16,7 @@
 // Threading: single-threaded. Every call and every executor callback must happen on the
 // executor's thread (VirtualExecutor: the caller; AsioExecutor: the io_context thread).
 //
-// Timing rules (exact in virtual time; t0 = the executor's time at start()):
+// Timing rules (exact in virtual time; t0 = the executor's time at start(), or the t0 given to it):
 // * ack_time = (now − t0) in µs + ack_time_offset (u64, wraps; never a double).
 // * Control tick at t0 + k·control_period (absolute deadlines, PeriodicTimer), or at the
 //   deadlines of a shared ControlTicker's slot (use_control_ticker). A tick sends a
@@ -148,6 +148,10 @@ class StreamerCore {
   StreamerCore& operator=(const StreamerCore&) = delete;
 
   void start();   // control ticker (absolute 10 ms deadlines), frame loop, cameras
+  // start() with t0 = min(t0, now): Streamers started together on one executor pass one t0
+  // (World does), so their frame loops and cameras fall on the same instants, as they do in
+  // virtual time — one wake-up per frame for them all instead of one per Streamer.
+  void start(SimTime t0);
   void stop();    // stops timers and closes the vehicle connection
 
   void set_link(Link* to_player);                     // where feedback, video, pongs go

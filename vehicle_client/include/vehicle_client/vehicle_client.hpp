@@ -49,6 +49,12 @@ struct VehicleClientConfig {
   double start_heading_deg = 0.0;           // compass heading at start
   Micros response_period{10'000};           // longest gap between two responses
   Micros model_step{10'000};                // safety + model integration step
+  // 0: the model timer ticks at attach + k·model_step. > 0: at the multiples of model_grid on
+  // the executor's timeline (the first at or after attach + model_step), so the clients that
+  // one process hosts on one executor share their model ticks' instants: on a VM each distinct
+  // timer instant is a wake-up costing ~20 µs of CPU (docs/benchmarks.md, issue #41 part 3).
+  // Nothing on the wire depends on the phase; the model still integrates in model_step steps.
+  Micros model_grid{0};
   // No control message for this long after attach (or since the last one) → close: "no data
   // from the server" (not a byte arrived: a stopped or hung server, whatever it is), "not an
   // OCP server" (bytes arrived that are not OCP framing) or "server stopped sending".
@@ -134,6 +140,7 @@ class VehicleClient {
   void arm_silence_check(SimTime deadline);
   void on_silence_check();
   void on_model_tick(SimTime deadline);
+  SimTime first_model_tick(SimTime attached) const;   // config_.model_grid
   // Encodes user_data for the current model sample (at construction and every model step);
   // every response until the next sample reuses the text as is.
   void refresh_user_data();
