@@ -178,10 +178,14 @@ class FastTokenizer {
   FastTokenizer(std::string_view json, Tape& tape)
       : begin_(json.data()), at_(json.data()), end_(json.data() + json.size()), tape_(tape) {}
 
+  // One loop, no recursion: with value() and the helpers inlined here, GCC keeps the cursor
+  // and the depth in registers instead of reloading them from the object after every token.
   bool run() {
     for (;;) {
       skip_whitespace();
-      if (!value()) return false;
+      const Step step = value();
+      if (step == Step::failed) return false;
+      if (step == Step::need_value) continue;  // an opened container's first value
       // After a value: close containers, or find the next element.
       for (;;) {
         skip_whitespace();
@@ -340,34 +344,34 @@ class FastTokenizer {
     at_ += text.size();
     return true;
   }
-  // One value; an opened container counts as done once its first member's key is read (or
-  // it was closed at once), and run() carries on from there.
-  bool value() {
-    if (at_ == end_) return false;
+  // What value() left to do: nothing (a whole value was read), or a value inside the
+  // container it opened (after the first member's key).
+  enum class Step : std::uint8_t { failed, done, need_value };
+  static Step done_if(bool ok) { return ok ? Step::done : Step::failed; }
+
+  // One value, or the start of a container: an opened container is done at once when it is
+  // empty, and otherwise wants its first value (after reading the first member's key).
+  Step value() {
+    if (at_ == end_) return Step::failed;
     switch (*at_) {
       case '{':
-        if (!open(TokenKind::object_begin)) return false;
+      case '[': {
+        const bool object = *at_ == '{';
+        if (!open(object ? TokenKind::object_begin : TokenKind::array_begin)) return Step::failed;
         skip_whitespace();
-        if (at_ != end_ && *at_ == '}') {
+        if (at_ != end_ && *at_ == (object ? '}' : ']')) {
           ++at_;
-          close(TokenKind::object_end);
-          return true;
+          close(object ? TokenKind::object_end : TokenKind::array_end);
+          return Step::done;
         }
-        return member_key() && (skip_whitespace(), value());
-      case '[':
-        if (!open(TokenKind::array_begin)) return false;
-        skip_whitespace();
-        if (at_ != end_ && *at_ == ']') {
-          ++at_;
-          close(TokenKind::array_end);
-          return true;
-        }
-        return value();
-      case '"': return string(TokenKind::string);
-      case 't': return literal("true", TokenKind::true_value);
-      case 'f': return literal("false", TokenKind::false_value);
-      case 'n': return literal("null", TokenKind::null_value);
-      default: return number();
+        if (object && !member_key()) return Step::failed;
+        return Step::need_value;
+      }
+      case '"': return done_if(string(TokenKind::string));
+      case 't': return done_if(literal("true", TokenKind::true_value));
+      case 'f': return done_if(literal("false", TokenKind::false_value));
+      case 'n': return done_if(literal("null", TokenKind::null_value));
+      default: return done_if(number());
     }
   }
 
