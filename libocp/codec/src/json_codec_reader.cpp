@@ -1,5 +1,6 @@
 #include "json_codec_reader.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <limits>
@@ -19,14 +20,21 @@ std::string quote_number(std::string_view text) {
 // number grammar: digits alone mean no sign, fraction or exponent.
 enum class Digits { value, too_large, not_digits };
 
-// One pass: 19 digits cannot overflow (10^19 - 1 < 2^64), so only longer texts check each step.
+// One pass: 19 digits cannot overflow (10^19 - 1 < 2^64), so only the digits after them check
+// each step (the first loop has one test a digit).
 Digits read_digits(std::string_view text, std::uint64_t& out) {
   constexpr std::size_t safe_digits = 19;
   std::uint64_t value = 0;
-  for (std::size_t i = 0; i < text.size(); ++i) {
+  std::size_t i = 0;
+  for (const std::size_t safe_end = std::min(text.size(), safe_digits); i < safe_end; ++i) {
     const auto digit = static_cast<std::uint64_t>(static_cast<unsigned char>(text[i]) - '0');
     if (digit > 9) return Digits::not_digits;
-    if (i >= safe_digits && value > (std::numeric_limits<std::uint64_t>::max() - digit) / 10) {
+    value = value * 10 + digit;
+  }
+  for (; i < text.size(); ++i) {
+    const auto digit = static_cast<std::uint64_t>(static_cast<unsigned char>(text[i]) - '0');
+    if (digit > 9) return Digits::not_digits;
+    if (value > (std::numeric_limits<std::uint64_t>::max() - digit) / 10) {
       // Still report a non-digit further on as not_digits, as the two-pass check did.
       for (std::size_t j = i + 1; j < text.size(); ++j) {
         if (static_cast<unsigned char>(text[j]) - '0' > 9) return Digits::not_digits;
@@ -48,27 +56,34 @@ bool parse_short_decimal(std::string_view text, double& out) {
   static constexpr double powers_of_ten[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
                                              1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
                                              1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
-  constexpr int max_digits = 19;              // 10^19 - 1 < 2^64
+  constexpr std::ptrdiff_t max_digits = 19;   // 10^19 - 1 < 2^64
   constexpr std::uint64_t max_exact = 1ULL << 53;
-  constexpr int max_fraction_digits = 22;     // 10^22 is the largest exact power of ten
-  const bool negative = !text.empty() && text[0] == '-';
+  constexpr std::ptrdiff_t max_fraction_digits = 22;  // 10^22 is the largest exact power of ten
+  const char* at = text.data();
+  const char* const end = at + text.size();
+  const bool negative = at != end && *at == '-';
+  if (negative) ++at;
+  // The integer part, then the fraction's digits, in two plain loops (one test a byte). More
+  // than 19 digits may wrap `digits` around: such texts are refused below, by their length.
   std::uint64_t digits = 0;
-  int digit_count = 0;
-  int fraction_digits = 0;
-  bool in_fraction = false;
-  for (std::size_t at = negative ? 1 : 0; at < text.size(); ++at) {
-    const unsigned digit = static_cast<unsigned char>(text[at]) - unsigned{'0'};
-    if (digit <= 9) {
-      if (++digit_count > max_digits) return false;
-      digits = digits * 10 + digit;
-      fraction_digits += in_fraction ? 1 : 0;
-    } else if (text[at] == '.' && !in_fraction) {
-      in_fraction = true;
-    } else {
-      return false;  // exponent
-    }
+  const char* const integer_begin = at;
+  for (; at != end && static_cast<unsigned char>(*at - '0') <= 9; ++at) {
+    digits = digits * 10 + static_cast<unsigned char>(*at - '0');
   }
-  if (digits > max_exact || fraction_digits > max_fraction_digits) return false;
+  const std::ptrdiff_t integer_digits = at - integer_begin;
+  std::ptrdiff_t fraction_digits = 0;
+  if (at != end && *at == '.') {
+    const char* const fraction_begin = ++at;
+    for (; at != end && static_cast<unsigned char>(*at - '0') <= 9; ++at) {
+      digits = digits * 10 + static_cast<unsigned char>(*at - '0');
+    }
+    fraction_digits = at - fraction_begin;
+  }
+  if (at != end) return false;  // exponent
+  if (integer_digits + fraction_digits > max_digits || digits > max_exact ||
+      fraction_digits > max_fraction_digits) {
+    return false;
+  }
   const double value = static_cast<double>(digits) / powers_of_ten[fraction_digits];
   out = negative ? -value : value;
   return true;

@@ -100,9 +100,13 @@ bool JsonWriter::short_decimal(double value) {
       at_ = std::to_chars(at_, at_ + 16, digits).ptr;
       return true;
     }
-    // The digits, then the last k of them moved one place right to make room for the point.
+    // The digits (at most 15, and more than k), then the last k of them moved one place right
+    // to make room for the point: one 16-byte copy, within the 40 bytes of room (a byte loop
+    // became a call to memmove).
     char* const end = std::to_chars(at_, at_ + 16, digits).ptr;
-    for (char* at = end; at != end - k; --at) *at = at[-1];
+    char fraction[16];
+    std::memcpy(fraction, end - k, sizeof fraction);
+    std::memcpy(end - k + 1, fraction, sizeof fraction);
     end[-k] = '.';
     at_ = end + 1;
     return true;
