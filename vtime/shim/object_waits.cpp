@@ -159,7 +159,7 @@ void* waker_main(void*) {
     ControlMessage message{};
     const ssize_t got = recv(fd, &message, sizeof message, 0);
     if (got == static_cast<ssize_t>(sizeof message)) {
-      wake_slot(message.slot, message.seq);
+      wake_slot(message.on_object.slot, message.seq);
     } else if (got == 0 || (got < 0 && errno != EINTR)) {
       lost_controller();
       wake_everybody();
@@ -207,9 +207,7 @@ Outcome object_wait(WaitKind kind, void* object, std::uint32_t futex_flags, std:
   blocked.wait = kind;
   blocked.seq = next_seq();
   blocked.deadline_us = deadline;
-  blocked.slot = static_cast<std::uint32_t>(slot - slots);
-  blocked.object = reinterpret_cast<std::uintptr_t>(object);
-  blocked.futex_flags = futex_flags;
+  blocked.on_object = {static_cast<std::uint32_t>(slot - slots), futex_flags, reinterpret_cast<std::uintptr_t>(object)};
   add_written(blocked);
   lock(*slot);
   slot->seq = blocked.seq;

@@ -160,9 +160,7 @@ void Controller::Impl::on_message(int fd, ThreadRecord& thread, const ShimMessag
       thread.seq = message.seq;
       thread.deadline = message.deadline_us;
       thread.wait = message.wait;
-      thread.slot = message.slot;
-      thread.object = message.object;
-      thread.futex_flags = message.futex_flags;
+      thread.on_object = message.on_object;
       if (trace.is_open()) {
         trace_line("thread " + std::to_string(thread.tid) + " waits in " + wait_name(message.wait) +
                    (message.deadline_us == no_deadline ? std::string(" with no deadline")
@@ -333,10 +331,8 @@ bool Controller::Impl::wake_through_waker(ThreadRecord& thread) {
   message.kind = ControlKind::wake;
   message.seq = thread.seq;
   message.wait = thread.wait;
-  message.slot = thread.slot;
-  message.object = thread.object;
-  message.futex_flags = thread.futex_flags;
   message.tid = thread.tid;
+  message.on_object = thread.on_object;
   (void)send(waker->second, &message, sizeof message, MSG_NOSIGNAL | MSG_DONTWAIT);
   thread.blocked = false;
   thread.woken_by_us = true;   // it says RUNNING when it leaves the wait

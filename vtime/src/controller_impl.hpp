@@ -40,9 +40,7 @@ struct Controller::Impl {
     WaitKind wait = WaitKind::none;
     bool waker = false;            // the process's waker: always in recv, wakes waits on objects
     bool woken_by_us = false;      // we woke it and it has not said anything since
-    std::uint32_t slot = 0;        // a wait on an object: as its BLOCKED said
-    std::uint64_t object = 0;
-    std::uint32_t futex_flags = 0;
+    ObjectWait on_object{};        // a wait on an object: as its BLOCKED said
   };
   struct ProcessRecord {
     int threads = 0;

@@ -89,6 +89,14 @@ struct WrittenCount {
 
 inline constexpr int max_reported = 8;
 
+// A wait on an object (a condition variable, a lock, a semaphore, a futex word), as a BLOCKED
+// describes it and as a wake through the process's waker names it back.
+struct ObjectWait {
+  std::uint32_t slot;         // the waiter's slot in its process
+  std::uint32_t futex_flags;  // on a futex word: FUTEX_PRIVATE_FLAG or 0
+  std::uint64_t object;       // its address in the client
+};
+
 struct ShimMessage {
   ShimKind kind;
   WaitKind wait;
@@ -99,10 +107,8 @@ struct ShimMessage {
   std::uint32_t port;         // connected / closed: the client's local port
   std::uint32_t remote_port;  // connected: the port it connected to
   std::uint32_t reported;     // entries used in `written`
-  std::uint32_t slot;         // blocked on an object: the waiter's slot in its process
-  std::uint64_t object;       // blocked on an object: its address in the client
-  std::uint32_t futex_flags;  // blocked on a futex word: FUTEX_PRIVATE_FLAG or 0
   std::uint32_t reserved;
+  ObjectWait on_object;       // blocked on an object
   WrittenCount written[max_reported];
 };
 
@@ -114,10 +120,8 @@ struct ControlMessage {
   std::uint64_t seq;   // the BLOCKED it answers
   // To a waker: the waiter's wait, as its BLOCKED described it.
   WaitKind wait;
-  std::uint32_t slot;
-  std::uint64_t object;
-  std::uint32_t futex_flags;
   std::int32_t tid;
+  ObjectWait on_object;
 };
 
 }  // namespace ocp::vtime
