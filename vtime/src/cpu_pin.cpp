@@ -61,8 +61,7 @@ CpuPin::CpuPin() {
   // woken by a client's BLOCKED, lets the client reach its wait; and a client (it inherits the
   // policy) woken by the simulator's bytes lets the controller finish the instant. Each runs
   // until it waits, and the CPU changes hands once per hand-off.
-  policy_ = sched_getscheduler(thread_);
-  if (policy_ == SCHED_OTHER) {
+  if (sched_getscheduler(thread_) == SCHED_OTHER) {
     const sched_param none{};
     batch_ = sched_setscheduler(thread_, SCHED_BATCH, &none) == 0;
   }

@@ -36,7 +36,6 @@ class CpuPin {
   bool restore_ = false;
   int cpu_ = -1;
   int lock_fd_ = -1;
-  int policy_ = -1;
   bool batch_ = false;   // SCHED_BATCH set here
 };
 
