@@ -150,5 +150,17 @@ def main():
     return 1 if failures else 0
 
 
+def check_test_clients(commands):
+    """The vtime tests' own clients (cli_errors.py BIN_DIR --test-clients PATH...): --help is exit 0
+    with the usage, an unknown option exit 2 naming it; never a client that hangs or connects."""
+    for command in commands:
+        argv = [sys.executable, command] if command.endswith(".py") else [command]
+        name = pathlib.Path(command).name
+        check(f"{name} --help", argv + ["--help"], 0, says=["usage"], limit_s=20)
+        check(f"{name} with an unknown option", argv + ["--no-such-option-here"], 2, says=["--no-such-option-here"], limit_s=20)
+    print(f"{len(failures)} failed" if failures else "every row passed")
+    return 1 if failures else 0
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(check_test_clients(sys.argv[3:]) if sys.argv[2:3] == ["--test-clients"] else main())

@@ -5,13 +5,21 @@ Streamer's 2 s read timeout it is closed; just under, it is not.
 
     keepalive_client.py PORT PERIOD_SECONDS
 """
+import argparse
 import json
 import socket
 import struct
 import sys
 import time
 
-port, period = int(sys.argv[1]), float(sys.argv[2])
+arguments = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter)
+arguments.add_argument("port", type=int, help="the Streamer's port on 127.0.0.1")
+arguments.add_argument("period", type=float, help="seconds between two responses")
+unknown = [word for word in sys.argv[1:] if word.startswith("-") and word not in ("-h", "--help")]
+if unknown:   # named before argparse's "arguments are required", which would hide it
+    arguments.error(f"unknown option {unknown[0]}")
+options = arguments.parse_args()
+port, period = options.port, options.period
 sock = socket.create_connection(("127.0.0.1", port))
 sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
 sock.setblocking(False)

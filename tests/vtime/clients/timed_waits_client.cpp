@@ -18,6 +18,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <mutex>
 #include <thread>
 
@@ -190,7 +191,15 @@ void futex_words() {
 
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
+  if (argc == 2 && (std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0)) {
+    std::puts("usage: vtime_timed_waits_client\n  every timed wait on an object, once timed out and once ended early: NAME result=R elapsed_us=N");
+    return 0;
+  }
+  if (argc > 1) {
+    std::fprintf(stderr, "vtime_timed_waits_client: takes no arguments (unknown option %s)\n", argv[1]);
+    return 2;
+  }
   condition_variables();
   semaphores();
   timed_locks();

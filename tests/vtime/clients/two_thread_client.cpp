@@ -136,19 +136,42 @@ int connect_to(const std::string& host, int port) {
 
 }  // namespace
 
+constexpr const char* usage =
+    "usage: two_thread_client [--cv] HOST:PORT\n"
+    "  a reader thread in recv and a 10 ms timer thread (sleep_for, or with --cv a condition wait)\n";
+
 int main(int argc, char** argv) {
-  const bool use_condition_variable = argc == 3 && std::strcmp(argv[1], "--cv") == 0;
-  const std::string where = argc >= 2 ? argv[argc - 1] : "127.0.0.1:4000";
+  if (argc == 2 && (std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0)) {
+    std::fputs(usage, stdout);
+    return 0;
+  }
+  bool use_condition_variable = false;
+  std::string where;
+  for (int i = 1; i < argc; ++i) {
+    const std::string argument = argv[i];
+    if (argument == "--cv") {
+      use_condition_variable = true;
+    } else if (argument.starts_with('-')) {
+      std::fprintf(stderr, "two_thread_client: unknown option %s\n%s", argv[i], usage);
+      return 2;
+    } else if (where.empty()) {
+      where = argument;
+    } else {
+      std::fprintf(stderr, "two_thread_client: more than one HOST:PORT (%s)\n%s", argv[i], usage);
+      return 2;
+    }
+  }
   const auto colon = where.rfind(':');
-  if (argc < 2 || argc > 3 || colon == std::string::npos || (argc == 3 && !use_condition_variable)) {
-    std::fprintf(stderr, "usage: two_thread_client [--cv] HOST:PORT\n");
+  const int port = colon == std::string::npos ? 0 : std::atoi(where.c_str() + colon + 1);
+  if (port < 1 || port > 65535) {
+    std::fprintf(stderr, "two_thread_client: expected HOST:PORT with a port in 1..65535, got '%s'\n%s", where.c_str(), usage);
     return 2;
   }
   Shared shared;
   std::thread(timer, std::ref(shared), use_condition_variable).detach();
   auto backoff = std::chrono::milliseconds(100);
   for (;;) {
-    const int fd = connect_to(where.substr(0, colon), std::atoi(where.c_str() + colon + 1));
+    const int fd = connect_to(where.substr(0, colon), port);
     if (fd >= 0) {
       std::fprintf(stderr, "connected to %s\n", where.c_str());
       backoff = std::chrono::milliseconds(100);

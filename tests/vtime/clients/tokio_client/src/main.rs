@@ -103,16 +103,37 @@ async fn run(address: String) {
     }
 }
 
+const USAGE: &str = "usage: ocp_tokio_client HOST:PORT\n  a vehicle client on a tokio multi-thread runtime (2 workers): answers each control message at once, repeats the latest pair after 10 ms of silence, reconnects";
+
+// The one argument, HOST:PORT; --help prints the usage (exit 0); anything else is exit 2, named.
+fn address_from_arguments(args: &[String]) -> String {
+    if args.len() == 2 && (args[1] == "--help" || args[1] == "-h") {
+        println!("{USAGE}");
+        std::process::exit(0);
+    }
+    let refuse = |why: String| -> ! {
+        eprintln!("ocp_tokio_client: {why}\n{USAGE}");
+        std::process::exit(2);
+    };
+    if let Some(option) = args.iter().skip(1).find(|arg| arg.starts_with('-')) {
+        refuse(format!("unknown option {option}"));
+    }
+    if args.len() != 2 {
+        refuse(format!("expected one HOST:PORT, got {} arguments", args.len() - 1));
+    }
+    match args[1].rsplit_once(':').map(|(_, port)| port.parse::<u16>()) {
+        Some(Ok(port)) if port > 0 => args[1].clone(),
+        _ => refuse(format!("{} is not HOST:PORT with a port in 1..65535", args[1])),
+    }
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
-    if args.len() != 2 {
-        eprintln!("usage: ocp_tokio_client HOST:PORT");
-        std::process::exit(2);
-    }
+    let address = address_from_arguments(&args);
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
         .enable_all()
         .build()
         .expect("the tokio runtime");
-    runtime.block_on(run(args[1].clone()));
+    runtime.block_on(run(address));
 }
