@@ -90,7 +90,10 @@ class Hazards {
     // every such world a liveness failure that says nothing about the vehicle client.
     ClientDataAction keep_echoing = data;
     keep_echoing.until.reset();
-    for (auto& [vehicle, entry] : keep_echoing.vehicles) entry = ClientDataAction::Entry{std::nullopt, std::nullopt, ClientDataAction::Echo::latest};
+    for (auto& [vehicle, entry] : keep_echoing.vehicles) {
+      entry = {};
+      entry.echo = ClientDataAction::Echo::latest;
+    }
     push(*data.until, keep_echoing);
   }
 
