@@ -7,8 +7,10 @@ the latency loop by returning every pair), plus a record of what it saw, for the
 EVENTS_FILE gets one line each time the view changes:
     state latency=yes|no sender=F1,F2 receiver=F3
 (latency=yes: message_latency_roundtrip is a number). STATUS_FILE is rewritten (atomically) about
-four times a second: "messages=N latency_ms=L". The client reconnects when the connection ends,
-and stops when its parent test kills it.
+four times a second: "messages=N latency_ms=L at=T", T the client's monotonic clock when it
+counted N (a rate is then counted over the client's own interval: the poller's 0.25 s steps
+would make it ±10 % over 5 s). The client reconnects when the connection ends, and stops when
+its parent test kills it.
 """
 import json
 import os
@@ -48,7 +50,7 @@ class Recorder:
             self.status_written = now
             temporary = self.status_path + ".tmp"
             with open(temporary, "w") as status:
-                status.write("messages=%d latency_ms=%s\n" % (self.messages, self.latency))
+                status.write("messages=%d latency_ms=%s at=%.6f\n" % (self.messages, self.latency, now))
             os.replace(temporary, self.status_path)
 
 
