@@ -53,8 +53,9 @@ CLI::App* add_fleet_command(CLI::App& app, FleetOptions& options) {
                     "both ends of its traffic on one thread)")
       ->check(CLI::Range(0, 64));
   fleet->add_option("--tick-slots", options.tick_slots,
-                    "loopback: one shared control ticker per thread with this many slots over the 10 ms period (0: a timer per Streamer)")
-      ->capture_default_str()->check(CLI::Range(0, 10000));
+                    "loopback: one shared control ticker per thread with this many slots over the 10 ms period\n"
+                    "(0: a timer per Streamer; default: one slot per 10 vehicles of a Streamer thread, 1 to 10)")
+      ->check(CLI::Range(0, 10000));
   fleet->add_flag("--no-kernel-floor{false}", options.kernel_floor,
                   "loopback points: skip the kernel floor (the kernel's TCP cost of the same traffic, no simulator,\n"
                   "one thread, measured after the point's window)");
@@ -345,13 +346,19 @@ std::string scale_svg(const std::vector<FleetPointResult>& points, int cores) {
 // run to run), short beside the point itself.
 constexpr double floor_s = 0.4;
 
+int auto_tick_slots(int vehicles, int streamer_threads) {
+  const int executors = std::max(1, streamer_threads);
+  const int per_executor = (std::max(vehicles, 1) + executors - 1) / executors;
+  return std::clamp((per_executor + vehicles_per_tick_slot - 1) / vehicles_per_tick_slot, 1, max_auto_tick_slots);
+}
+
 int run_fleet(const FleetOptions& options) {
   std::vector<FleetPointOptions> plan;
   for (const int vehicles : options.loopback_vehicles) {
     if (vehicles == 0) continue;
     plan.push_back({FleetMode::loopback, vehicles, options.warm_up_s, options.window_s, 60.0, true, options.streamer_threads,
                     options.client_threads.value_or(std::max(1, options.streamer_threads)),
-                    static_cast<std::size_t>(options.tick_slots),
+                    static_cast<std::size_t>(options.tick_slots.value_or(auto_tick_slots(vehicles, options.streamer_threads))),
                     options.kernel_floor ? floor_s : 0.0, 0.0});
   }
   for (const int vehicles : options.virtual_vehicles) {

@@ -23,12 +23,22 @@ struct FleetOptions {
   // --streamer-threads, at least 1, so a fleet given more Streamer threads gets client threads
   // to match (one client thread for a whole fleet was the saturated thread of issue #41).
   std::optional<int> client_threads;
-  int tick_slots = 10;             // loopback: WorldConfig::control_tick_slots (0: a timer per Streamer)
+  // Loopback: WorldConfig::control_tick_slots (0: a timer per Streamer); unset: one slot per
+  // vehicles_per_tick_slot vehicles of a Streamer thread, 1 to 10 (auto_tick_slots).
+  std::optional<int> tick_slots;
   bool kernel_floor = true;        // loopback: measure the kernel's TCP cost of the traffic after each point
   bool codec_floor = true;         // virtual, observed: measure the wire codec's cost alone after each point
   bool in_process = false;         // run points in this process (for profilers); memory then accumulates
   std::string json_path, svg_path;
 };
+
+// Slots spread a big fleet's ticks over the period so that the last vehicle of a slot is not
+// late by the whole fleet's work; each slot is also a wake-up of its thread per period (~20 µs
+// of CPU on a VM). A slot of 10 vehicles costs a tick about 0.1 ms of lateness, as 10 slots of
+// 5 did at N = 100, for half the wake-ups (docs/benchmarks.md, issue #41).
+constexpr int vehicles_per_tick_slot = 10;
+constexpr int max_auto_tick_slots = 10;
+int auto_tick_slots(int vehicles, int streamer_threads);
 
 CLI::App* add_fleet_command(CLI::App& app, FleetOptions& options);
 int run_fleet(const FleetOptions& options);

@@ -26,7 +26,7 @@ std::uint16_t port_of(const std::string& address) {
 // that ended before it ever connected could not be started (a harness error, exit 2).
 void judge_clients(std::vector<LaunchedClient>& clients, const ClientWatch& watch, SimTime end, WorldOutcome& outcome) {
   for (LaunchedClient& client : clients) {
-    const bool running = client.running_at_end || client.process->running();
+    const bool running = client.ran_to_the_end();
     if (!running && !watch.ever_connected(client.vehicle)) {
       std::string reason = "the client (" + client.vehicle + ") " +
                            sim_app::describe_exit_status(client.process->exit_status().value_or(-1)) + " before it connected";

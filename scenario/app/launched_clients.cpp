@@ -50,7 +50,7 @@ Verdict judge(LaunchedClient& client, std::uint64_t connections) {
   verdict.kind = "client";
   verdict.title = who(client.vehicle) + " connects and runs to the end of the world";
   verdict.expected = "connected, still running when the world ends";
-  const bool running = client.running_at_end || client.process->running();
+  const bool running = client.ran_to_the_end();
   const std::string status = running ? "" : sim_app::describe_exit_status(client.process->exit_status().value_or(-1));
   const std::string tail = sim_app::last_lines_of(client.log_path, 5);
   const std::string lines = tail.empty() ? "" : "; its last lines:" + tail;

@@ -4,9 +4,10 @@
   fleet_threads.py OCP_BENCH
 
 A tiny run, one loopback point with 2 Streamer threads and 3 client threads and one virtual
-point, then a loopback point with the clients on the Streamer's thread (--client-threads 0): the loopback point names the Player's thread, each Streamer thread and each client
-thread exactly once; no thread used more than a core; the threads' CPU adds up to the process's
-(getrusage); the text report has the table and names the busiest thread. A report check, not a
+point, then a loopback point with the clients on the Streamer's thread (--client-threads 0),
+and the ticker slots chosen by the vehicles per Streamer thread. The loopback point names the
+Player's thread, each Streamer thread and each client thread exactly once; no thread used more
+than a core; the threads' CPU adds up to the process's (getrusage); the text report has the table and names the busiest thread. A report check, not a
 timing test: every bound holds on a loaded machine. Prints ✓/✗ per check; exit 1 if one fails.
 """
 import json
@@ -64,6 +65,19 @@ def client_threads_follow_streamer_threads(bench):
           f"client_threads {point['client_threads']}, threads {clients}")
 
 
+def tick_slots_follow_the_vehicles_per_streamer_thread(bench):
+    """Without --tick-slots, one ticker slot per 10 vehicles of a Streamer thread (1 to 10);
+    --tick-slots N is kept as given."""
+    for arguments, expected in ((["--loopback", "25", "--streamer-threads", "1"], 3),
+                                (["--loopback", "25", "--streamer-threads", "1", "--tick-slots", "7"], 7)):
+        ran = run_fleet(bench, arguments + ["--virtual", "0", "--client-threads", "1"])
+        if ran is None:
+            continue
+        point = ran[0]["points"][0]
+        check(f"{' '.join(arguments)}: {expected} tick slots", point["tick_slots"] == expected and point["ok"],
+              f"tick_slots {point['tick_slots']}, ok {point['ok']}")
+
+
 def main():
     bench = sys.argv[1]
     ran = run_fleet(bench, ["--loopback", "4", "--virtual", "2", "--streamer-threads", "2", "--client-threads", "3"])
@@ -106,6 +120,7 @@ def main():
         check(f"text report has '{line}'", line in result.stdout, result.stdout)
     clients_on_streamer_threads(bench)
     client_threads_follow_streamer_threads(bench)
+    tick_slots_follow_the_vehicles_per_streamer_thread(bench)
 
 
 if __name__ == "__main__":

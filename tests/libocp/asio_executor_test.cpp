@@ -162,6 +162,65 @@ TEST(AsioExecutor, CancellingTheEarliestTaskKeepsTheRestOnSchedule) {
   EXPECT_LT(next_ran_at, base + 2s);
 }
 
+// call_at_or_later: a task with slack runs at the next wake-up the executor has anyway.
+TEST(AsioExecutor, ATaskWithSlackRidesOnTheNextWakeUpOfAnotherTask) {
+  boost::asio::io_context io;
+  AsioExecutor executor(io);
+  const SimTime base = executor.now();
+  std::vector<int> order;
+  SimTime lenient_ran_at{};
+  executor.call_at_or_later(base + 5ms, 2s, [&] {
+    order.push_back(1);
+    lenient_ran_at = executor.now();
+  });
+  executor.call_at(base + 30ms, [&] { order.push_back(2); });
+  io.run();
+  EXPECT_EQ(order, (std::vector<int>{1, 2}));
+  EXPECT_GE(lenient_ran_at, base + 30ms);   // not a wake-up of its own at 5 ms
+  EXPECT_LT(lenient_ran_at, base + 2s);
+}
+
+TEST(AsioExecutor, ATaskWithSlackRunsByItsLatestInstantWhenNothingElseWakes) {
+  boost::asio::io_context io;
+  AsioExecutor executor(io);
+  const SimTime base = executor.now();
+  SimTime ran_at{};
+  executor.call_at_or_later(base + 5ms, 20ms, [&] { ran_at = executor.now(); });
+  executor.call_at(base + 3s, [] {});   // a later strict task does not hold it back
+  const auto started = std::chrono::steady_clock::now();
+  io.run_one();
+  EXPECT_GE(ran_at, base + 25ms);
+  EXPECT_LT(std::chrono::steady_clock::now() - started, 2s);
+}
+
+TEST(AsioExecutor, TasksWithAndWithoutSlackRunInDeadlineThenSchedulingOrder) {
+  boost::asio::io_context io;
+  AsioExecutor executor(io);
+  const SimTime base = executor.now();
+  std::vector<int> order;
+  executor.call_at_or_later(base + 5ms, 1s, [&] { order.push_back(1); });
+  executor.call_at(base + 10ms, [&] { order.push_back(2); });
+  executor.call_at_or_later(base + 10ms, 1s, [&] { order.push_back(3); });
+  executor.call_at(base + 20ms, [&] { order.push_back(4); });
+  executor.call_at_or_later(base + 40ms, 5ms, [&] { order.push_back(5); });
+  io.run();
+  EXPECT_EQ(order, (std::vector<int>{1, 2, 3, 4, 5}));
+}
+
+TEST(AsioExecutor, ACancelledTaskWithSlackNeverRunsNorHoldsTheIoContext) {
+  boost::asio::io_context io;
+  AsioExecutor executor(io);
+  const SimTime base = executor.now();
+  const auto cancelled = executor.call_at_or_later(base + 1ms, 10s, [] { ADD_FAILURE() << "cancelled task ran"; });
+  bool other_ran = false;
+  executor.call_at(base + 5ms, [&] { other_ran = true; });
+  executor.cancel(cancelled);
+  const auto started = std::chrono::steady_clock::now();
+  io.run();
+  EXPECT_TRUE(other_ran);
+  EXPECT_LT(std::chrono::steady_clock::now() - started, 5s);   // not the 10 s slack
+}
+
 TEST(AsioExecutor, DestroyedExecutorLeavesNoRunnableTasks) {
   boost::asio::io_context io;
   bool ran = false;

@@ -102,12 +102,14 @@ void VehicleClient::write_bad_response(BadResponse kind) {
 // belongs to the current connection, and release_connection() — also run by the destructor —
 // cancels it.
 void VehicleClient::arm_keepalive(SimTime deadline) {
-  keepalive_timer_ = executor_.call_at(deadline, [this] { on_keepalive(/*deferred=*/false); });
+  keepalive_timer_ =
+      executor_.call_at_or_later(deadline, config_.keepalive_slack, [this] { on_keepalive(/*deferred=*/false); });
 }
 
 void VehicleClient::on_keepalive(bool deferred) {
   // Re-armed lazily from the last response instead of cancelled on every echo: at most one
-  // timer event per period, and the gap between responses never exceeds response_period.
+  // timer event per period, and the gap between responses never exceeds response_period (in
+  // real time, + keepalive_slack).
   keepalive_timer_ = 0;
   if (!stream_ || !last_response_time_) return;
   const SimTime due = *last_response_time_ + config_.response_period;

@@ -40,6 +40,9 @@ struct LaunchedClient {
   // Whether it still ran when the world ended. Asked afterwards, a process may have ended
   // already: a wait it was in returns once the Controller is gone (a `sleep 600` exits).
   bool running_at_end = false;
+  // What a judge asks: it ran to the end of the world (a real-time run, which sets no
+  // running_at_end, asks the process now).
+  bool ran_to_the_end() const { return running_at_end || process->running(); }
 };
 
 struct VirtualClientRun {

@@ -26,6 +26,15 @@ class Executor {
   virtual TimerId call_at(SimTime deadline, Task task) = 0;
   // Cancelling an id that already ran or was cancelled is harmless.
   virtual void cancel(TimerId id) = 0;
+  // Runs `task` at `deadline` or up to `slack` later, where that lets it share a wake-up with
+  // other work (for a check that usually finds nothing to do: a keep-alive). Virtual time runs
+  // it at `deadline` exactly, so nothing deterministic depends on the slack; real time
+  // (AsioExecutor) runs it at its first wake-up after the deadline. Linux's timer slack, which
+  // timerfd does not apply, done where the tasks are known.
+  virtual TimerId call_at_or_later(SimTime deadline, Micros slack, Task task) {
+    (void)slack;
+    return call_at(deadline, std::move(task));
+  }
 
   TimerId call_after(Micros delay, Task task) { return call_at(now() + delay, std::move(task)); }
   TimerId post(Task task) { return call_at(now(), std::move(task)); }

@@ -18,6 +18,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <unordered_map>
 #include <utility>
 
@@ -32,6 +33,10 @@ class AsioExecutor final : public Executor {
 
   SimTime now() const override;
   TimerId call_at(SimTime deadline, Task task) override;
+  // Runs at the first wake-up of this executor at or after `deadline` (a timer of another task,
+  // a post), and no later than deadline + slack: with slack ≥ the gap between the thread's
+  // other timers it never costs a wake-up of its own.
+  TimerId call_at_or_later(SimTime deadline, Micros slack, Task task) override;
   void cancel(TimerId id) override;
 
   boost::asio::io_context& io() { return io_; }
@@ -42,7 +47,20 @@ class AsioExecutor final : public Executor {
   // One steady_timer armed for the earliest deadline of an ordered queue, rather than one
   // timer per task: Asio does not promise FIFO order for equal expiry times, we do.
   // Key = (deadline, id); ids grow monotonically, so they double as the scheduling order.
+  // Tasks with slack wait in a queue of their own, and their latest instants in a third: the
+  // timer is armed for the earliest strict deadline or latest instant, whichever comes first;
+  // tasks run in (deadline, id) order across both queues.
   using QueueKey = std::pair<SimTime, TimerId>;
+  using Queue = std::map<QueueKey, Task>;
+  struct Pending {
+    SimTime deadline;
+    SimTime latest;   // == deadline: a strict task
+  };
+  TimerId schedule(SimTime deadline, Micros slack, Task task);
+  // The queue whose first task runs next, or nullptr when nothing is queued.
+  Queue* front_queue();
+  // When the executor must wake at the latest for the tasks not due at `after`.
+  std::optional<SimTime> next_wake_after(SimTime after) const;
   // Makes sure the earliest task will run: posts a batch if it is due, else arms the timer.
   void schedule_wake_up();
   void arm_timer(SimTime deadline);
@@ -52,8 +70,10 @@ class AsioExecutor final : public Executor {
   boost::asio::io_context& io_;
   std::chrono::steady_clock::time_point origin_;
   TimerId next_id_ = 1;
-  std::map<QueueKey, Task> queue_;
-  std::unordered_map<TimerId, SimTime> deadline_by_id_;
+  Queue strict_;
+  Queue lenient_;
+  std::set<std::pair<SimTime, TimerId>> lenient_latest_;
+  std::unordered_map<TimerId, Pending> pending_;
   boost::asio::steady_timer timer_;
   std::optional<SimTime> armed_for_;
   std::uint64_t wait_generation_ = 0;
