@@ -35,8 +35,7 @@ namespace {
 
 double seconds_of(const timeval& time) { return static_cast<double>(time.tv_sec) + 1e-6 * static_cast<double>(time.tv_usec); }
 
-// User + system CPU of `who` (RUSAGE_SELF: every thread of this process; RUSAGE_CHILDREN: the
-// children it has waited for).
+// User + system CPU of `who` (RUSAGE_SELF: every thread of this process).
 double cpu_seconds_of(int who) {
   rusage usage{};
   getrusage(who, &usage);
@@ -66,7 +65,6 @@ CampaignRun run_campaign(const CampaignOptions& options, const std::function<voi
   keep_freed_memory_for_the_next_world();
   const auto wall_start = std::chrono::steady_clock::now();
   const double process_cpu_start = cpu_seconds_of(RUSAGE_SELF);
-  const double children_cpu_start = cpu_seconds_of(RUSAGE_CHILDREN);
   std::vector<std::uint64_t> indices;
   for (std::uint64_t i = 0; i < options.worlds; ++i) {
     if (options.shard.contains(i)) indices.push_back(i);
@@ -116,11 +114,11 @@ CampaignRun run_campaign(const CampaignOptions& options, const std::function<voi
   for (std::size_t slot = 0; slot < indices.size(); ++slot) {
     if (!finished[slot]) continue;
     run.cpu_seconds += outcomes[slot].cpu_seconds;
+    run.children_cpu_seconds += outcomes[slot].client_cpu_seconds;
     run.outcomes.push_back(std::move(outcomes[slot]));
   }
   run.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   run.process_cpu_seconds = cpu_seconds_of(RUSAGE_SELF) - process_cpu_start;
-  run.children_cpu_seconds = cpu_seconds_of(RUSAGE_CHILDREN) - children_cpu_start;
   run.workers = jobs;
   return run;
 }

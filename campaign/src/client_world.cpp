@@ -47,6 +47,14 @@ void judge_clients(std::vector<LaunchedClient>& clients, const ClientWatch& watc
   }
 }
 
+// The clients stopped, and the CPU they used counted (the campaign's efficiency line).
+void stop_and_count(std::vector<LaunchedClient>& clients, WorldOutcome& outcome) {
+  for (LaunchedClient& client : clients) {
+    client.process->kill();
+    outcome.client_cpu_seconds += client.process->cpu_seconds();
+  }
+}
+
 // A restarted listener refuses connections for a while: the reconnect bound starts after it.
 ClientBounds with_listener_restarts(ClientBounds bounds, const scenario::Scenario& world) {
   Micros longest{0};
@@ -127,6 +135,7 @@ WorldOutcome check_world_with_virtual_client(const scenario::Scenario& world, st
     take_violations(outcome, oracle.violations(), oracle.violation_count());
     take_violations(outcome, watch.violations(), watch.violation_count());
     judge_clients(ran.clients, watch, ran.result.ran, outcome);
+    stop_and_count(ran.clients, outcome);
   } catch (const scenario::HarnessError& error) {
     outcome.error = error.what();
   } catch (const vtime::VirtualTimeError& error) {
@@ -169,6 +178,7 @@ WorldOutcome check_world_with_client(const scenario::Scenario& world, std::uint6
     take_violations(outcome, oracle.violations(), oracle.violation_count());
     take_violations(outcome, watch.violations(), watch.violation_count());
     judge_clients(clients, watch, result.ran, outcome);
+    stop_and_count(clients, outcome);
   } catch (const scenario::HarnessError& error) {
     outcome.error = error.what();
   }

@@ -3,6 +3,8 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/prctl.h>
+#include <sys/resource.h>
+#include <sys/time.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -20,8 +22,12 @@ extern char** environ;  // POSIX: the process environment (unistd.h declares it 
 #include <thread>
 #include <vector>
 
+#include "process_group_cpu.hpp"
+
 namespace ocp::sim_app {
 namespace {
+
+double seconds_of(const timeval& time) { return static_cast<double>(time.tv_sec) + static_cast<double>(time.tv_usec) / 1e6; }
 
 // Live children, for kill_all_clients() from a signal handler: a fixed array of atomics.
 constexpr std::size_t max_children = 64;
@@ -188,10 +194,13 @@ ClientProcess::~ClientProcess() { kill(); }
 bool ClientProcess::running() {
   if (exit_status_) return false;
   int status = 0;
-  const pid_t done = waitpid(pid_, &status, WNOHANG);
+  rusage usage{};
+  const pid_t done = wait4(pid_, &status, WNOHANG, &usage);
   if (done == pid_) {
     exit_status_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
     forget(pid_);
+    // It ended on its own: its own CPU (with what it reaped), and what it left in its group.
+    if (!cpu_seconds_) cpu_seconds_ = seconds_of(usage.ru_utime) + seconds_of(usage.ru_stime) + process_group_cpu_seconds(pid_);
     ::kill(-pid_, SIGKILL);  // anything it left behind in its group
     return false;
   }
@@ -200,6 +209,7 @@ bool ClientProcess::running() {
 
 void ClientProcess::kill() {
   if (!running()) return;
+  cpu_seconds_ = process_group_cpu_seconds(pid_);
   ::kill(-pid_, SIGTERM);
   // Grace period for a clean exit, bounded; then SIGKILL the whole group.
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(1000);

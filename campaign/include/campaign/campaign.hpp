@@ -41,8 +41,10 @@ struct CampaignRun {
   bool interrupted = false;
   std::string harness_error;   // --client: the client could not be started (exit 2)
   double wall_seconds = 0, cpu_seconds = 0;   // cpu: the worlds' own, on their workers' thread clocks
-  // getrusage over the run: the whole process (all threads) and its reaped children (the
-  // clients of a --client campaign). efficiency.hpp turns these into the closing figures.
+  // getrusage over the run: the whole process (all threads); and the client processes of a
+  // --client campaign, each world's read from its process groups (WorldOutcome::
+  // client_cpu_seconds: a `/bin/sh -c` client is reaped by init, so RUSAGE_CHILDREN misses
+  // it). efficiency.hpp turns these into the closing figures.
   double process_cpu_seconds = 0, children_cpu_seconds = 0;
   int workers = 1;
 };

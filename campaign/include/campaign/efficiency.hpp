@@ -3,8 +3,9 @@
 // efficiency.json beside the results (never into summary.json, which depends on nothing but
 // the seeds). Workers are threads of this process (campaign.cpp); a --client campaign's
 // vehicle clients are child processes. So CPU is the process's own (every thread: the
-// workers, the world generation, the progress line) plus its reaped children's, from getrusage,
-// against the simulated time of the worlds that finished.
+// workers, the world generation, the progress line; getrusage) plus the clients' (each one's
+// process group, read from /proc when it is stopped), against the simulated time of the
+// worlds that finished.
 #include <cstddef>
 #include <string>
 
@@ -18,7 +19,7 @@ struct Efficiency {
   double wall_seconds = 0;
   double simulated_seconds = 0;
   double process_cpu_seconds = 0;    // RUSAGE_SELF: all threads, user + system
-  double children_cpu_seconds = 0;   // RUSAGE_CHILDREN: the clients of a --client campaign
+  double children_cpu_seconds = 0;   // the client processes of a --client campaign
   double world_cpu_seconds = 0;      // the workers' thread clocks inside the worlds alone
 
   double cpu_seconds() const { return process_cpu_seconds + children_cpu_seconds; }

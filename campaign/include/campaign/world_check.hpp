@@ -24,6 +24,7 @@ struct WorldOutcome {
   bool liveness_checked = false;
   std::string error;        // the world refused to start (a generator bug): counts as a failure
   double cpu_seconds = 0;   // not part of any compared output
+  double client_cpu_seconds = 0;   // --client: the client processes' (sim_app::ClientProcess::cpu_seconds)
   std::uint64_t events = 0;
   std::vector<std::string> hazards;   // a client world's (client_world.hpp, hazards_in)
   bool failed() const { return violation_count > 0 || !error.empty(); }

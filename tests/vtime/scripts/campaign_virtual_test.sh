@@ -50,4 +50,10 @@ grep -q '"user_data_over_8KiB"' "$work/long/summary.json" || fail "long: no worl
 grep -q "✓  liveness" "$work/long.out" || { cat "$work/long.out"; fail "long: liveness not shown as judged"; }
 grep -q '"client_time": "virtual"' "$work/long/summary.json" || fail "long: summary.json does not say virtual time"
 echo "ok: 60 s worlds pass"
+# The efficiency line counts the clients' CPU: each runs behind `/bin/sh -c`, killed with its
+# group and reaped by init, so it is read from its process group, not from RUSAGE_CHILDREN.
+children=$(sed -n 's/.*"children_cpu_seconds": \([0-9.]*\).*/\1/p' "$work/long/efficiency.json")
+awk -v c="${children:-0}" 'BEGIN { exit !(c > 0.05) }' ||
+  fail "long: efficiency.json counts ${children:-no} s of client CPU for four 60 s worlds of vehicle_client"
+echo "ok: the clients' CPU is counted ($children s)"
 echo "all virtual-time campaign checks passed"

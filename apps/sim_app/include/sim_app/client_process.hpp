@@ -33,11 +33,16 @@ class ClientProcess {
   bool running();                    // reaps it when it exited
   std::optional<int> exit_status() const { return exit_status_; }
   pid_t pid() const { return pid_; }
+  // User + system seconds the client used: its whole process group (a `/bin/sh -c` line's
+  // real client too, which the harness never reaps), read when it was killed or found ended;
+  // 0 until then.
+  double cpu_seconds() const { return cpu_seconds_.value_or(0); }
 
  private:
   explicit ClientProcess(pid_t child) : pid_(child) {}
   pid_t pid_;
   std::optional<int> exit_status_;
+  std::optional<double> cpu_seconds_;   // read once, before the group is signalled
 };
 
 // "exited with code 3", "was killed by signal 11 (SIGSEGV)": an exit_status() in words.
