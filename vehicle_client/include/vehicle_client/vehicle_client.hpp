@@ -48,10 +48,10 @@ struct VehicleClientConfig {
   Position start{57.7089, 11.9746};         // start lat/lon (Gothenburg)
   double start_heading_deg = 0.0;           // compass heading at start
   Micros response_period{10'000};           // longest gap between two responses
-  // In real time a keep-alive may go out up to this much after response_period
+  // On an AsioExecutor a keep-alive may go out up to this much after response_period
   // (Executor::call_at_or_later): the checks of one executor's clients then share a wake-up
-  // instead of one each just after its own echo (~20 µs of CPU each on a VM; issue #41).
-  // Virtual time keeps response_period exactly. SPEC §3.3 asks only that a keep-alive wait
+  // instead of one each just after its own echo (~20 µs of CPU each on a VM; issue #41). A
+  // VirtualExecutor keeps response_period exactly. SPEC §3.3 asks only that a keep-alive wait
   // for response_period.
   Micros keepalive_slack{1'000};
   Micros model_step{10'000};                // safety + model integration step
