@@ -7,9 +7,11 @@ the latency loop by returning every pair), plus a record of what it saw, for the
 EVENTS_FILE gets one line each time the view changes:
     state latency=yes|no sender=F1,F2 receiver=F3
 (latency=yes: message_latency_roundtrip is a number). STATUS_FILE is rewritten (atomically) about
-four times a second: "messages=N latency_ms=L at=T", T the client's monotonic clock when it
-counted N (a rate is then counted over the client's own interval: the poller's 0.25 s steps
-would make it ±10 % over 5 s). The client reconnects when the connection ends, and stops when
+four times a second: "messages=N latency_ms=L at=T latency_sum=S latency_count=C", T the
+client's monotonic clock when it counted N, S and C the sum and count of every latency it saw.
+A window's rate and mean latency are then exact: N over the client's own interval (the poller's
+0.25 s steps would make the rate ±10 % over 5 s), and S over C of every message in it (20
+snapshots of a latency that moves 55–100 ms with the video frames would move the mean by ±10 ms). The client reconnects when the connection ends, and stops when
 its parent test kills it.
 """
 import json
@@ -30,6 +32,8 @@ class Recorder:
         self.view = None
         self.messages = 0
         self.latency = None
+        self.latency_sum = 0      # over every message that had a latency, for a window's exact mean
+        self.latency_count = 0
         self.status_written = 0.0
 
     def saw(self, shared):
@@ -39,6 +43,9 @@ class Recorder:
             return
         entry = entries[0]
         self.latency = entry.get("message_latency_roundtrip")
+        if isinstance(self.latency, int):
+            self.latency_sum += self.latency
+            self.latency_count += 1
         view = ("yes" if isinstance(self.latency, int) else "no",
                 ",".join(sorted(entry.get("sender_fault") or [])),
                 ",".join(sorted(entry.get("receiver_fault") or [])))
@@ -50,7 +57,8 @@ class Recorder:
             self.status_written = now
             temporary = self.status_path + ".tmp"
             with open(temporary, "w") as status:
-                status.write("messages=%d latency_ms=%s at=%.6f\n" % (self.messages, self.latency, now))
+                status.write("messages=%d latency_ms=%s at=%.6f latency_sum=%d latency_count=%d\n"
+                             % (self.messages, self.latency, now, self.latency_sum, self.latency_count))
             os.replace(temporary, self.status_path)
 
 
