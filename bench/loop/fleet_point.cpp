@@ -120,6 +120,11 @@ class ClientSet {
     // period for them all, not one per client at its own phase (~20 µs of CPU each on a VM).
     VehicleClientConfig client;
     client.model_grid = client.model_step;
+    // A control message comes every 10 ms, so a keep-alive check never sends here; with a
+    // period of slack it rides the thread's next model tick or ticker slot. With the default
+    // 1 ms, each slot's clients woke their thread once more per period, ~1 ms after the slot:
+    // 5 extra sleeps per period per thread at 5 slots (docs/benchmarks.md, issue #41).
+    client.keepalive_slack = client.response_period;
     clients_.push_back(std::make_unique<VehicleClient>(executor, client, Logger(executor, "vehicle", {})));
     TcpRunnerConfig config;
     config.server.port = port;

@@ -221,6 +221,45 @@ TEST(AsioExecutor, ACancelledTaskWithSlackNeverRunsNorHoldsTheIoContext) {
   EXPECT_LT(std::chrono::steady_clock::now() - started, 5s);   // not the 10 s slack
 }
 
+// A task's slot is reused once it ran or was cancelled; its old id must not reach the new task.
+TEST(AsioExecutor, AStaleIdNeverCancelsTheTaskThatReusedItsSlot) {
+  boost::asio::io_context io;
+  AsioExecutor executor(io);
+  const auto cancelled = executor.call_after(1ms, [] { ADD_FAILURE() << "cancelled task ran"; });
+  executor.cancel(cancelled);
+  int ran = 0;
+  const auto ran_once = executor.post([&] { ++ran; });
+  io.run();
+  io.restart();
+  const auto reuser = executor.call_after(1ms, [&] { ran += 10; });
+  EXPECT_NE(reuser, cancelled);
+  EXPECT_NE(reuser, ran_once);
+  executor.cancel(cancelled);
+  executor.cancel(ran_once);
+  io.run();
+  EXPECT_EQ(ran, 11);
+}
+
+// A timeout pushed back by every message: cancelled far-future tasks by the hundred thousand.
+// The live tasks still run in order, and nothing cancelled holds the io_context.
+TEST(AsioExecutor, ATimeoutRearmedOverAndOverKeepsOrderAndLetsTheIoContextEnd) {
+  boost::asio::io_context io;
+  AsioExecutor executor(io);
+  const SimTime base = executor.now();
+  std::vector<int> order;
+  Executor::TimerId timeout = 0;
+  for (int i = 0; i < 100'000; ++i) {
+    executor.cancel(timeout);
+    timeout = executor.call_at(base + 1h + Micros{i}, [] { ADD_FAILURE() << "a cancelled timeout ran"; });
+    if (i % 25'000 == 0) executor.call_at(base + 20ms - Micros{i / 25'000}, [&order, i] { order.push_back(i); });
+  }
+  executor.cancel(timeout);
+  const auto started = std::chrono::steady_clock::now();
+  io.run();
+  EXPECT_EQ(order, (std::vector<int>{75'000, 50'000, 25'000, 0}));
+  EXPECT_LT(std::chrono::steady_clock::now() - started, 30s);   // not the hour
+}
+
 TEST(AsioExecutor, DestroyedExecutorLeavesNoRunnableTasks) {
   boost::asio::io_context io;
   bool ran = false;

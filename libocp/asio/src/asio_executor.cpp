@@ -29,32 +29,42 @@ Executor::TimerId AsioExecutor::call_at_or_later(SimTime deadline, Micros slack,
 }
 
 Executor::TimerId AsioExecutor::schedule(SimTime deadline, Micros slack, Task task) {
-  const TimerId id = next_id_++;
   // A past deadline runs as soon as possible, after everything already due.
-  const SimTime effective = std::max(deadline, now());
+  const SimTime current = now();
+  const SimTime effective = std::max(deadline, current);
   const bool lenient = slack.count() > 0 && effective <= SimTime::max() - slack;
-  const SimTime latest = lenient ? effective + slack : effective;
-  (lenient ? lenient_ : strict_).emplace(QueueKey{effective, id}, std::move(task));
-  if (lenient) lenient_latest_.emplace(latest, id);
-  pending_.emplace(id, Pending{effective, latest});
-  schedule_wake_up();
-  return id;
+  std::uint32_t slot;
+  if (free_slots_.empty()) {
+    slot = static_cast<std::uint32_t>(slots_.size());
+    slots_.emplace_back();
+  } else {
+    slot = free_slots_.back();
+    free_slots_.pop_back();
+  }
+  Slot& waiting = slots_[slot];
+  waiting.task = std::move(task);
+  const Entry entry{effective, next_sequence_++, effective, slot, waiting.generation};
+  Heap& heap = lenient ? lenient_ : strict_;
+  heap.push_back(entry);
+  std::push_heap(heap.begin(), heap.end(), runs_later);
+  if (lenient) {
+    lenient_latest_.push_back(Entry{effective + slack, entry.sequence, effective, slot, entry.generation});
+    std::push_heap(lenient_latest_.begin(), lenient_latest_.end(), runs_later);
+  }
+  ++live_tasks_;
+  compact_if_mostly_stale();
+  schedule_wake_up(current);
+  return (TimerId{entry.generation} << 32) | slot;
 }
 
 void AsioExecutor::cancel(TimerId id) {
-  const auto found = pending_.find(id);
-  if (found == pending_.end()) {
-    return;
+  const auto slot = static_cast<std::uint32_t>(id & 0xffff'ffffU);
+  const auto generation = static_cast<std::uint32_t>(id >> 32);
+  if (slot >= slots_.size() || slots_[slot].generation != generation) {
+    return;   // already ran or cancelled
   }
-  const Pending pending = found->second;
-  pending_.erase(found);
-  if (pending.latest == pending.deadline) {
-    strict_.erase(QueueKey{pending.deadline, id});
-  } else {
-    lenient_.erase(QueueKey{pending.deadline, id});
-    lenient_latest_.erase({pending.latest, id});
-  }
-  if (front_queue() == nullptr && armed_for_) {
+  (void)release(slot);   // its heap entries go when they reach the top
+  if (live_tasks_ == 0 && armed_for_) {
     // Nothing left: let the io_context run out of work instead of waiting for the deadline.
     armed_for_.reset();
     ++wait_generation_;
@@ -64,41 +74,71 @@ void AsioExecutor::cancel(TimerId id) {
   // re-programming the timer on every cancel.
 }
 
-AsioExecutor::Queue* AsioExecutor::front_queue() {
-  if (strict_.empty()) return lenient_.empty() ? nullptr : &lenient_;
-  if (lenient_.empty()) return &strict_;
-  return lenient_.begin()->first < strict_.begin()->first ? &lenient_ : &strict_;
+Executor::Task AsioExecutor::release(std::uint32_t slot) {
+  Slot& done = slots_[slot];
+  Task task = std::move(done.task);
+  done.task = nullptr;
+  if (++done.generation == 0) done.generation = 1;   // 0 would make slot 0's id 0, "no timer"
+  done.in_batch = false;
+  free_slots_.push_back(slot);
+  --live_tasks_;
+  return task;
 }
 
-std::optional<SimTime> AsioExecutor::next_wake_after(SimTime after) const {
+bool AsioExecutor::is_stale(const Entry& entry) const {
+  const Slot& slot = slots_[entry.slot];
+  return slot.generation != entry.generation || slot.in_batch;
+}
+
+void AsioExecutor::drop_stale_top(Heap& heap) {
+  while (!heap.empty() && is_stale(heap.front())) {
+    std::pop_heap(heap.begin(), heap.end(), runs_later);
+    heap.pop_back();
+  }
+}
+
+// Entries of cancelled tasks wait to reach the top; a task re-armed far ahead and cancelled
+// again and again (a timeout pushed back by every message) would pile them up. Sweeping when
+// they outnumber the live ones keeps the heaps within a constant factor of the tasks.
+void AsioExecutor::compact_if_mostly_stale() {
+  const std::size_t entries = strict_.size() + lenient_.size() + lenient_latest_.size();
+  if (entries <= 2 * live_tasks_ + 1024) {
+    return;
+  }
+  for (Heap* heap : {&strict_, &lenient_, &lenient_latest_}) {
+    std::erase_if(*heap, [this](const Entry& entry) { return is_stale(entry); });
+    std::make_heap(heap->begin(), heap->end(), runs_later);
+  }
+}
+
+AsioExecutor::Heap* AsioExecutor::front_heap() {
+  drop_stale_top(strict_);
+  drop_stale_top(lenient_);
+  if (strict_.empty()) return lenient_.empty() ? nullptr : &lenient_;
+  if (lenient_.empty()) return &strict_;
+  return runs_later(strict_.front(), lenient_.front()) ? &lenient_ : &strict_;
+}
+
+std::optional<SimTime> AsioExecutor::next_wake() {
+  drop_stale_top(strict_);
+  drop_stale_top(lenient_latest_);
   std::optional<SimTime> wake;
-  if (const auto strict = strict_.lower_bound(QueueKey{after + Micros{1}, 0}); strict != strict_.end()) {
-    wake = strict->first.first;
-  }
-  // The earliest latest instant of a task not yet due; the due ones skipped here run in the
-  // batch that asks, so each is skipped at most once.
-  for (const auto& [latest, id] : lenient_latest_) {
-    if (wake && latest >= *wake) break;
-    if (pending_.at(id).deadline > after) {
-      wake = latest;
-      break;
-    }
-  }
+  if (!strict_.empty()) wake = strict_.front().key;
+  if (!lenient_latest_.empty() && (!wake || lenient_latest_.front().key < *wake)) wake = lenient_latest_.front().key;
   return wake;
 }
 
-void AsioExecutor::schedule_wake_up() {
+void AsioExecutor::schedule_wake_up(SimTime current) {
   if (in_batch_) {
     return;  // a running batch arranges the next wake-up when it ends
   }
-  const Queue* first = front_queue();
+  const Heap* first = front_heap();
   if (first == nullptr) {
     return;
   }
-  const SimTime current = now();
-  if (first->begin()->first.first <= current) {
+  if (first->front().deadline <= current) {
     post_batch();
-  } else if (const auto wake = next_wake_after(current)) {
+  } else if (const auto wake = next_wake()) {
     arm_timer(*wake);
   }
 }
@@ -135,34 +175,42 @@ void AsioExecutor::post_batch() {
   });
 }
 
+void AsioExecutor::take_due(SimTime batch_end, std::vector<Entry>& batch) {
+  for (Heap* heap = front_heap(); heap != nullptr && heap->front().deadline <= batch_end; heap = front_heap()) {
+    std::pop_heap(heap->begin(), heap->end(), runs_later);
+    batch.push_back(heap->back());
+    heap->pop_back();
+    slots_[batch.back().slot].in_batch = true;
+  }
+}
+
 void AsioExecutor::run_due() {
   // Only tasks due when the batch began run in it, so a task that keeps re-posting itself
   // cannot starve the rest of the io_context. Tasks with slack whose deadline has passed run
   // here too: this wake-up is theirs for free.
   const SimTime batch_end = now();
-  if (const auto wake = next_wake_after(batch_end)) {
+  std::vector<Entry> batch;
+  batch.swap(batch_buffer_);
+  take_due(batch_end, batch);
+  if (const auto wake = next_wake()) {
     arm_timer(*wake);  // before the tasks: see the header
   }
   // One task at a time: a task may schedule or cancel others, or even destroy this executor.
   const std::shared_ptr<bool> alive = alive_;
   in_batch_ = true;
-  while (*alive) {
-    Queue* queue = front_queue();
-    if (queue == nullptr || queue->begin()->first.first > batch_end) break;
-    const auto first = queue->begin();
-    const TimerId id = first->first.second;
-    Task task = std::move(first->second);
-    queue->erase(first);
-    if (const auto pending = pending_.find(id); pending != pending_.end()) {
-      if (pending->second.latest != pending->second.deadline) lenient_latest_.erase({pending->second.latest, id});
-      pending_.erase(pending);
+  for (const Entry& entry : batch) {
+    if (slots_[entry.slot].generation != entry.generation) {
+      continue;   // cancelled by an earlier task of this batch
     }
-    task();
+    release(entry.slot)();
+    if (!*alive) {
+      return;
+    }
   }
-  if (*alive) {
-    in_batch_ = false;
-    schedule_wake_up();
-  }
+  batch.clear();
+  batch_buffer_.swap(batch);
+  in_batch_ = false;
+  schedule_wake_up(now());
 }
 
 }  // namespace ocp

@@ -15,12 +15,10 @@
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <chrono>
-#include <map>
 #include <memory>
 #include <optional>
-#include <set>
-#include <unordered_map>
 #include <utility>
+#include <vector>
 
 #include "ocp/executor.hpp"
 
@@ -44,36 +42,65 @@ class AsioExecutor final : public Executor {
   std::chrono::steady_clock::time_point to_steady(SimTime t) const { return origin_ + t; }
 
  private:
-  // One steady_timer armed for the earliest deadline of an ordered queue, rather than one
-  // timer per task: Asio does not promise FIFO order for equal expiry times, we do.
-  // Key = (deadline, id); ids grow monotonically, so they double as the scheduling order.
-  // Tasks with slack wait in a queue of their own, and their latest instants in a third: the
-  // timer is armed for the earliest strict deadline or latest instant, whichever comes first;
-  // tasks run in (deadline, id) order across both queues.
-  using QueueKey = std::pair<SimTime, TimerId>;
-  using Queue = std::map<QueueKey, Task>;
-  struct Pending {
-    SimTime deadline;
-    SimTime latest;   // == deadline: a strict task
+  // One steady_timer armed for the earliest deadline of our own queues, rather than one timer
+  // per task: Asio does not promise FIFO order for equal expiry times, we do. Tasks run in
+  // (deadline, scheduling sequence) order across both kinds.
+  //
+  // Why heaps over a slot vector and not ordered maps: a fleet's executor schedules and runs
+  // tens of thousands of tasks a second (link deliveries, ticks, keep-alive checks), and a map
+  // node (plus its index entries) was three allocations and a rebalance per task (~5 % of a
+  // loopback fleet's CPU; docs/benchmarks.md, issue #41). Here a task waits in a reusable slot;
+  // a TimerId is the slot's index in the low half and its generation in the high half, so an
+  // id that already ran or was cancelled never matches the slot's next task. A cancelled task's
+  // heap entries stay queued until they reach the top, recognised by their generation.
+  struct Slot {
+    Task task;
+    std::uint32_t generation = 1;
+    bool in_batch = false;   // taken out of the heaps by the running batch, not run yet
   };
+  // A heap entry: `key` is the deadline (strict_, lenient_) or the latest instant
+  // (lenient_latest_); `deadline` is the task's deadline in every heap.
+  struct Entry {
+    SimTime key;
+    std::uint64_t sequence;
+    SimTime deadline;
+    std::uint32_t slot;
+    std::uint32_t generation;
+  };
+  using Heap = std::vector<Entry>;
   TimerId schedule(SimTime deadline, Micros slack, Task task);
-  // The queue whose first task runs next, or nullptr when nothing is queued.
-  Queue* front_queue();
-  // When the executor must wake at the latest for the tasks not due at `after`.
-  std::optional<SimTime> next_wake_after(SimTime after) const;
+  // Min-heap order for the std heap algorithms: what runs (or wakes) first is on top.
+  static bool runs_later(const Entry& a, const Entry& b) {
+    return a.key != b.key ? a.key > b.key : a.sequence > b.sequence;
+  }
+  // The entry's task ran, was cancelled, or is in the running batch.
+  bool is_stale(const Entry& entry) const;
+  void drop_stale_top(Heap& heap);
+  void compact_if_mostly_stale();
+  // The heap whose top task runs next, or nullptr when nothing is queued.
+  Heap* front_heap();
+  // When the executor must wake at the latest for the tasks still in the heaps.
+  std::optional<SimTime> next_wake();
   // Makes sure the earliest task will run: posts a batch if it is due, else arms the timer.
-  void schedule_wake_up();
+  void schedule_wake_up(SimTime current);
   void arm_timer(SimTime deadline);
   void post_batch();
   void run_due();
+  // Moves the entries due at `batch_end` out of the heaps into `batch`, in running order.
+  void take_due(SimTime batch_end, std::vector<Entry>& batch);
+  // Ends a task's life (run or cancelled): its slot is free for the next one.
+  Task release(std::uint32_t slot);
 
   boost::asio::io_context& io_;
   std::chrono::steady_clock::time_point origin_;
-  TimerId next_id_ = 1;
-  Queue strict_;
-  Queue lenient_;
-  std::set<std::pair<SimTime, TimerId>> lenient_latest_;
-  std::unordered_map<TimerId, Pending> pending_;
+  std::uint64_t next_sequence_ = 0;
+  std::vector<Slot> slots_;
+  std::vector<std::uint32_t> free_slots_;
+  std::size_t live_tasks_ = 0;
+  Heap strict_;
+  Heap lenient_;
+  Heap lenient_latest_;
+  std::vector<Entry> batch_buffer_;   // capacity reused from batch to batch
   boost::asio::steady_timer timer_;
   std::optional<SimTime> armed_for_;
   std::uint64_t wait_generation_ = 0;
