@@ -9,34 +9,11 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "sim_app/proc_stat.hpp"
+
 namespace ocp::vtime {
 
 namespace {
-
-// A small /proc file, whole; "" when it cannot be read.
-std::string read_small(const char* path) {
-  const int fd = open(path, O_RDONLY | O_CLOEXEC);
-  if (fd < 0) return {};
-  char buffer[1024];
-  const ssize_t got = read(fd, buffer, sizeof buffer - 1);
-  close(fd);
-  return got > 0 ? std::string(buffer, static_cast<std::size_t>(got)) : std::string();
-}
-
-// The fields after the command name (which may hold spaces and parentheses).
-std::vector<std::string> stat_fields(const std::string& text) {
-  std::vector<std::string> fields;
-  const auto close_paren = text.rfind(')');
-  if (close_paren == std::string::npos) return fields;
-  std::size_t at = close_paren + 2;
-  while (at < text.size()) {
-    const auto end = text.find(' ', at);
-    fields.push_back(text.substr(at, end == std::string::npos ? std::string::npos : end - at));
-    if (end == std::string::npos) break;
-    at = end + 1;
-  }
-  return fields;
-}
 
 // The state (field 3 of stat) and the CPU it last ran on (field 39), without splitting the
 // whole line: a look reads it for every thread at every quiescence wait.
@@ -126,7 +103,7 @@ std::string ProcScanner::read_task_file(pid_t pid, pid_t tid, const char* name, 
     fd = open(path, O_RDONLY | O_CLOEXEC);
     if (fd >= 0) ++open_;
   }
-  if (fd < 0) return read_small(path);
+  if (fd < 0) return sim_app::read_small_proc_file(path);
   char buffer[1024];
   const ssize_t got = pread(fd, buffer, sizeof buffer - 1, 0);
   return got > 0 ? std::string(buffer, static_cast<std::size_t>(got)) : std::string();
@@ -183,7 +160,7 @@ std::vector<pid_t> ProcScanner::process_tree(pid_t root, std::size_t limit) {
 std::uint64_t cpu_ticks(pid_t pid) {
   char path[64];
   std::snprintf(path, sizeof path, "/proc/%d/stat", static_cast<int>(pid));
-  const std::vector<std::string> fields = stat_fields(read_small(path));
+  const std::vector<std::string> fields = sim_app::stat_fields(sim_app::read_small_proc_file(path));
   // utime and stime are fields 14 and 15 of stat; here, after pid and comm, 11 and 12.
   if (fields.size() < 13) return 0;
   return std::strtoull(fields[11].c_str(), nullptr, 10) + std::strtoull(fields[12].c_str(), nullptr, 10);

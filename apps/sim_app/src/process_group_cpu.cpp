@@ -1,20 +1,22 @@
 #include "process_group_cpu.hpp"
 
 #include <dirent.h>
-#include <fcntl.h>
 #include <unistd.h>
 
-#include <array>
+#include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <memory>
+#include <string>
+#include <vector>
+
+#include "sim_app/proc_stat.hpp"
 
 namespace ocp::sim_app {
 namespace {
 
-// A stat line is well under 1 KiB; the comm field (in parentheses, any bytes) comes first, so
-// the fields are counted from its closing parenthesis.
-constexpr std::size_t stat_limit = 2048;
+// A stat line is well under 1 KiB; the fields read here (up to 17) come within its first few
+// hundred bytes.
+constexpr std::size_t stat_max_bytes = 2047;
 
 struct GroupAndTicks {
   long group = -1;
@@ -24,31 +26,18 @@ struct GroupAndTicks {
 bool read_stat(const char* pid, GroupAndTicks& out) {
   char path[64];
   std::snprintf(path, sizeof path, "/proc/%s/stat", pid);
-  const int fd = open(path, O_RDONLY | O_CLOEXEC);
-  if (fd < 0) return false;   // ended meanwhile
-  std::array<char, stat_limit> text{};
-  const ssize_t got = read(fd, text.data(), text.size() - 1);
-  close(fd);
-  if (got <= 0) return false;
-  const char* close_paren = std::strrchr(text.data(), ')');
-  if (close_paren == nullptr) return false;
-  // After ") ": state (field 3), ppid, pgrp (5), …, utime (14), stime, cutime, cstime (17).
-  const char* cursor = close_paren + 1;
-  unsigned long long fields[15] = {};
-  for (int index = 0; index < 15; ++index) {
-    while (*cursor == ' ') ++cursor;
-    if (*cursor == '\0') return false;
-    if (index == 0) {
-      ++cursor;   // the state letter
-    } else {
-      char* end = nullptr;
-      fields[index] = std::strtoull(cursor, &end, 10);
-      if (end == cursor) return false;
-      cursor = end;
-    }
+  // Empty when the process ended meanwhile.
+  const std::vector<std::string> fields = stat_fields(read_small_proc_file(path, stat_max_bytes));
+  // fields[0] is the state (field 3), then ppid, pgrp (5), …, utime (14), stime, cutime, cstime (17).
+  if (fields.size() < 15) return false;
+  unsigned long long numbers[15] = {};
+  for (std::size_t index = 1; index < 15; ++index) {
+    char* end = nullptr;
+    numbers[index] = std::strtoull(fields[index].c_str(), &end, 10);
+    if (end == fields[index].c_str()) return false;
   }
-  out.group = static_cast<long>(fields[2]);
-  out.ticks = fields[11] + fields[12] + fields[13] + fields[14];
+  out.group = static_cast<long>(numbers[2]);
+  out.ticks = numbers[11] + numbers[12] + numbers[13] + numbers[14];
   return true;
 }
 
