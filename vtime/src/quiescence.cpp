@@ -7,12 +7,11 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <fstream>
-#include <iterator>
 #include <optional>
 #include <string>
 
 #include "controller_impl.hpp"
+#include "sim_app/proc_stat.hpp"
 
 namespace ocp::vtime {
 
@@ -60,8 +59,7 @@ void Controller::Impl::check_unshimmed() {
     if (Clock::now() - since <= options.handshake_timeout) continue;
     char path[64];
     std::snprintf(path, sizeof path, "/proc/%d/stat", static_cast<int>(pid));
-    std::ifstream stat(path);
-    std::string text((std::istreambuf_iterator<char>(stat)), std::istreambuf_iterator<char>());
+    const std::string text = sim_app::read_small_proc_file(path);   // bounded, as every file read
     const auto open_paren = text.find('(');
     const auto close_paren = text.rfind(')');
     if (open_paren == std::string::npos || close_paren == std::string::npos || close_paren + 2 >= text.size()) continue;
