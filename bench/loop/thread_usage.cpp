@@ -11,19 +11,15 @@
 #include <cstring>
 #include <string>
 
+#include "sim_app/proc_stat.hpp"
+
 namespace ocp::bench {
 
 namespace {
 
-// At most 4 KiB of one small /proc file; empty if it cannot be read.
-std::string read_small_file(const std::string& path) {
-  std::FILE* file = std::fopen(path.c_str(), "r");
-  if (file == nullptr) return {};
-  char buffer[4096];
-  const std::size_t length = std::fread(buffer, 1, sizeof buffer - 1, file);
-  std::fclose(file);
-  return std::string(buffer, length);
-}
+// At most 4 KiB of one small /proc file (status is the largest read here); empty if it cannot
+// be read.
+std::string read_small_file(const std::string& path) { return sim_app::read_small_proc_file(path.c_str(), 4095); }
 
 // stat: "tid (comm) state …"; comm may hold spaces and parentheses, so it ends at the last ')'.
 // Fills the name and, from fields 14 and 15 (utime, stime), the CPU; false if malformed.
