@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "campaign/generator.hpp"
+#include "sim_app/proc_stat.hpp"
 #include "world/seeds.hpp"
 
 namespace ocp::campaign {
@@ -33,13 +34,11 @@ WorldOutcome check_campaign_world(const CampaignOptions& options, std::uint64_t 
 
 namespace {
 
-double seconds_of(const timeval& time) { return static_cast<double>(time.tv_sec) + 1e-6 * static_cast<double>(time.tv_usec); }
-
 // User + system CPU of `who` (RUSAGE_SELF: every thread of this process).
 double cpu_seconds_of(int who) {
   rusage usage{};
   getrusage(who, &usage);
-  return seconds_of(usage.ru_utime) + seconds_of(usage.ru_stime);
+  return sim_app::cpu_seconds(usage);
 }
 
 // Every world frees all it allocated and the next world allocates it again. With more than one

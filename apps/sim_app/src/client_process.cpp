@@ -4,7 +4,6 @@
 #include <signal.h>
 #include <sys/prctl.h>
 #include <sys/resource.h>
-#include <sys/time.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -23,11 +22,10 @@ extern char** environ;  // POSIX: the process environment (unistd.h declares it 
 #include <vector>
 
 #include "process_group_cpu.hpp"
+#include "sim_app/proc_stat.hpp"
 
 namespace ocp::sim_app {
 namespace {
-
-double seconds_of(const timeval& time) { return static_cast<double>(time.tv_sec) + static_cast<double>(time.tv_usec) / 1e6; }
 
 // Live children, for kill_all_clients() from a signal handler: a fixed array of atomics.
 constexpr std::size_t max_children = 64;
@@ -200,7 +198,7 @@ bool ClientProcess::running() {
     exit_status_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
     forget(pid_);
     // It ended on its own: its own CPU (with what it reaped), and what it left in its group.
-    if (!cpu_seconds_) cpu_seconds_ = seconds_of(usage.ru_utime) + seconds_of(usage.ru_stime) + process_group_cpu_seconds(pid_);
+    if (!cpu_seconds_) cpu_seconds_ = sim_app::cpu_seconds(usage) + process_group_cpu_seconds(pid_);
     ::kill(-pid_, SIGKILL);  // anything it left behind in its group
     return false;
   }

@@ -43,12 +43,12 @@ Executor::TimerId AsioExecutor::schedule(SimTime deadline, Micros slack, Task ta
   }
   Slot& waiting = slots_[slot];
   waiting.task = std::move(task);
-  const Entry entry{effective, next_sequence_++, effective, slot, waiting.generation};
+  const Entry entry{effective, next_sequence_++, slot, waiting.generation};
   Heap& heap = lenient ? lenient_ : strict_;
   heap.push_back(entry);
   std::push_heap(heap.begin(), heap.end(), runs_later);
   if (lenient) {
-    lenient_latest_.push_back(Entry{effective + slack, entry.sequence, effective, slot, entry.generation});
+    lenient_latest_.push_back(Entry{effective + slack, entry.sequence, slot, entry.generation});
     std::push_heap(lenient_latest_.begin(), lenient_latest_.end(), runs_later);
   }
   ++live_tasks_;
@@ -136,7 +136,7 @@ void AsioExecutor::schedule_wake_up(SimTime current) {
   if (first == nullptr) {
     return;
   }
-  if (first->front().deadline <= current) {
+  if (first->front().key <= current) {
     post_batch();
   } else if (const auto wake = next_wake()) {
     arm_timer(*wake);
@@ -176,7 +176,7 @@ void AsioExecutor::post_batch() {
 }
 
 void AsioExecutor::take_due(SimTime batch_end, std::vector<Entry>& batch) {
-  for (Heap* heap = front_heap(); heap != nullptr && heap->front().deadline <= batch_end; heap = front_heap()) {
+  for (Heap* heap = front_heap(); heap != nullptr && heap->front().key <= batch_end; heap = front_heap()) {
     std::pop_heap(heap->begin(), heap->end(), runs_later);
     batch.push_back(heap->back());
     heap->pop_back();

@@ -58,12 +58,11 @@ class AsioExecutor final : public Executor {
     std::uint32_t generation = 1;
     bool in_batch = false;   // taken out of the heaps by the running batch, not run yet
   };
-  // A heap entry: `key` is the deadline (strict_, lenient_) or the latest instant
-  // (lenient_latest_); `deadline` is the task's deadline in every heap.
+  // A heap entry: `key` is the task's deadline (strict_, lenient_) or its latest instant
+  // (lenient_latest_).
   struct Entry {
     SimTime key;
     std::uint64_t sequence;
-    SimTime deadline;
     std::uint32_t slot;
     std::uint32_t generation;
   };
