@@ -13,10 +13,11 @@ std::size_t usable_slots(Micros period, std::size_t slots) {
 
 }  // namespace
 
-ControlTicker::ControlTicker(Executor& executor, Micros period, std::size_t slots)
+ControlTicker::ControlTicker(Executor& executor, Micros period, std::size_t slots, Micros phase)
     : executor_(executor),
       period_(period),
       step_(period / static_cast<std::int64_t>(usable_slots(period, slots))),
+      phase_(std::clamp(phase, Micros{0}, std::max(period - Micros{1}, Micros{0}))),
       slots_(usable_slots(period, slots)) {
   assert(period_.count() > 0);
 }
@@ -34,7 +35,7 @@ ControlTicker::Member ControlTicker::add(TickHandler on_tick) {
   ++live_;
   if (idle && !firing_) {   // (refilled inside a tick, the running fire() re-arms)
     next_slot_ = member.slot;   // slot 0: added_ was reset
-    next_deadline_ = executor_.now();
+    next_deadline_ = executor_.now() + phase_;
     arm();
   }
   return member;

@@ -54,6 +54,32 @@ TEST(ControlTicker, SlotsSpreadTheMembersOverThePeriod) {
   EXPECT_EQ(members[4].deadlines, members[0].deadlines);
 }
 
+TEST(ControlTicker, APhaseShiftsEverySlotAndIsClampedToThePeriod) {
+  VirtualExecutor executor;
+  executor.run_until(SimTime{Micros{3'000}});
+  ControlTicker shifted(executor, period, 2, Micros{1'250});
+  Ticks first, second;
+  shifted.add(first.handler(executor));
+  shifted.add(second.handler(executor));
+  executor.run_until(SimTime{Micros{20'000}});
+  // t0 = 3 ms (the first add) + 1.25 ms; slot 1 half a period later.
+  EXPECT_EQ(first.deadlines, (std::vector<SimTime>{SimTime{Micros{4'250}}, SimTime{Micros{14'250}}}));
+  EXPECT_EQ(second.deadlines, (std::vector<SimTime>{SimTime{Micros{9'250}}, SimTime{Micros{19'250}}}));
+  EXPECT_EQ(first.at, first.deadlines);
+
+  // Below 0: none; a period or more: just under one period.
+  for (const auto& [phase, offset] : {std::pair{Micros{-5}, Micros{0}}, std::pair{period, period - Micros{1}},
+                                      std::pair{Micros{1'000'000}, period - Micros{1}}}) {
+    ControlTicker clamped(executor, period, 1, phase);
+    Ticks ticks;
+    const SimTime added_at = executor.now();
+    clamped.add(ticks.handler(executor));
+    executor.run_until(added_at + period);
+    ASSERT_FALSE(ticks.deadlines.empty()) << phase.count();
+    EXPECT_EQ(ticks.deadlines.front(), added_at + offset) << phase.count();
+  }
+}
+
 TEST(ControlTicker, RemovedMembersStopTickingAndAnEmptyTickerStopsItsTimer) {
   VirtualExecutor executor;
   ControlTicker ticker(executor, period);

@@ -88,6 +88,45 @@ struct SameExecutorThreads {
   static inline int posts = 0;
 };
 
+// The World's executor under another address: a second "thread" with a ticker of its own, on
+// the same virtual timeline.
+class ExecutorView : public Executor {
+ public:
+  explicit ExecutorView(Executor& target) : target_(target) {}
+  SimTime now() const override { return target_.now(); }
+  TimerId call_at(SimTime deadline, Task task) override { return target_.call_at(deadline, std::move(task)); }
+  void cancel(TimerId id) override { target_.cancel(id); }
+  TimerId call_at_or_later(SimTime deadline, Micros slack, Task task) override {
+    return target_.call_at_or_later(deadline, slack, std::move(task));
+  }
+
+ private:
+  Executor& target_;
+};
+
+TEST(WorldStreamerThreads, EachThreadsSlotsFallBetweenTheOtherThreadsSlots) {
+  WorldConfig config = fleet_of(4, false);
+  config.control_tick_slots = 2;
+  VirtualWorld sim(config);
+  ExecutorView second(sim.executor());
+  auto post = [&sim](std::function<void()> task) { sim.executor().post(std::move(task)); };
+  sim.world().set_streamer_threads({{&sim.executor(), post}, {&second, post}}, post);
+  ASSERT_TRUE(sim.start());
+  std::vector<std::unique_ptr<testing::VehiclePeer>> peers;
+  for (int index = 0; index < 4; ++index) peers.push_back(connect_vehicle_peer(sim, vehicle_name(index)));
+  sim.run_for(Millis{100});
+  // Vehicles 0 and 2 are thread 0's (its slots 0 and 1: 0 and 5 ms), 1 and 3 thread 1's, whose
+  // slots come a quarter of the period later (half a slot: 2.5 and 7.5 ms).
+  std::vector<std::int64_t> phases;
+  for (const auto& peer : peers) {
+    ASSERT_GE(peer->received_at.size(), 9u);
+    EXPECT_TRUE(cadence_exact(peer->received_at));
+    const std::int64_t apart = (peer->received_at.back() - peers.front()->received_at.back()).count();
+    phases.push_back((apart % tick.count() + tick.count()) % tick.count());
+  }
+  EXPECT_EQ(phases, (std::vector<std::int64_t>{0, 2'500, 5'000, 7'500}));
+}
+
 TEST(WorldStreamerThreads, LinkMessagesCrossInBatchesBothWays) {
   VirtualWorld sim(fleet_of(6, false));
   SameExecutorThreads::posts = 0;

@@ -31,7 +31,8 @@ struct World::Vehicle {
 
 // One per (executor, control period) when control_tick_slots > 0.
 struct World::Ticker {
-  Ticker(Executor& on, Micros period, std::size_t slots) : executor(&on), ticker(on, period, slots) {}
+  Ticker(Executor& on, Micros period, std::size_t slots, Micros phase)
+      : executor(&on), ticker(on, period, slots, phase) {}
   Executor* executor;
   ControlTicker ticker;
 };
@@ -297,7 +298,16 @@ ControlTicker& World::ticker_for(Executor& executor, Micros period) {
   for (auto& shared : tickers_) {
     if (shared->executor == &executor && shared->ticker.period() == period) return shared->ticker;
   }
-  tickers_.push_back(std::make_unique<Ticker>(executor, period, config_.control_tick_slots));
+  // The Streamer threads take turns: thread i of n starts its slots i/n of a slot after thread
+  // 0's, so each slot's burst of control frames (and the replies it wakes) has the machine to
+  // itself instead of sharing it with every other thread's (docs/benchmarks.md, issue #41).
+  const auto thread = std::find_if(streamer_threads_.begin(), streamer_threads_.end(),
+                                   [&executor](const StreamerThread& candidate) { return candidate.executor == &executor; });
+  const auto turn = static_cast<std::int64_t>(thread == streamer_threads_.end() ? 0 : thread - streamer_threads_.begin());
+  const auto turns = static_cast<std::int64_t>(std::max<std::size_t>(streamer_threads_.size(), 1));
+  const auto slots = static_cast<std::int64_t>(std::max<std::size_t>(config_.control_tick_slots, 1));
+  const Micros phase = period * turn / (slots * turns);
+  tickers_.push_back(std::make_unique<Ticker>(executor, period, config_.control_tick_slots, phase));
   return tickers_.back()->ticker;
 }
 

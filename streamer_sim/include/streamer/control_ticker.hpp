@@ -6,7 +6,9 @@
 //
 // Slots spread the fleet's ticks over the period: member j (in the order they were added)
 // belongs to slot j mod slots, and slot s ticks at t0 + k·period + s·(period / slots), t0 being
-// when the first member was added to an idle ticker. One slot is the plain case: every member
+// when the first member was added to an idle ticker, plus the ticker's phase. Tickers on
+// different threads take turns through their phases (World gives thread i of n a phase of
+// i/n of a slot), so no two threads' slots fall on one instant. One slot is the plain case: every member
 // ticks at t0 + k·period, so a ticker with one member runs exactly the task a PeriodicTimer
 // would (same deadlines, same scheduling order: the golden trace does not change). Many slots
 // keep a big fleet's ticks from all falling at one instant, which would make the last vehicle
@@ -31,14 +33,15 @@ class ControlTicker {
     std::uint64_t id = 0;   // 0: not a member
   };
 
-  // period > 0; slots in [1, period in µs] (clamped), period divisible by slots for exact phases.
-  ControlTicker(Executor& executor, Micros period, std::size_t slots = 1);
+  // period > 0; slots in [1, period in µs] (clamped), period divisible by slots for exact phases;
+  // phase in [0, period) (clamped).
+  ControlTicker(Executor& executor, Micros period, std::size_t slots = 1, Micros phase = Micros{0});
   ~ControlTicker();
   ControlTicker(const ControlTicker&) = delete;
   ControlTicker& operator=(const ControlTicker&) = delete;
 
-  // The member's first tick is its slot's next deadline (now, for the first member of an idle
-  // ticker). May be called from inside a tick.
+  // The member's first tick is its slot's next deadline (now + phase, for the first member of an
+  // idle ticker). May be called from inside a tick.
   Member add(TickHandler on_tick);
   // Harmless for a member already removed; may be called from inside a tick.
   void remove(Member member);
@@ -61,6 +64,7 @@ class ControlTicker {
   Executor& executor_;
   Micros period_;
   Micros step_;
+  Micros phase_;
   std::vector<std::vector<Entry>> slots_;
   std::vector<Entry> joining_;       // added during a tick, placed in their slots after it
   std::size_t next_slot_ = 0;        // the slot the armed timer is for

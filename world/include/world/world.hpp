@@ -73,7 +73,8 @@ struct WorldConfig {
   // one ControlTicker (streamer/control_ticker.hpp) whose n slots spread their ticks over the
   // control period (vehicle j in slot j mod n, offset by j mod n · period / n): at fleet scale
   // one task per slot instead of one per vehicle, and no instant where every vehicle is due.
-  // With one vehicle any value gives the same run as 0.
+  // With Streamer threads, thread i of t offsets its slots by i/t of a slot: the threads' slots
+  // interleave. With one vehicle any value gives the same run as 0.
   std::size_t control_tick_slots = 0;
   // The Player's first frame comes this long after the Streamers start (0: the same instant,
   // so its frames fall on their control ticks). A real operator station's frames have no
