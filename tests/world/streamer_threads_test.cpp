@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <optional>
 #include <variant>
 
 #include "world_fixture.hpp"
@@ -107,10 +108,11 @@ class ExecutorView : public Executor {
 TEST(WorldStreamerThreads, EachThreadsSlotsFallBetweenTheOtherThreadsSlots) {
   WorldConfig config = fleet_of(4, false);
   config.control_tick_slots = 2;
+  std::optional<ExecutorView> second;   // outlives the World, which keeps its address
   VirtualWorld sim(config);
-  ExecutorView second(sim.executor());
+  second.emplace(sim.executor());
   auto post = [&sim](std::function<void()> task) { sim.executor().post(std::move(task)); };
-  sim.world().set_streamer_threads({{&sim.executor(), post}, {&second, post}}, post);
+  sim.world().set_streamer_threads({{&sim.executor(), post}, {&*second, post}}, post);
   ASSERT_TRUE(sim.start());
   std::vector<std::unique_ptr<testing::VehiclePeer>> peers;
   for (int index = 0; index < 4; ++index) peers.push_back(connect_vehicle_peer(sim, vehicle_name(index)));

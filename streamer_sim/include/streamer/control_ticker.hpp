@@ -8,11 +8,11 @@
 // belongs to slot j mod slots, and slot s ticks at t0 + k·period + s·(period / slots), t0 being
 // when the first member was added to an idle ticker, plus the ticker's phase. Tickers on
 // different threads take turns through their phases (World gives thread i of n a phase of
-// i/n of a slot), so no two threads' slots fall on one instant. One slot is the plain case: every member
-// ticks at t0 + k·period, so a ticker with one member runs exactly the task a PeriodicTimer
-// would (same deadlines, same scheduling order: the golden trace does not change). Many slots
-// keep a big fleet's ticks from all falling at one instant, which would make the last vehicle
-// of the batch late by the whole batch's work.
+// i/n of a slot), so no two threads' slots fall on one instant. One slot is the plain case:
+// every member ticks at t0 + k·period, so a ticker with one member runs exactly the task a
+// PeriodicTimer would (same deadlines, same scheduling order: the golden trace does not
+// change). Many slots keep a big fleet's ticks from all falling at one instant, which would
+// make the last vehicle of the batch late by the whole batch's work.
 //
 // A slot's members tick in the order they were added, each with the slot's deadline. A slot
 // more than a period behind skips whole periods (counted), as PeriodicTimer does. Like every
