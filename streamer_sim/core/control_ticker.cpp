@@ -16,10 +16,14 @@ std::size_t usable_slots(Micros period, std::size_t slots) {
 ControlTicker::ControlTicker(Executor& executor, Micros period, std::size_t slots, Micros phase)
     : executor_(executor),
       period_(period),
-      step_(period / static_cast<std::int64_t>(usable_slots(period, slots))),
+      step_(slot_step(period, slots)),
       phase_(std::clamp(phase, Micros{0}, std::max(period - Micros{1}, Micros{0}))),
       slots_(usable_slots(period, slots)) {
   assert(period_.count() > 0);
+}
+
+Micros ControlTicker::slot_step(Micros period, std::size_t slots) {
+  return period / static_cast<std::int64_t>(usable_slots(period, slots));
 }
 
 ControlTicker::~ControlTicker() {

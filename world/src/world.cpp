@@ -305,8 +305,7 @@ ControlTicker& World::ticker_for(Executor& executor, Micros period) {
                                    [&executor](const StreamerThread& candidate) { return candidate.executor == &executor; });
   const auto turn = static_cast<std::int64_t>(thread == streamer_threads_.end() ? 0 : thread - streamer_threads_.begin());
   const auto turns = static_cast<std::int64_t>(std::max<std::size_t>(streamer_threads_.size(), 1));
-  const auto slots = static_cast<std::int64_t>(std::max<std::size_t>(config_.control_tick_slots, 1));
-  const Micros phase = period * turn / (slots * turns);
+  const Micros phase = ControlTicker::slot_step(period, config_.control_tick_slots) * turn / turns;
   tickers_.push_back(std::make_unique<Ticker>(executor, period, config_.control_tick_slots, phase));
   return tickers_.back()->ticker;
 }

@@ -47,6 +47,8 @@ class ControlTicker {
   void remove(Member member);
 
   Micros period() const { return period_; }
+  // The time between two slots of a ticker built with `period` and `slots` (clamped as above).
+  static Micros slot_step(Micros period, std::size_t slots);
   std::size_t members() const { return live_; }
   std::uint64_t missed_periods() const { return missed_periods_; }
 
