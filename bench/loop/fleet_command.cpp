@@ -57,8 +57,8 @@ CLI::App* add_fleet_command(CLI::App& app, FleetOptions& options) {
                     "(0: a timer per Streamer; default: one slot per 10 vehicles of a Streamer thread, 1 to 10)")
       ->check(CLI::Range(0, 10000));
   fleet->add_flag("--no-kernel-floor{false}", options.kernel_floor,
-                  "loopback points: skip the kernel floor (the kernel's TCP cost of the same traffic, no simulator,\n"
-                  "one thread, measured after the point's window)");
+                  "loopback points: skip the kernel floors (the kernel's TCP cost of the same traffic, no simulator:\n"
+                  "batched on one thread, then paced as the point paces it; measured after the point's window)");
   fleet->add_flag("--no-codec-floor{false}", options.codec_floor,
                   "virtual points: skip the codec floor (the wire codec and MAC work of the same fleet alone,\n"
                   "measured after the point's window)");
@@ -228,15 +228,32 @@ void print_floors(std::ostream& out, const std::vector<FleetPointResult>& points
           point.kernel_floor_cpu_per_s, cores, 100.0 * point.kernel_floor_cpu_per_s / cores, point.cpu_per_simulated_s,
           100.0 * ticks_run_share(point), cpu_us_per_vehicle_tick(point),
           cpu_us_per_vehicle_tick(point) / point.kernel_floor_us_per_vehicle_tick);
-    } else if (point.codec_floor_measured) {
+    }
+    if (point.paced_floor_measured) {
+      const int threads = std::max(1, point.streamer_threads);
+      const int bursts = std::max(1, point.control_tick_slots);
+      const std::string against_batched =
+          point.kernel_floor_measured
+              ? fmt::format(" ({:.1f}× the batched floor)", point.paced_floor_us_per_vehicle_tick / point.kernel_floor_us_per_vehicle_tick)
+              : "";
+      out << fmt::format(
+          "{}: kernel TCP paced as the point ({} server thread{}, {} burst{} each per 10 ms, the clients' ends on {}): "
+          "{:.1f} µs CPU per vehicle-tick = {:.3g} CPU s/s{}; the point ran at {:.1f}× this\n",
+          name, threads, threads == 1 ? "" : "s", bursts, bursts == 1 ? "" : "s",
+          point.client_threads > 0 ? "threads of their own" : "the server threads", point.paced_floor_us_per_vehicle_tick,
+          point.paced_floor_cpu_per_s, against_batched, cpu_us_per_vehicle_tick(point) / point.paced_floor_us_per_vehicle_tick);
+    }
+    if (point.codec_floor_measured) {
       out << fmt::format(
           "{}: codec alone (control encode + decode, response encode + decode, MAC issue + verify): {:.2f} µs CPU per "
           "vehicle cycle = {:.3g} CPU s per simulated s ({:.0f} % of the point's {:.3g})\n",
           name, point.codec_floor_us_per_vehicle_cycle, point.codec_floor_cpu_per_s,
           100.0 * point.codec_floor_cpu_per_s / point.cpu_per_simulated_s, point.cpu_per_simulated_s);
     }
-    for (const char* error : {point.kernel_floor_error, point.codec_floor_error}) {
-      if (error[0] != '\0') out << fmt::format("{}: floor not measured: {}\n", name, error);
+    const std::pair<const char*, const char*> errors[] = {
+        {"kernel", point.kernel_floor_error}, {"paced kernel", point.paced_floor_error}, {"codec", point.codec_floor_error}};
+    for (const auto& [floor, error] : errors) {
+      if (error[0] != '\0') out << fmt::format("{}: {} floor not measured: {}\n", name, floor, error);
     }
   }
 }
@@ -258,6 +275,7 @@ std::string point_json(const FleetPointResult& point) {
       R"("echo_delay_us":{{"p50":{},"p99":{},"count":{}}},"responses":{},"connections":{},"faults_raised":{},)"
       R"("cpu_us_per_vehicle_tick":{},"threads":{},)"
       R"("control_bytes":{},"response_bytes":{},"kernel_floor_cpu_per_s":{},"kernel_floor_us_per_vehicle_tick":{},"kernel_floor_error":{},)"
+      R"("paced_floor_cpu_per_s":{},"paced_floor_us_per_vehicle_tick":{},"paced_floor_wall_s":{},"paced_floor_error":{},)"
       R"("codec_floor_cpu_per_simulated_s":{},"codec_floor_us_per_vehicle_cycle":{},"codec_floor_error":{}}})",
       fleet_mode_name(point.mode), point.vehicles, point.streamer_threads, point.client_threads, point.control_tick_slots, point.observed, point.ok, json_string(point.error), json_number(point.window_s),
       json_number(point.wall_s), json_number(point.cpu_s), json_number(point.cpu_per_simulated_s),
@@ -269,7 +287,10 @@ std::string point_json(const FleetPointResult& point) {
       threads_json(point), json_number(point.control_bytes),
       json_number(point.response_bytes), optional_number(point.kernel_floor_measured, point.kernel_floor_cpu_per_s),
       optional_number(point.kernel_floor_measured, point.kernel_floor_us_per_vehicle_tick),
-      optional_string(point.kernel_floor_error), optional_number(point.codec_floor_measured, point.codec_floor_cpu_per_s),
+      optional_string(point.kernel_floor_error), optional_number(point.paced_floor_measured, point.paced_floor_cpu_per_s),
+      optional_number(point.paced_floor_measured, point.paced_floor_us_per_vehicle_tick),
+      optional_number(point.paced_floor_measured, point.paced_floor_wall_s),
+      optional_string(point.paced_floor_error), optional_number(point.codec_floor_measured, point.codec_floor_cpu_per_s),
       optional_number(point.codec_floor_measured, point.codec_floor_us_per_vehicle_cycle),
       optional_string(point.codec_floor_error));
 }
@@ -285,11 +306,13 @@ std::string scale_svg(const std::vector<FleetPointResult>& points, int cores) {
   };
   XySeries kernel_floor = series(FleetMode::loopback, "kernel TCP alone", "#17becf",
                                  [](auto& p) { return p.kernel_floor_measured ? p.kernel_floor_cpu_per_s : 0.0; });
+  XySeries paced_floor = series(FleetMode::loopback, "kernel TCP paced", "#9467bd",
+                                [](auto& p) { return p.paced_floor_measured ? p.paced_floor_cpu_per_s : 0.0; });
   XySeries codec_floor = series(FleetMode::virtual_time, "codec alone", "#bcbd22",
                                 [](auto& p) { return p.codec_floor_measured ? p.codec_floor_cpu_per_s : 0.0; });
   // Each legend entry its own colour (a floor beside its mode): dashes alone are hard to tell
   // apart in a small legend.
-  kernel_floor.dashed = codec_floor.dashed = true;
+  kernel_floor.dashed = paced_floor.dashed = codec_floor.dashed = true;
   // The machine's cores as a horizontal line across the vehicle counts plotted.
   XySeries core_line{fmt::format("{} cores", cores), "#7f7f7f", {}, false, true};
   for (const auto& point : points) {
@@ -321,7 +344,7 @@ std::string scale_svg(const std::vector<FleetPointResult>& points, int cores) {
                latency),
       xy_chart({series(FleetMode::loopback, "loopback", "#1f77b4", [](auto& p) { return p.cpu_per_simulated_s; }),
                 series(FleetMode::virtual_time, "virtual time", "#2ca02c", [](auto& p) { return p.cpu_per_simulated_s; }),
-                kernel_floor, codec_floor, core_line},
+                kernel_floor, paced_floor, codec_floor, core_line},
                cpu),
       xy_chart({series(FleetMode::loopback, "loopback ÷ N", "#1f77b4", [](auto& p) { return p.kib_per_vehicle; }),
                 series(FleetMode::loopback, "loopback marginal", "#aec7e8", [](auto& p) { return p.marginal_kib_per_vehicle; }),

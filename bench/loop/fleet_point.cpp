@@ -393,23 +393,41 @@ FleetPointResult run_virtual(const FleetPointOptions& options, FleetPointResult 
   return result;
 }
 
-// After the window and with the point's sockets closed, so it is neither in the point's cpu_s
+// The paced floor's cost is per burst, and 0.4 s is 40 bursts a thread a slot, which vary from
+// run to run; a second of them settles it.
+constexpr double paced_floor_min_s = 1.0;
+
+// After the window and with the point's sockets closed, so they are neither in the point's cpu_s
 // nor competing with it.
-void add_kernel_floor(const FleetPointOptions& options, FleetPointResult& result) {
+void add_kernel_floors(const FleetPointOptions& options, FleetPointResult& result) {
   if (result.control_bytes < 1 || result.response_bytes < 1) {
-    std::snprintf(result.kernel_floor_error, sizeof result.kernel_floor_error, "no frames recorded to size it on");
+    for (char* error : {result.kernel_floor_error, result.paced_floor_error}) {
+      std::snprintf(error, sizeof result.kernel_floor_error, "no frames recorded to size it on");
+    }
     return;
   }
-  const KernelFloor floor =
-      measure_kernel_floor(options.vehicles, static_cast<std::size_t>(std::lround(result.control_bytes)),
-                           static_cast<std::size_t>(std::lround(result.response_bytes)), options.kernel_floor_s);
-  if (!floor.ok) {
+  const auto control_bytes = static_cast<std::size_t>(std::lround(result.control_bytes));
+  const auto response_bytes = static_cast<std::size_t>(std::lround(result.response_bytes));
+  const KernelFloor floor = measure_kernel_floor(options.vehicles, control_bytes, response_bytes, options.kernel_floor_s);
+  if (floor.ok) {
+    result.kernel_floor_measured = true;
+    result.kernel_floor_us_per_vehicle_tick = floor.us_per_vehicle_tick;
+    result.kernel_floor_cpu_per_s = floor.cpu_per_s_at_100hz;
+  } else {
     std::snprintf(result.kernel_floor_error, sizeof result.kernel_floor_error, "%s", floor.error.c_str());
-    return;
   }
-  result.kernel_floor_measured = true;
-  result.kernel_floor_us_per_vehicle_tick = floor.us_per_vehicle_tick;
-  result.kernel_floor_cpu_per_s = floor.cpu_per_s_at_100hz;
+  const PacedShape shape{options.vehicles, std::max(1, options.streamer_threads), options.client_threads > 0,
+                         static_cast<int>(std::max<std::size_t>(1, options.control_tick_slots))};
+  const KernelFloor paced = measure_paced_kernel_floor(shape, control_bytes, response_bytes,
+                                                       std::max(paced_floor_min_s, options.kernel_floor_s));
+  if (paced.ok) {
+    result.paced_floor_measured = true;
+    result.paced_floor_us_per_vehicle_tick = paced.us_per_vehicle_tick;
+    result.paced_floor_cpu_per_s = paced.cpu_per_s_at_100hz;
+    result.paced_floor_wall_s = paced.wall_s;
+  } else {
+    std::snprintf(result.paced_floor_error, sizeof result.paced_floor_error, "%s", paced.error.c_str());
+  }
 }
 
 }  // namespace
@@ -426,7 +444,7 @@ FleetPointResult run_fleet_point(const FleetPointOptions& options) {
   // in virtual time the whole fleet).
   const ScopedThreadName main_thread(options.mode == FleetMode::loopback ? "player" : "world");
   result = options.mode == FleetMode::loopback ? run_loopback(options, result) : run_virtual(options, result);
-  if (result.ok && options.mode == FleetMode::loopback && options.kernel_floor_s > 0) add_kernel_floor(options, result);
+  if (result.ok && options.mode == FleetMode::loopback && options.kernel_floor_s > 0) add_kernel_floors(options, result);
   if (result.ok) {
     result.cpu_per_simulated_s = result.window_s > 0 ? result.cpu_s / result.window_s : 0;
     result.simulated_per_wall_s = result.wall_s > 0 ? result.window_s / result.wall_s : 0;

@@ -35,7 +35,8 @@ struct FleetPointOptions {
   // frames that arrive off their phase, doubling the responses, so virtual points keep 0.
   std::size_t control_tick_slots = 10;
   // Loopback: seconds of kernel-floor rounds (kernel_floor.hpp) run after the point's window,
-  // once its sockets are closed, with frames of the sizes the point sent; 0: not measured.
+  // once its sockets are closed, with frames of the sizes the point sent, then of the paced
+  // floor (at least paced_floor_min_s); 0: neither is measured.
   double kernel_floor_s = 0.4;
   // Virtual, observed: seconds of codec-floor rounds (codec_floor.hpp) run after the window on
   // message samples the point sent; 0: not measured.
@@ -68,6 +69,13 @@ struct FleetPointResult {
   char kernel_floor_error[120] = {};
   double kernel_floor_us_per_vehicle_tick = 0;
   double kernel_floor_cpu_per_s = 0;               // CPU s per wall s at 100 Hz × vehicles
+  // The same traffic paced as the point runs it (kernel_floor.hpp, PacedShape): its threads, its
+  // slots, at 100 Hz.
+  bool paced_floor_measured = false;
+  char paced_floor_error[120] = {};
+  double paced_floor_us_per_vehicle_tick = 0;
+  double paced_floor_cpu_per_s = 0;
+  double paced_floor_wall_s = 0;                   // its measured periods took at least their 10 ms each
   // Codec floor (virtual): CPU of the wire codec and MAC work alone for this fleet.
   bool codec_floor_measured = false;
   char codec_floor_error[120] = {};

@@ -1,7 +1,8 @@
 # ctest: a tiny `ocp_bench fleet` run, one loopback and one virtual point, reports the kernel
-# floor (the kernel's TCP cost of the loopback point's traffic) with the machine's cores and the
-# codec floor (the virtual point's codec work alone), both measured after the point;
-# --no-kernel-floor and --no-codec-floor leave them out.
+# floor (the kernel's TCP cost of the loopback point's traffic) with the machine's cores, the
+# same traffic paced in the point's shape (its threads, its bursts) and the codec floor (the
+# virtual point's codec work alone), all measured after the point; --no-kernel-floor and
+# --no-codec-floor leave them out.
 # Run as: cmake -DOCP_BENCH=… -DOUT_DIR=… -P fleet_floors.cmake
 function(run_fleet json_file)
   file(REMOVE ${json_file})
@@ -29,20 +30,42 @@ if(NOT cores GREATER 0)
 endif()
 # points[0] is the loopback point, points[1] the virtual one.
 foreach(point_field "0;kernel_floor_cpu_per_s" "0;kernel_floor_us_per_vehicle_tick" "0;control_bytes" "0;response_bytes"
-                    "1;codec_floor_cpu_per_simulated_s" "1;codec_floor_us_per_vehicle_cycle")
+                    "0;paced_floor_cpu_per_s" "0;paced_floor_us_per_vehicle_tick" "1;codec_floor_cpu_per_simulated_s" "1;codec_floor_us_per_vehicle_cycle")
   string(JSON value GET "${json}" points ${point_field})
   if(NOT value GREATER 0)
     message(FATAL_ERROR "points ${point_field} is ${value}, expected > 0\n${json}")
   endif()
 endforeach()
-foreach(line "loopback N=2: kernel TCP alone" "virtual N=2: codec alone")
+# The default shape: 2 Streamer threads, one client thread each, 1 slot (one vehicle a thread).
+foreach(line "loopback N=2: kernel TCP alone"
+             "loopback N=2: kernel TCP paced as the point \\(2 server threads, 1 burst each per 10 ms, the clients' ends on threads of their own\\)"
+             "virtual N=2: codec alone")
   if(NOT output MATCHES "${line}")
     message(FATAL_ERROR "no '${line}' line in the report\n${output}")
   endif()
 endforeach()
 
+# Paced: its 100 measured periods (1 s) cannot take less than 10 ms each; batched they would
+# take a few ms in all.
+string(JSON paced_wall GET "${json}" points 0 paced_floor_wall_s)
+if(paced_wall LESS 0.98)
+  message(FATAL_ERROR "the paced floor's 1 s of periods took ${paced_wall} s: not paced\n${json}")
+endif()
+
+# The paced floor follows the point's shape: one thread carrying both ends, two bursts a period.
+run_fleet(${OUT_DIR}/ocp_bench_fleet_floor_shape.json --streamer-threads 1 --client-threads 0 --tick-slots 2)
+set(line "loopback N=2: kernel TCP paced as the point \\(1 server thread, 2 bursts each per 10 ms, the clients' ends on the server threads\\)")
+if(NOT output MATCHES "${line}")
+  message(FATAL_ERROR "no '${line}' line in the report\n${output}")
+endif()
+string(JSON value GET "${json}" points 0 paced_floor_us_per_vehicle_tick)
+if(NOT value GREATER 0)
+  message(FATAL_ERROR "--client-threads 0: paced_floor_us_per_vehicle_tick is ${value}, expected > 0\n${json}")
+endif()
+
 run_fleet(${OUT_DIR}/ocp_bench_fleet_no_floors.json --no-kernel-floor --no-codec-floor)
-foreach(point_field "0;kernel_floor_cpu_per_s" "0;kernel_floor_us_per_vehicle_tick" "1;codec_floor_cpu_per_simulated_s"
+foreach(point_field "0;kernel_floor_cpu_per_s" "0;kernel_floor_us_per_vehicle_tick" "0;paced_floor_cpu_per_s"
+                    "0;paced_floor_us_per_vehicle_tick" "0;paced_floor_wall_s" "1;codec_floor_cpu_per_simulated_s"
                     "1;codec_floor_us_per_vehicle_cycle")
   string(JSON type TYPE "${json}" points ${point_field})
   if(NOT type STREQUAL "NULL")
