@@ -393,8 +393,8 @@ FleetPointResult run_virtual(const FleetPointOptions& options, FleetPointResult 
   return result;
 }
 
-// The paced floor's cost is per burst, and 0.4 s is 40 bursts a thread a slot, which vary from
-// run to run; a second of them settles it.
+// The paced floor's cost is paid per burst, and 0.4 s is only 40 periods of them, which vary
+// from run to run; a second (100 periods) settles it.
 constexpr double paced_floor_min_s = 1.0;
 
 // After the window and with the point's sockets closed, so they are neither in the point's cpu_s

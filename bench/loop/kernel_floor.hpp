@@ -8,6 +8,8 @@
 // carries this traffic (a getppid costs ~0.2 µs on the bench machine; a vehicle-tick here
 // costs ~15 µs, so it is TCP work, not syscall entry). Compared with the machine's cores it
 // says whether a target such as "1 000 vehicles at 100 Hz on 2 cores" is reachable at all.
+// The paced floor (below) is the same traffic at the point's own beat: what no process that
+// paces it at 100 Hz can go below on this machine.
 #include <cstddef>
 #include <cstdint>
 #include <string>
