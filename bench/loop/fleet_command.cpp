@@ -234,14 +234,16 @@ void print_floors(std::ostream& out, const std::vector<FleetPointResult>& points
       const int bursts = std::max(1, point.control_tick_slots);
       const std::string against_batched =
           point.kernel_floor_measured
-              ? fmt::format(" ({:.1f}× the batched floor)", point.paced_floor_us_per_vehicle_tick / point.kernel_floor_us_per_vehicle_tick)
+              ? fmt::format(" ({:.1f}× the batched floor)",
+                            point.paced_floor_us_per_vehicle_tick / point.kernel_floor_us_per_vehicle_tick)
               : "";
       out << fmt::format(
           "{}: kernel TCP paced as the point ({} server thread{}, {} burst{} each per 10 ms, the clients' ends on {}): "
           "{:.1f} µs CPU per vehicle-tick = {:.3g} CPU s/s{}; the point ran at {:.1f}× this\n",
           name, threads, threads == 1 ? "" : "s", bursts, bursts == 1 ? "" : "s",
-          point.client_threads > 0 ? "threads of their own" : "the server threads", point.paced_floor_us_per_vehicle_tick,
-          point.paced_floor_cpu_per_s, against_batched, cpu_us_per_vehicle_tick(point) / point.paced_floor_us_per_vehicle_tick);
+          point.client_threads > 0 ? "threads of their own" : "the server threads",
+          point.paced_floor_us_per_vehicle_tick, point.paced_floor_cpu_per_s, against_batched,
+          cpu_us_per_vehicle_tick(point) / point.paced_floor_us_per_vehicle_tick);
     }
     if (point.codec_floor_measured) {
       out << fmt::format(
@@ -250,8 +252,9 @@ void print_floors(std::ostream& out, const std::vector<FleetPointResult>& points
           name, point.codec_floor_us_per_vehicle_cycle, point.codec_floor_cpu_per_s,
           100.0 * point.codec_floor_cpu_per_s / point.cpu_per_simulated_s, point.cpu_per_simulated_s);
     }
-    const std::pair<const char*, const char*> errors[] = {
-        {"kernel", point.kernel_floor_error}, {"paced kernel", point.paced_floor_error}, {"codec", point.codec_floor_error}};
+    const std::pair<const char*, const char*> errors[] = {{"kernel", point.kernel_floor_error},
+                                                          {"paced kernel", point.paced_floor_error},
+                                                          {"codec", point.codec_floor_error}};
     for (const auto& [floor, error] : errors) {
       if (error[0] != '\0') out << fmt::format("{}: {} floor not measured: {}\n", name, floor, error);
     }
@@ -277,20 +280,22 @@ std::string point_json(const FleetPointResult& point) {
       R"("control_bytes":{},"response_bytes":{},"kernel_floor_cpu_per_s":{},"kernel_floor_us_per_vehicle_tick":{},"kernel_floor_error":{},)"
       R"("paced_floor_cpu_per_s":{},"paced_floor_us_per_vehicle_tick":{},"paced_floor_wall_s":{},"paced_floor_error":{},)"
       R"("codec_floor_cpu_per_simulated_s":{},"codec_floor_us_per_vehicle_cycle":{},"codec_floor_error":{}}})",
-      fleet_mode_name(point.mode), point.vehicles, point.streamer_threads, point.client_threads, point.control_tick_slots, point.observed, point.ok, json_string(point.error), json_number(point.window_s),
+      fleet_mode_name(point.mode), point.vehicles, point.streamer_threads, point.client_threads,
+      point.control_tick_slots, point.observed, point.ok, json_string(point.error), json_number(point.window_s),
       json_number(point.wall_s), json_number(point.cpu_s), json_number(point.cpu_per_simulated_s),
       json_number(point.simulated_per_wall_s), json_number(point.rss_base_kib), json_number(point.rss_end_kib),
-      json_number(point.kib_per_vehicle), json_number(point.marginal_kib_per_vehicle), json_number(point.tick_p50_us), json_number(point.tick_p99_us),
-      json_number(point.tick_max_us), point.ticks, json_number(ticks_run_share(point)), json_number(point.echo_p50_us), json_number(point.echo_p99_us),
-      point.echoes, point.responses, point.connections, faults,
-      optional_number(point.mode == FleetMode::loopback && point.ticks > 0, cpu_us_per_vehicle_tick(point)),
-      threads_json(point), json_number(point.control_bytes),
-      json_number(point.response_bytes), optional_number(point.kernel_floor_measured, point.kernel_floor_cpu_per_s),
+      json_number(point.kib_per_vehicle), json_number(point.marginal_kib_per_vehicle), json_number(point.tick_p50_us),
+      json_number(point.tick_p99_us), json_number(point.tick_max_us), point.ticks, json_number(ticks_run_share(point)),
+      json_number(point.echo_p50_us), json_number(point.echo_p99_us), point.echoes, point.responses, point.connections,
+      faults, optional_number(point.mode == FleetMode::loopback && point.ticks > 0, cpu_us_per_vehicle_tick(point)),
+      threads_json(point), json_number(point.control_bytes), json_number(point.response_bytes),
+      optional_number(point.kernel_floor_measured, point.kernel_floor_cpu_per_s),
       optional_number(point.kernel_floor_measured, point.kernel_floor_us_per_vehicle_tick),
-      optional_string(point.kernel_floor_error), optional_number(point.paced_floor_measured, point.paced_floor_cpu_per_s),
+      optional_string(point.kernel_floor_error),
+      optional_number(point.paced_floor_measured, point.paced_floor_cpu_per_s),
       optional_number(point.paced_floor_measured, point.paced_floor_us_per_vehicle_tick),
-      optional_number(point.paced_floor_measured, point.paced_floor_wall_s),
-      optional_string(point.paced_floor_error), optional_number(point.codec_floor_measured, point.codec_floor_cpu_per_s),
+      optional_number(point.paced_floor_measured, point.paced_floor_wall_s), optional_string(point.paced_floor_error),
+      optional_number(point.codec_floor_measured, point.codec_floor_cpu_per_s),
       optional_number(point.codec_floor_measured, point.codec_floor_us_per_vehicle_cycle),
       optional_string(point.codec_floor_error));
 }
@@ -342,14 +347,17 @@ std::string scale_svg(const std::vector<FleetPointResult>& points, int cores) {
                 series(FleetMode::loopback, "tick lateness p50", "#ff9896", [](auto& p) { return p.tick_p50_us; }),
                 series(FleetMode::loopback, "echo delay p99", "#1f77b4", [](auto& p) { return p.echo_p99_us; })},
                latency),
-      xy_chart({series(FleetMode::loopback, "loopback", "#1f77b4", [](auto& p) { return p.cpu_per_simulated_s; }),
-                series(FleetMode::virtual_time, "virtual time", "#2ca02c", [](auto& p) { return p.cpu_per_simulated_s; }),
-                kernel_floor, paced_floor, codec_floor, core_line},
-               cpu),
+      xy_chart(
+          {series(FleetMode::loopback, "loopback", "#1f77b4", [](auto& p) { return p.cpu_per_simulated_s; }),
+           series(FleetMode::virtual_time, "virtual time", "#2ca02c", [](auto& p) { return p.cpu_per_simulated_s; }),
+           kernel_floor, paced_floor, codec_floor, core_line},
+          cpu),
       xy_chart({series(FleetMode::loopback, "loopback ÷ N", "#1f77b4", [](auto& p) { return p.kib_per_vehicle; }),
-                series(FleetMode::loopback, "loopback marginal", "#aec7e8", [](auto& p) { return p.marginal_kib_per_vehicle; }),
+                series(FleetMode::loopback, "loopback marginal", "#aec7e8",
+                       [](auto& p) { return p.marginal_kib_per_vehicle; }),
                 series(FleetMode::virtual_time, "virtual ÷ N", "#2ca02c", [](auto& p) { return p.kib_per_vehicle; }),
-                series(FleetMode::virtual_time, "virtual marginal", "#98df8a", [](auto& p) { return p.marginal_kib_per_vehicle; })},
+                series(FleetMode::virtual_time, "virtual marginal", "#98df8a",
+                       [](auto& p) { return p.marginal_kib_per_vehicle; })},
                memory)};
   const int height = 300;
   std::string svg = fmt::format(

@@ -408,7 +408,8 @@ void add_kernel_floors(const FleetPointOptions& options, FleetPointResult& resul
   }
   const auto control_bytes = static_cast<std::size_t>(std::lround(result.control_bytes));
   const auto response_bytes = static_cast<std::size_t>(std::lround(result.response_bytes));
-  const KernelFloor floor = measure_kernel_floor(options.vehicles, control_bytes, response_bytes, options.kernel_floor_s);
+  const KernelFloor floor =
+      measure_kernel_floor(options.vehicles, control_bytes, response_bytes, options.kernel_floor_s);
   if (floor.ok) {
     result.kernel_floor_measured = true;
     result.kernel_floor_us_per_vehicle_tick = floor.us_per_vehicle_tick;
@@ -444,7 +445,9 @@ FleetPointResult run_fleet_point(const FleetPointOptions& options) {
   // in virtual time the whole fleet).
   const ScopedThreadName main_thread(options.mode == FleetMode::loopback ? "player" : "world");
   result = options.mode == FleetMode::loopback ? run_loopback(options, result) : run_virtual(options, result);
-  if (result.ok && options.mode == FleetMode::loopback && options.kernel_floor_s > 0) add_kernel_floors(options, result);
+  if (result.ok && options.mode == FleetMode::loopback && options.kernel_floor_s > 0) {
+    add_kernel_floors(options, result);
+  }
   if (result.ok) {
     result.cpu_per_simulated_s = result.window_s > 0 ? result.cpu_s / result.window_s : 0;
     result.simulated_per_wall_s = result.wall_s > 0 ? result.window_s / result.wall_s : 0;

@@ -75,7 +75,7 @@ struct FleetPointResult {
   char paced_floor_error[120] = {};
   double paced_floor_us_per_vehicle_tick = 0;
   double paced_floor_cpu_per_s = 0;
-  double paced_floor_wall_s = 0;                   // its measured periods took at least their 10 ms each
+  double paced_floor_wall_s = 0;                   // its measured periods: at least 10 ms each
   // Codec floor (virtual): CPU of the wire codec and MAC work alone for this fleet.
   bool codec_floor_measured = false;
   char codec_floor_error[120] = {};

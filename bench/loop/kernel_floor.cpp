@@ -140,7 +140,7 @@ struct PacedPart {
 // What one thread of the paced floor measured.
 struct PacedOutcome {
   double cpu_s = 0;
-  double wall_s = 0;   // from the first measured period's start to the last thread's end
+  double wall_s = 0;  // from the first measured period's start to the last thread's end
   std::string error;
 };
 
@@ -151,7 +151,11 @@ class PacedFloor {
  public:
   PacedFloor(const PacedShape& shape, const Sockets& servers, const Sockets& clients, std::size_t control_bytes,
              std::size_t response_bytes, int measured_periods)
-      : shape_(shape), servers_(servers), clients_(clients), control_(control_bytes, 'c'), response_(response_bytes, 'r'),
+      : shape_(shape),
+        servers_(servers),
+        clients_(clients),
+        control_(control_bytes, 'c'),
+        response_(response_bytes, 'r'),
         periods_(paced_warm_up_periods + measured_periods) {}
 
   // Every thread's CPU over the measured periods, summed, and their wall time; empty error: all
@@ -165,18 +169,20 @@ class PacedFloor {
                        slot_step * index / threads});
     }
     std::vector<PacedOutcome> outcomes(parts.size() * 2);
-    start_ = Clock::now() + std::chrono::milliseconds(20);   // every thread created before the first burst
+    start_ = Clock::now() + std::chrono::milliseconds(20);  // every thread created before the first burst
     {
       std::vector<std::jthread> running;
       for (std::size_t index = 0; index < parts.size(); ++index) {
         running.emplace_back([this, &parts, &outcomes, index] { serve(parts[index], outcomes[index]); });
         if (shape_.client_threads_of_their_own) {
-          running.emplace_back([this, &parts, &outcomes, index] { answer(parts[index], outcomes[parts.size() + index]); });
+          running.emplace_back(
+              [this, &parts, &outcomes, index] { answer(parts[index], outcomes[parts.size() + index]); });
         }
       }
     }
     PacedOutcome total;
-    total.wall_s = std::chrono::duration<double>(Clock::now() - (start_ + paced_period * paced_warm_up_periods)).count();
+    total.wall_s =
+        std::chrono::duration<double>(Clock::now() - (start_ + paced_period * paced_warm_up_periods)).count();
     for (const auto& outcome : outcomes) {
       total.cpu_s += outcome.cpu_s;
       if (total.error.empty()) total.error = outcome.error;
@@ -234,8 +240,8 @@ class PacedFloor {
       if (period == paced_warm_up_periods) cpu_start = thread_cpu_seconds();
       for (int index = part.first; index < part.last; ++index) {
         if (!answer_one(index, buffer)) {
-          outcome.error = system_error(fmt::format("paced answer {} of {}", period * count + index - part.first + 1,
-                                                   periods_ * count).c_str());
+          outcome.error = system_error(
+              fmt::format("paced answer {} of {}", period * count + index - part.first + 1, periods_ * count).c_str());
           return;
         }
       }
@@ -258,7 +264,9 @@ std::string open_pairs(int connections, Sockets& servers, Sockets& clients) {
   Sockets listener;
   sockaddr_in address{};
   std::string error = open_listener(listener, address);
-  if (error.empty()) error = connect_pairs(listener.fds.front(), ntohs(address.sin_port), connections, servers, clients);
+  if (error.empty()) {
+    error = connect_pairs(listener.fds.front(), ntohs(address.sin_port), connections, servers, clients);
+  }
   return error;
 }
 
@@ -288,11 +296,12 @@ KernelFloor measure_paced_kernel_floor(const PacedShape& shape, std::size_t cont
     return floor;
   }
   PacedShape fitted = shape;
-  fitted.server_threads = std::min(shape.server_threads, shape.connections);   // no thread without a connection
+  fitted.server_threads = std::min(shape.server_threads, shape.connections);  // no thread without a connection
   Sockets servers, clients;
   floor.error = open_pairs(fitted.connections, servers, clients);
   if (!floor.error.empty()) return floor;
-  const int periods = std::max(3, static_cast<int>(std::lround(duration_s / std::chrono::duration<double>(paced_period).count())));
+  const int periods =
+      std::max(3, static_cast<int>(std::lround(duration_s / std::chrono::duration<double>(paced_period).count())));
   PacedOutcome outcome = PacedFloor(fitted, servers, clients, control_bytes, response_bytes, periods).run();
   if (!outcome.error.empty()) {
     floor.error = std::move(outcome.error);

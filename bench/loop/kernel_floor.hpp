@@ -20,7 +20,7 @@ struct KernelFloor {
   bool ok = false;
   std::string error;
   std::uint64_t vehicle_ticks = 0;   // connections × rounds measured
-  double cpu_s = 0;                   // this thread's user + system CPU over the rounds
+  double cpu_s = 0;                   // user + system CPU over the rounds (paced: all its threads')
   double wall_s = 0;                  // over the measured rounds (paced: at least their periods)
   double us_per_vehicle_tick = 0;     // CPU µs per connection per round
   // CPU seconds per wall second the traffic alone needs at 100 Hz: µs per vehicle-tick × N × 100.
