@@ -230,8 +230,10 @@ void print_floors(std::ostream& out, const std::vector<FleetPointResult>& points
           cpu_us_per_vehicle_tick(point) / point.kernel_floor_us_per_vehicle_tick);
     }
     if (point.paced_floor_measured) {
-      const int threads = std::max(1, point.streamer_threads);
-      const int bursts = std::max(1, point.control_tick_slots);
+      const PacedShape shape = paced_floor_shape(point.vehicles, point.streamer_threads, point.client_threads,
+                                                 point.control_tick_slots);
+      const int threads = shape.server_threads;
+      const int bursts = shape.slots;
       const std::string against_batched =
           point.kernel_floor_measured
               ? fmt::format(" ({:.1f}× the batched floor)",
@@ -241,7 +243,7 @@ void print_floors(std::ostream& out, const std::vector<FleetPointResult>& points
           "{}: kernel TCP paced as the point ({} server thread{}, {} burst{} each per 10 ms, the clients' ends on {}): "
           "{:.1f} µs CPU per vehicle-tick = {:.3g} CPU s/s{}; the point ran at {:.1f}× this\n",
           name, threads, threads == 1 ? "" : "s", bursts, bursts == 1 ? "" : "s",
-          point.client_threads > 0 ? "threads of their own" : "the server threads",
+          shape.client_threads_of_their_own ? "threads of their own" : "the server threads",
           point.paced_floor_us_per_vehicle_tick, point.paced_floor_cpu_per_s, against_batched,
           cpu_us_per_vehicle_tick(point) / point.paced_floor_us_per_vehicle_tick);
     }

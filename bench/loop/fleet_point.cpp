@@ -417,8 +417,8 @@ void add_kernel_floors(const FleetPointOptions& options, FleetPointResult& resul
   } else {
     std::snprintf(result.kernel_floor_error, sizeof result.kernel_floor_error, "%s", floor.error.c_str());
   }
-  const PacedShape shape{options.vehicles, std::max(1, options.streamer_threads), options.client_threads > 0,
-                         static_cast<int>(std::max<std::size_t>(1, options.control_tick_slots))};
+  const PacedShape shape = paced_floor_shape(options.vehicles, options.streamer_threads, options.client_threads,
+                                             static_cast<int>(options.control_tick_slots));
   const KernelFloor paced = measure_paced_kernel_floor(shape, control_bytes, response_bytes,
                                                        std::max(paced_floor_min_s, options.kernel_floor_s));
   if (paced.ok) {
@@ -432,6 +432,10 @@ void add_kernel_floors(const FleetPointOptions& options, FleetPointResult& resul
 }
 
 }  // namespace
+
+PacedShape paced_floor_shape(int vehicles, int streamer_threads, int client_threads, int tick_slots) {
+  return {vehicles, std::clamp(streamer_threads, 1, std::max(1, vehicles)), client_threads > 0, std::max(1, tick_slots)};
+}
 
 FleetPointResult run_fleet_point(const FleetPointOptions& options) {
   FleetPointResult result;

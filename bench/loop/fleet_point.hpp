@@ -8,6 +8,7 @@
 #include <string>
 
 #include "fleet_recorder.hpp"
+#include "kernel_floor.hpp"
 #include "thread_usage.hpp"
 
 namespace ocp::bench {
@@ -42,6 +43,12 @@ struct FleetPointOptions {
   // message samples the point sent; 0: not measured.
   double codec_floor_s = 0.4;
 };
+
+// The paced kernel floor's shape for a point: a server thread per Streamer thread (at least one,
+// none without a vehicle), its ticker slots as bursts (a timer per Streamer, slots 0, paces
+// like one slot), the clients' ends on threads of their own unless --client-threads 0. The
+// floor is measured in it and the report names it, from the same fields.
+PacedShape paced_floor_shape(int vehicles, int streamer_threads, int client_threads, int tick_slots);
 
 // Trivially copyable: written as bytes through a pipe.
 struct FleetPointResult {

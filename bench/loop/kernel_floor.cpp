@@ -295,22 +295,24 @@ KernelFloor measure_paced_kernel_floor(const PacedShape& shape, std::size_t cont
     floor.error = "nothing to measure";
     return floor;
   }
-  PacedShape fitted = shape;
-  fitted.server_threads = std::min(shape.server_threads, shape.connections);  // no thread without a connection
+  if (shape.server_threads > shape.connections) {
+    floor.error = "more server threads than connections";
+    return floor;
+  }
   Sockets servers, clients;
-  floor.error = open_pairs(fitted.connections, servers, clients);
+  floor.error = open_pairs(shape.connections, servers, clients);
   if (!floor.error.empty()) return floor;
   const int periods =
       std::max(3, static_cast<int>(std::lround(duration_s / std::chrono::duration<double>(paced_period).count())));
-  PacedOutcome outcome = PacedFloor(fitted, servers, clients, control_bytes, response_bytes, periods).run();
+  PacedOutcome outcome = PacedFloor(shape, servers, clients, control_bytes, response_bytes, periods).run();
   if (!outcome.error.empty()) {
     floor.error = std::move(outcome.error);
     return floor;
   }
   floor.cpu_s = outcome.cpu_s;
   floor.wall_s = outcome.wall_s;
-  floor.vehicle_ticks = static_cast<std::uint64_t>(periods) * static_cast<std::uint64_t>(fitted.connections);
-  fill_per_tick(floor, fitted.connections);
+  floor.vehicle_ticks = static_cast<std::uint64_t>(periods) * static_cast<std::uint64_t>(shape.connections);
+  fill_per_tick(floor, shape.connections);
   return floor;
 }
 

@@ -43,8 +43,9 @@ struct PacedShape {
   int slots = 1;
 };
 
-// CPU is the floor's threads' own (CLOCK_THREAD_CPUTIME_ID, summed), after two unmeasured
-// periods, over about `duration_s` (at least three periods).
+// server_threads in [1, connections], slots ≥ 1. CPU is the floor's threads' own
+// (CLOCK_THREAD_CPUTIME_ID, summed), after two unmeasured periods, over about `duration_s` (at
+// least three periods).
 KernelFloor measure_paced_kernel_floor(const PacedShape& shape, std::size_t control_bytes, std::size_t response_bytes,
                                        double duration_s);
 
